@@ -1,0 +1,66 @@
+#!/usr/bin/env bash
+# Installs the Debian packages this project needs, if any is missing.
+# Safe to run repeatedly: it does nothing when everything is present.
+set -euo pipefail
+
+PACKAGES=(
+  build-essential
+  cmake
+  pkg-config
+  clang-format
+  libglu1-mesa-dev
+  python3-glad
+  libbullet-dev
+  libimgui-dev
+  libglfw3-dev
+  libcglm-dev
+  libstb-dev
+  xvfb
+  xauth
+  gnuplot-nox
+  nodejs
+  npm
+)
+
+is_installed() {
+  local pkg="$1" status
+  status="$(dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null || true)"
+  if [[ "$status" == "install ok installed" ]]; then
+    return 0
+  fi
+  # Some nodejs builds bundle npm (and conflict with Debian's npm package);
+  # a working npm command counts as present.
+  if [[ "$pkg" == "npm" ]] && command -v npm >/dev/null 2>&1; then
+    return 0
+  fi
+  return 1
+}
+
+missing=()
+for pkg in "${PACKAGES[@]}"; do
+  if ! is_installed "$pkg"; then
+    missing+=("$pkg")
+  fi
+done
+
+if ((${#missing[@]} == 0)); then
+  echo "setup: all ${#PACKAGES[@]} required packages are present"
+  exit 0
+fi
+
+echo "setup: installing missing packages: ${missing[*]}"
+
+SUDO=()
+if [[ "$(id -u)" -ne 0 ]]; then
+  if command -v sudo >/dev/null 2>&1; then
+    SUDO=(sudo)
+  else
+    echo "setup: not root and sudo is unavailable; install these packages: ${missing[*]}" >&2
+    exit 1
+  fi
+fi
+
+export DEBIAN_FRONTEND=noninteractive
+"${SUDO[@]}" env DEBIAN_FRONTEND=noninteractive apt-get update
+"${SUDO[@]}" env DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends "${missing[@]}"
+echo "setup: done"

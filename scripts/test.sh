@@ -1,0 +1,16 @@
+#!/usr/bin/env bash
+# Debug build with AddressSanitizer/UBSan, then runs the test suite.
+set -euo pipefail
+
+repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$repo"
+
+scripts/setup.sh
+
+export ASAN_OPTIONS=detect_leaks=1:abort_on_error=0
+export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+export LSAN_OPTIONS="suppressions=$repo/scripts/lsan.supp"
+
+cmake -S . -B build-debug -DCMAKE_BUILD_TYPE=Debug -DBK_SANITIZE=ON
+cmake --build build-debug -j"$(nproc)"
+ctest --test-dir build-debug --output-on-failure -j2

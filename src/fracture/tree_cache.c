@@ -1,0 +1,593 @@
+// The .mtree cache file: a mesh tree written so that a later run can skip the
+// (slow) fracture. Everything is serialised field by field in little-endian
+// order with explicit helpers, so the file does not depend on struct padding,
+// the compiler or the host's byte order, and saving the same tree twice gives
+// identical bytes.
+//
+// Layout: a fixed 32-byte header followed by the payload.
+//   header:  "BKMTREE\0" | u32 version | u32 0x01020304 | u64 payload size | u64 FNV-1a-64 of the payload
+//   payload: u64 source_hash | u32 pieces | u64 seed | f64 texture_scale | f64 jitter
+//            u32 max_depth | u32 node_count | u32 leaf_count | u32 bond_count
+//            node_count x { f64 bounds[6] | f64 moments[10] | f64 plane[4]
+//                           u32 parent, first_child, child_count, leaf_begin, leaf_end, depth
+//                           u32 position_count, corner_count, triangle_count
+//                           positions (3 f64) | corners (u32 + 9 f32) | indices (3 u32)
+//                           materials (u8) | tags (u32) }
+//            leaf_count x u32 leaf_nodes
+//            bond_count x { u32 leaf_a, leaf_b | f64 area | f64 centroid[3] | f64 normal[3] }
+// Floats are stored as their IEEE-754 bits, so a round trip is bit-exact.
+#include <errno.h>
+#include <inttypes.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "bk_fracture.h"
+
+static const uint8_t mtree_magic[8] = {'B', 'K', 'M', 'T', 'R', 'E', 'E', '\0'};
+
+enum {
+  MTREE_HEADER_BYTES = 32,
+  MTREE_ENDIAN_MARKER = 0x01020304,
+  // Smallest possible encoding of each record: used to reject a corrupt count
+  // before it turns into a huge allocation.
+  MTREE_NODE_MIN_BYTES = 20 * 8 + 6 * 4 + 3 * 4,
+  MTREE_POSITION_BYTES = 3 * 8,
+  MTREE_CORNER_BYTES = 4 + 9 * 4,
+  MTREE_TRIANGLE_BYTES = 3 * 4 + 1 + 4,
+  MTREE_BOND_BYTES = 2 * 4 + 7 * 8,
+};
+
+// A cache file is a convenience; anything this large is far more likely to be
+// the wrong file than a real tree.
+#define MTREE_MAX_FILE_BYTES ((uint64_t)4 << 30)
+
+// ---------------------------------------------------------------- writing
+
+typedef struct byte_writer {
+  uint8_t* data;
+  size_t size, capacity;
+} byte_writer;
+
+static uint8_t* writer_extend(byte_writer* w, size_t n) {
+  if (w->size + n > w->capacity) {
+    size_t capacity = w->capacity ? w->capacity : 4096;
+    while (capacity < w->size + n)
+      capacity *= 2;
+    w->data = bk_realloc(w->data, capacity);
+    w->capacity = capacity;
+  }
+  uint8_t* p = w->data + w->size;
+  w->size += n;
+  return p;
+}
+
+static void store_u32(uint8_t* p, uint32_t v) {
+  for (int i = 0; i < 4; ++i)
+    p[i] = (uint8_t)(v >> (8 * i));
+}
+
+static void store_u64(uint8_t* p, uint64_t v) {
+  for (int i = 0; i < 8; ++i)
+    p[i] = (uint8_t)(v >> (8 * i));
+}
+
+static void put_u8(byte_writer* w, uint8_t v) { *writer_extend(w, 1) = v; }
+static void put_u32(byte_writer* w, uint32_t v) { store_u32(writer_extend(w, 4), v); }
+static void put_u64(byte_writer* w, uint64_t v) { store_u64(writer_extend(w, 8), v); }
+
+static void put_f32(byte_writer* w, float v) {
+  uint32_t bits = 0;
+  memcpy(&bits, &v, sizeof bits);
+  put_u32(w, bits);
+}
+
+static void put_f64(byte_writer* w, double v) {
+  uint64_t bits = 0;
+  memcpy(&bits, &v, sizeof bits);
+  put_u64(w, bits);
+}
+
+static void put_vec3(byte_writer* w, bk_vec3 v) {
+  put_f64(w, v.x);
+  put_f64(w, v.y);
+  put_f64(w, v.z);
+}
+
+static void put_mesh(byte_writer* w, const bk_mesh* m) {
+  put_u32(w, m->position_count);
+  put_u32(w, m->corner_count);
+  put_u32(w, m->triangle_count);
+  for (uint32_t i = 0; i < m->position_count; ++i)
+    put_vec3(w, m->positions[i]);
+  for (uint32_t i = 0; i < m->corner_count; ++i) {
+    const bk_corner* c = &m->corners[i];
+    put_u32(w, c->position);
+    for (int k = 0; k < 3; ++k)
+      put_f32(w, c->normal[k]);
+    for (int k = 0; k < 2; ++k)
+      put_f32(w, c->uv[k]);
+    for (int k = 0; k < 4; ++k)
+      put_f32(w, c->tangent[k]);
+  }
+  for (uint32_t i = 0; i < 3 * m->triangle_count; ++i)
+    put_u32(w, m->indices[i]);
+  for (uint32_t i = 0; i < m->triangle_count; ++i)
+    put_u8(w, m->materials[i]);
+  for (uint32_t i = 0; i < m->triangle_count; ++i)
+    put_u32(w, m->tags[i]);
+}
+
+static void put_node(byte_writer* w, const bk_mesh_tree_node* n) {
+  put_vec3(w, n->bounds.min);
+  put_vec3(w, n->bounds.max);
+  const bk_moments* mo = &n->moments;
+  const double moments[10] = {mo->v, mo->x, mo->y, mo->z, mo->xx, mo->yy, mo->zz, mo->xy, mo->yz, mo->zx};
+  for (int k = 0; k < 10; ++k)
+    put_f64(w, moments[k]);
+  put_vec3(w, n->plane.normal);
+  put_f64(w, n->plane.offset);
+  put_u32(w, n->parent);
+  put_u32(w, n->first_child);
+  put_u32(w, n->child_count);
+  put_u32(w, n->leaf_begin);
+  put_u32(w, n->leaf_end);
+  put_u32(w, n->depth);
+  put_mesh(w, &n->mesh);
+}
+
+static void put_payload(byte_writer* w, const bk_mesh_tree* tree) {
+  put_u64(w, tree->source_hash);
+  put_u32(w, tree->desc.pieces);
+  put_u64(w, tree->desc.seed);
+  put_f64(w, tree->desc.texture_scale);
+  put_f64(w, tree->desc.jitter);
+  put_u32(w, tree->max_depth);
+  put_u32(w, tree->node_count);
+  put_u32(w, tree->leaf_count);
+  put_u32(w, tree->bond_count);
+  for (uint32_t i = 0; i < tree->node_count; ++i)
+    put_node(w, &tree->nodes[i]);
+  for (uint32_t i = 0; i < tree->leaf_count; ++i)
+    put_u32(w, tree->leaf_nodes[i]);
+  for (uint32_t i = 0; i < tree->bond_count; ++i) {
+    const bk_bond* b = &tree->bonds[i];
+    put_u32(w, b->leaf_a);
+    put_u32(w, b->leaf_b);
+    put_f64(w, b->area);
+    put_vec3(w, b->centroid);
+    put_vec3(w, b->normal);
+  }
+}
+
+// ---------------------------------------------------------------- structure checks
+
+static bool aabb_finite(bk_aabb b) { return bk_v3_is_finite(b.min) && bk_v3_is_finite(b.max); }
+
+static bool moments_finite(const bk_moments* m) {
+  const double v[10] = {m->v, m->x, m->y, m->z, m->xx, m->yy, m->zz, m->xy, m->yz, m->zx};
+  for (int k = 0; k < 10; ++k)
+    if (!isfinite(v[k])) return false;
+  return true;
+}
+
+// Checks the invariants every consumer of a tree relies on (indices in range,
+// a real tree shape, contiguous leaf ranges). Shared by save and load so save
+// never writes a file that load would refuse. `why` gets a message without
+// the path; the caller adds it.
+static bool check_tree(const bk_mesh_tree* t, bk_error* why) {
+  bk_error inner = {{0}};
+  if (!bk_fracture_desc_validate(&t->desc, &inner)) return bk_error_set(why, "%s", inner.message);
+  if (t->node_count == 0) return bk_error_set(why, "the tree has no nodes");
+  if (t->leaf_count == 0 || t->leaf_count > t->node_count)
+    return bk_error_set(why, "%u leaves for %u nodes", t->leaf_count, t->node_count);
+  uint32_t deepest = 0;
+  for (uint32_t i = 0; i < t->node_count; ++i) {
+    const bk_mesh_tree_node* n = &t->nodes[i];
+    if (!bk_mesh_validate(&n->mesh, &inner)) return bk_error_set(why, "node %u: %s", i, inner.message);
+    if (!aabb_finite(n->bounds) || !moments_finite(&n->moments) || !bk_v3_is_finite(n->plane.normal) ||
+        !isfinite(n->plane.offset))
+      return bk_error_set(why, "node %u has a non-finite bound, moment or plane", i);
+    if (i == 0) {
+      if (n->parent != BK_NULL_INDEX || n->depth != 0)
+        return bk_error_set(why, "the root has parent %u and depth %u", n->parent, n->depth);
+      if (n->leaf_begin != 0 || n->leaf_end != t->leaf_count)
+        return bk_error_set(why, "the root covers leaves [%u, %u), not [0, %u)", n->leaf_begin, n->leaf_end,
+                            t->leaf_count);
+    } else {
+      if (n->parent >= t->node_count)
+        return bk_error_set(why, "node %u has parent %u of %u", i, n->parent, t->node_count);
+      const bk_mesh_tree_node* p = &t->nodes[n->parent];
+      // Children come after their parent (checked below), so this also rules out cycles.
+      if (p->child_count == 0 || i < p->first_child ||
+          (uint64_t)i >= (uint64_t)p->first_child + p->child_count)
+        return bk_error_set(why, "node %u names parent %u, which does not list it as a child", i, n->parent);
+      if ((uint64_t)n->depth != (uint64_t)p->depth + 1)
+        return bk_error_set(why, "node %u has depth %u under a parent of depth %u", i, n->depth, p->depth);
+    }
+    if (n->depth > deepest) deepest = n->depth;
+    if (n->leaf_begin > n->leaf_end || n->leaf_end > t->leaf_count)
+      return bk_error_set(why, "node %u has leaf range [%u, %u) of %u leaves", i, n->leaf_begin, n->leaf_end,
+                          t->leaf_count);
+    if (n->child_count == 0) {
+      if (n->first_child != BK_NULL_INDEX)
+        return bk_error_set(why, "leaf node %u has first child %u", i, n->first_child);
+      if (n->leaf_end != n->leaf_begin + 1 || t->leaf_nodes[n->leaf_begin] != i)
+        return bk_error_set(why, "leaf node %u has leaf range [%u, %u) that does not name it", i,
+                            n->leaf_begin, n->leaf_end);
+      continue;
+    }
+    if (n->first_child <= i || (uint64_t)n->first_child + n->child_count > t->node_count)
+      return bk_error_set(why, "node %u has children [%u, +%u) of %u nodes", i, n->first_child,
+                          n->child_count, t->node_count);
+    // The children's leaf ranges must tile the parent's, in order.
+    uint32_t next_leaf = n->leaf_begin;
+    for (uint32_t c = n->first_child; c < n->first_child + n->child_count; ++c) {
+      if (t->nodes[c].parent != i)
+        return bk_error_set(why, "node %u lists child %u, whose parent is %u", i, c, t->nodes[c].parent);
+      if (t->nodes[c].leaf_begin != next_leaf)
+        return bk_error_set(why, "child %u of node %u starts at leaf %u, expected %u", c, i,
+                            t->nodes[c].leaf_begin, next_leaf);
+      next_leaf = t->nodes[c].leaf_end;
+    }
+    if (next_leaf != n->leaf_end)
+      return bk_error_set(why, "the children of node %u end at leaf %u, expected %u", i, next_leaf,
+                          n->leaf_end);
+  }
+  if (deepest != t->max_depth)
+    return bk_error_set(why, "max_depth is %u but the deepest node has depth %u", t->max_depth, deepest);
+  for (uint32_t l = 0; l < t->leaf_count; ++l) {
+    uint32_t node = t->leaf_nodes[l];
+    if (node >= t->node_count || t->nodes[node].child_count != 0 || t->nodes[node].leaf_begin != l)
+      return bk_error_set(why, "leaf %u names node %u, which is not that leaf", l, node);
+  }
+  for (uint32_t b = 0; b < t->bond_count; ++b) {
+    const bk_bond* bond = &t->bonds[b];
+    if (bond->leaf_a >= bond->leaf_b || bond->leaf_b >= t->leaf_count)
+      return bk_error_set(why, "bond %u joins leaves %u and %u of %u", b, bond->leaf_a, bond->leaf_b,
+                          t->leaf_count);
+    if (!isfinite(bond->area) || !bk_v3_is_finite(bond->centroid) || !bk_v3_is_finite(bond->normal))
+      return bk_error_set(why, "bond %u has a non-finite area, centroid or normal", b);
+  }
+  return true;
+}
+
+// ---------------------------------------------------------------- save
+
+static bool write_file(const char* path, const uint8_t* data, size_t size, bk_error* err) {
+  // Write beside the target and rename over it, so an existing file is never half-overwritten.
+  size_t path_length = strlen(path);
+  char* tmp = bk_alloc(path_length + 5);
+  memcpy(tmp, path, path_length);
+  memcpy(tmp + path_length, ".tmp", 5);
+  FILE* f = fopen(tmp, "wb");
+  if (!f) {
+    int code = errno;
+    free(tmp);
+    return bk_error_set(err, "%s: cannot write: %s", path, strerror(code));
+  }
+  errno = 0; // so a stream error reported without errno is not blamed on an older failure
+  int code = 0;
+  if (fwrite(data, 1, size, f) != size) code = errno ? errno : EIO;
+  if (code == 0 && fflush(f) != 0) code = errno ? errno : EIO;
+  // Sync before the rename so a crash cannot leave a renamed but empty file.
+  if (code == 0 && fsync(fileno(f)) != 0) code = errno;
+  if (fclose(f) != 0 && code == 0) code = errno ? errno : EIO;
+  if (code == 0 && rename(tmp, path) != 0) code = errno;
+  if (code != 0) {
+    remove(tmp);
+    free(tmp);
+    return bk_error_set(err, "%s: cannot write: %s", path, strerror(code));
+  }
+  free(tmp);
+  return true;
+}
+
+bool bk_mesh_tree_save(const bk_mesh_tree* tree, const char* path, bk_error* err) {
+  bk_error why = {{0}};
+  if (!check_tree(tree, &why))
+    return bk_error_set(err, "%s: cannot save an invalid mesh tree: %s", path, why.message);
+
+  byte_writer w = {0};
+  writer_extend(&w, MTREE_HEADER_BYTES); // filled once the payload's size and checksum are known
+  put_payload(&w, tree);
+  uint64_t payload_size = (uint64_t)(w.size - MTREE_HEADER_BYTES);
+  if ((uint64_t)w.size > MTREE_MAX_FILE_BYTES) {
+    free(w.data);
+    return bk_error_set(err, "%s: mesh tree is too large to cache (%" PRIu64 " bytes, limit %" PRIu64 ")",
+                        path, (uint64_t)w.size, MTREE_MAX_FILE_BYTES);
+  }
+  memcpy(w.data, mtree_magic, sizeof mtree_magic);
+  store_u32(w.data + 8, BK_MTREE_VERSION);
+  store_u32(w.data + 12, MTREE_ENDIAN_MARKER);
+  store_u64(w.data + 16, payload_size);
+  store_u64(w.data + 24, bk_hash_bytes(BK_FNV_OFFSET, w.data + MTREE_HEADER_BYTES, (size_t)payload_size));
+
+  bool ok = write_file(path, w.data, w.size, err);
+  free(w.data);
+  return ok;
+}
+
+// ---------------------------------------------------------------- load
+
+static uint32_t load_u32(const uint8_t* p) {
+  uint32_t v = 0;
+  for (int i = 0; i < 4; ++i)
+    v |= (uint32_t)p[i] << (8 * i);
+  return v;
+}
+
+static uint64_t load_u64(const uint8_t* p) {
+  uint64_t v = 0;
+  for (int i = 0; i < 8; ++i)
+    v |= (uint64_t)p[i] << (8 * i);
+  return v;
+}
+
+// Bounds-checked cursor over the payload. Reading past the end returns zeros
+// and sets `overrun`; callers check it after each record, and every count is
+// checked against remaining() before anything is allocated from it.
+typedef struct byte_reader {
+  const uint8_t* data;
+  size_t size, pos;
+  bool overrun;
+} byte_reader;
+
+static size_t remaining(const byte_reader* r) { return r->size - r->pos; }
+
+static const uint8_t* take(byte_reader* r, size_t n) {
+  if (r->overrun || n > remaining(r)) {
+    r->overrun = true;
+    return NULL;
+  }
+  const uint8_t* p = r->data + r->pos;
+  r->pos += n;
+  return p;
+}
+
+static uint8_t get_u8(byte_reader* r) {
+  const uint8_t* p = take(r, 1);
+  return p ? p[0] : 0;
+}
+
+static uint32_t get_u32(byte_reader* r) {
+  const uint8_t* p = take(r, 4);
+  return p ? load_u32(p) : 0;
+}
+
+static uint64_t get_u64(byte_reader* r) {
+  const uint8_t* p = take(r, 8);
+  return p ? load_u64(p) : 0;
+}
+
+static float get_f32(byte_reader* r) {
+  uint32_t bits = get_u32(r);
+  float v = 0.0f;
+  memcpy(&v, &bits, sizeof v);
+  return v;
+}
+
+static double get_f64(byte_reader* r) {
+  uint64_t bits = get_u64(r);
+  double v = 0.0;
+  memcpy(&v, &bits, sizeof v);
+  return v;
+}
+
+static bk_vec3 get_vec3(byte_reader* r) {
+  bk_vec3 v = {0};
+  v.x = get_f64(r);
+  v.y = get_f64(r);
+  v.z = get_f64(r);
+  return v;
+}
+
+__attribute__((format(printf, 3, 4))) static bool corrupt(bk_error* err, const char* path, const char* fmt,
+                                                          ...) {
+  char what[400] = {0};
+  va_list args;
+  va_start(args, fmt);
+  vsnprintf(what, sizeof what, fmt, args);
+  va_end(args);
+  return bk_error_set(err, "%s: corrupt: %s", path, what);
+}
+
+static bool get_mesh(byte_reader* r, bk_mesh* m, uint32_t node, const char* path, bk_error* err) {
+  uint32_t positions = get_u32(r), corners = get_u32(r), triangles = get_u32(r);
+  if (r->overrun) return corrupt(err, path, "payload ends inside node %u", node);
+  uint64_t need = (uint64_t)positions * MTREE_POSITION_BYTES + (uint64_t)corners * MTREE_CORNER_BYTES +
+                  (uint64_t)triangles * MTREE_TRIANGLE_BYTES;
+  if (need > remaining(r))
+    return corrupt(err, path,
+                   "node %u mesh (%u positions, %u corners, %u triangles) needs %" PRIu64
+                   " bytes but %zu remain",
+                   node, positions, corners, triangles, need, remaining(r));
+  // Exact sizes: a loaded mesh is not grown in place, so capacities equal counts.
+  if (positions) m->positions = bk_alloc(sizeof(bk_vec3) * positions);
+  if (corners) m->corners = bk_alloc(sizeof(bk_corner) * corners);
+  if (triangles) {
+    m->indices = bk_alloc(sizeof(uint32_t) * 3u * (size_t)triangles);
+    m->materials = bk_alloc(triangles);
+    m->tags = bk_alloc(sizeof(uint32_t) * triangles);
+  }
+  m->position_count = m->position_capacity = positions;
+  m->corner_count = m->corner_capacity = corners;
+  m->triangle_count = m->triangle_capacity = triangles;
+  for (uint32_t i = 0; i < positions; ++i)
+    m->positions[i] = get_vec3(r);
+  for (uint32_t i = 0; i < corners; ++i) {
+    bk_corner* c = &m->corners[i];
+    c->position = get_u32(r);
+    for (int k = 0; k < 3; ++k)
+      c->normal[k] = get_f32(r);
+    for (int k = 0; k < 2; ++k)
+      c->uv[k] = get_f32(r);
+    for (int k = 0; k < 4; ++k)
+      c->tangent[k] = get_f32(r);
+  }
+  for (size_t i = 0; i < 3u * (size_t)triangles; ++i)
+    m->indices[i] = get_u32(r);
+  for (uint32_t i = 0; i < triangles; ++i)
+    m->materials[i] = get_u8(r);
+  for (uint32_t i = 0; i < triangles; ++i)
+    m->tags[i] = get_u32(r);
+  // Cannot overrun after the size check above; kept so a layout change cannot silently read zeros.
+  if (r->overrun) return corrupt(err, path, "payload ends inside the mesh of node %u", node);
+  return true;
+}
+
+static bool get_node(byte_reader* r, bk_mesh_tree_node* n, uint32_t index, const char* path, bk_error* err) {
+  n->bounds.min = get_vec3(r);
+  n->bounds.max = get_vec3(r);
+  bk_moments* mo = &n->moments;
+  double* const moments[10] = {&mo->v,  &mo->x,  &mo->y,  &mo->z,  &mo->xx,
+                               &mo->yy, &mo->zz, &mo->xy, &mo->yz, &mo->zx};
+  for (int k = 0; k < 10; ++k)
+    *moments[k] = get_f64(r);
+  n->plane.normal = get_vec3(r);
+  n->plane.offset = get_f64(r);
+  n->parent = get_u32(r);
+  n->first_child = get_u32(r);
+  n->child_count = get_u32(r);
+  n->leaf_begin = get_u32(r);
+  n->leaf_end = get_u32(r);
+  n->depth = get_u32(r);
+  if (r->overrun) return corrupt(err, path, "payload ends inside node %u", index);
+  return get_mesh(r, &n->mesh, index, path, err);
+}
+
+// Parses the payload into *t (zeroed by the caller). On failure *t may hold
+// partial allocations; node_count always covers every allocated node, so
+// bk_mesh_tree_free releases them.
+static bool parse_payload(byte_reader* r, bk_mesh_tree* t, const char* path, bk_error* err) {
+  t->source_hash = get_u64(r);
+  t->desc.pieces = get_u32(r);
+  t->desc.seed = get_u64(r);
+  t->desc.texture_scale = get_f64(r);
+  t->desc.jitter = get_f64(r);
+  t->max_depth = get_u32(r);
+  uint32_t nodes = get_u32(r), leaves = get_u32(r), bonds = get_u32(r);
+  if (r->overrun) return corrupt(err, path, "payload ends inside the tree header");
+  uint64_t need =
+      (uint64_t)nodes * MTREE_NODE_MIN_BYTES + (uint64_t)leaves * 4u + (uint64_t)bonds * MTREE_BOND_BYTES;
+  if (need > remaining(r))
+    return corrupt(err, path,
+                   "%u nodes, %u leaves and %u bonds need at least %" PRIu64 " bytes but %zu remain", nodes,
+                   leaves, bonds, need, remaining(r));
+  if (nodes == 0) return corrupt(err, path, "the tree has no nodes");
+  if (leaves == 0 || leaves > nodes) return corrupt(err, path, "%u leaves for %u nodes", leaves, nodes);
+
+  // Zeroed nodes have empty meshes, so freeing after a failure part-way is safe.
+  t->nodes = bk_calloc(nodes, sizeof(bk_mesh_tree_node));
+  t->node_count = nodes;
+  for (uint32_t i = 0; i < nodes; ++i)
+    if (!get_node(r, &t->nodes[i], i, path, err)) return false;
+
+  // Recheck: the meshes consumed bytes the first estimate did not know about.
+  if ((uint64_t)leaves * 4u + (uint64_t)bonds * MTREE_BOND_BYTES > remaining(r))
+    return corrupt(err, path, "payload ends before the %u leaves and %u bonds", leaves, bonds);
+  t->leaf_nodes = bk_alloc(sizeof(uint32_t) * leaves);
+  t->leaf_count = leaves;
+  for (uint32_t i = 0; i < leaves; ++i)
+    t->leaf_nodes[i] = get_u32(r);
+  if (bonds) t->bonds = bk_alloc(sizeof(bk_bond) * bonds);
+  t->bond_count = bonds;
+  for (uint32_t i = 0; i < bonds; ++i) {
+    bk_bond* b = &t->bonds[i];
+    b->leaf_a = get_u32(r);
+    b->leaf_b = get_u32(r);
+    b->area = get_f64(r);
+    b->centroid = get_vec3(r);
+    b->normal = get_vec3(r);
+  }
+  if (r->overrun) return corrupt(err, path, "payload ends inside the leaves or bonds");
+  if (remaining(r) != 0) return corrupt(err, path, "%zu unexpected bytes after the bonds", remaining(r));
+
+  bk_error why = {{0}};
+  if (!check_tree(t, &why)) return corrupt(err, path, "%s", why.message);
+  return true;
+}
+
+// Reads a whole file into memory (chunked, so the size need not be known up front).
+static bool read_file(const char* path, uint8_t** out, size_t* out_size, bk_error* err) {
+  *out = NULL;
+  *out_size = 0;
+  FILE* f = fopen(path, "rb");
+  if (!f) return bk_error_set(err, "%s: cannot open: %s", path, strerror(errno));
+  size_t length = 0, capacity = (size_t)1 << 16;
+  uint8_t* data = bk_alloc(capacity);
+  for (;;) {
+    if (length == capacity) {
+      if ((uint64_t)capacity >= MTREE_MAX_FILE_BYTES) {
+        if (fgetc(f) == EOF && !ferror(f)) break; // exactly at the limit
+        free(data);
+        fclose(f);
+        return bk_error_set(err, "%s: file larger than 4 GiB, refusing to load", path);
+      }
+      capacity *= 2;
+      data = bk_realloc(data, capacity);
+    }
+    size_t got = fread(data + length, 1, capacity - length, f);
+    length += got;
+    if (got == 0) break;
+  }
+  if (ferror(f)) {
+    int code = errno;
+    free(data);
+    fclose(f);
+    return bk_error_set(err, "%s: read failed: %s", path, strerror(code));
+  }
+  fclose(f);
+  *out = data;
+  *out_size = length;
+  return true;
+}
+
+// Checks the header in a fixed order so each kind of damage gets its own message.
+static bool check_header(const uint8_t* data, size_t size, const char* path, bk_error* err) {
+  if (size < MTREE_HEADER_BYTES) return bk_error_set(err, "%s: truncated header (%zu bytes)", path, size);
+  if (memcmp(data, mtree_magic, sizeof mtree_magic) != 0)
+    return bk_error_set(err, "%s: not a mesh tree file (bad magic)", path);
+  uint32_t version = load_u32(data + 8), marker = load_u32(data + 12);
+  // A file from a big-endian writer would misread its version as well; name the real cause.
+  bool swapped = marker == 0x04030201u;
+  if (version != BK_MTREE_VERSION && !swapped)
+    return bk_error_set(err, "%s: mesh tree version %" PRIu32 " is not supported (expected %u)", path,
+                        version, BK_MTREE_VERSION);
+  if (marker != MTREE_ENDIAN_MARKER)
+    return bk_error_set(
+        err, "%s: wrong byte order (marker 0x%08" PRIx32 ", expected 0x%08x): written by a %s", path, marker,
+        (unsigned)MTREE_ENDIAN_MARKER, swapped ? "big-endian writer" : "different or damaged writer");
+  uint64_t declared = load_u64(data + 16), actual = (uint64_t)(size - MTREE_HEADER_BYTES);
+  if (actual < declared)
+    return bk_error_set(err, "%s: truncated: payload is %" PRIu64 " bytes, header says %" PRIu64, path,
+                        actual, declared);
+  if (actual > declared)
+    return bk_error_set(err, "%s: corrupt: payload is %" PRIu64 " bytes, header says %" PRIu64, path, actual,
+                        declared);
+  if (bk_hash_bytes(BK_FNV_OFFSET, data + MTREE_HEADER_BYTES, (size_t)actual) != load_u64(data + 24))
+    return bk_error_set(err, "%s: checksum mismatch (file is corrupt)", path);
+  return true;
+}
+
+bool bk_mesh_tree_load(const char* path, bk_mesh_tree* out, bk_error* err) {
+  memset(out, 0, sizeof *out);
+  uint8_t* data = NULL;
+  size_t size = 0;
+  if (!read_file(path, &data, &size, err)) return false;
+  bool ok = check_header(data, size, path, err);
+  bk_mesh_tree tree = {0};
+  if (ok) {
+    byte_reader r = {.data = data + MTREE_HEADER_BYTES, .size = size - MTREE_HEADER_BYTES, .pos = 0};
+    ok = parse_payload(&r, &tree, path, err);
+  }
+  free(data);
+  if (!ok) {
+    bk_mesh_tree_free(&tree); // never hand out a half-loaded tree
+    return false;
+  }
+  *out = tree;
+  return true;
+}

@@ -1,0 +1,56 @@
+// Small double-precision vector helpers shared by every layer. Header-only so
+// they inline in hot loops (slicing, mass properties).
+#pragma once
+
+#include <math.h>
+#include <stdbool.h>
+
+/// A point or direction in double precision: geometry is processed in doubles
+/// so volumes stay exact to ~1e-12 through many recursive cuts.
+typedef struct bk_vec3 {
+  double x, y, z;
+} bk_vec3;
+
+/// Axis-aligned bounding box.
+typedef struct bk_aabb {
+  bk_vec3 min, max;
+} bk_aabb;
+
+/// Plane of points p with dot(normal, p) == offset; normal has unit length.
+typedef struct bk_plane {
+  bk_vec3 normal;
+  double offset;
+} bk_plane;
+
+static inline bk_vec3 bk_v3(double x, double y, double z) { return (bk_vec3){x, y, z}; }
+static inline bk_vec3 bk_v3_add(bk_vec3 a, bk_vec3 b) { return (bk_vec3){a.x + b.x, a.y + b.y, a.z + b.z}; }
+static inline bk_vec3 bk_v3_sub(bk_vec3 a, bk_vec3 b) { return (bk_vec3){a.x - b.x, a.y - b.y, a.z - b.z}; }
+static inline bk_vec3 bk_v3_scale(bk_vec3 a, double s) { return (bk_vec3){a.x * s, a.y * s, a.z * s}; }
+static inline double bk_v3_dot(bk_vec3 a, bk_vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+static inline bk_vec3 bk_v3_cross(bk_vec3 a, bk_vec3 b) {
+  return (bk_vec3){a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+static inline double bk_v3_length(bk_vec3 a) { return sqrt(bk_v3_dot(a, a)); }
+static inline bk_vec3 bk_v3_lerp(bk_vec3 a, bk_vec3 b, double t) {
+  return (bk_vec3){a.x + (b.x - a.x) * t, a.y + (b.y - a.y) * t, a.z + (b.z - a.z) * t};
+}
+static inline bk_vec3 bk_v3_normalize(bk_vec3 a) {
+  double len = bk_v3_length(a);
+  return len > 0.0 ? bk_v3_scale(a, 1.0 / len) : a;
+}
+static inline bk_vec3 bk_v3_min(bk_vec3 a, bk_vec3 b) {
+  return (bk_vec3){fmin(a.x, b.x), fmin(a.y, b.y), fmin(a.z, b.z)};
+}
+static inline bk_vec3 bk_v3_max(bk_vec3 a, bk_vec3 b) {
+  return (bk_vec3){fmax(a.x, b.x), fmax(a.y, b.y), fmax(a.z, b.z)};
+}
+static inline bool bk_v3_is_finite(bk_vec3 a) { return isfinite(a.x) && isfinite(a.y) && isfinite(a.z); }
+static inline double bk_plane_distance(bk_plane p, bk_vec3 x) { return bk_v3_dot(p.normal, x) - p.offset; }
+
+/// Two unit vectors u, v completing n to a right-handed orthonormal basis (u x v = n).
+static inline void bk_plane_basis(bk_vec3 n, bk_vec3* u, bk_vec3* v) {
+  // Pick the axis least aligned with n so the cross product is well conditioned.
+  bk_vec3 a = fabs(n.x) < 0.57735 ? bk_v3(1, 0, 0) : (fabs(n.y) < 0.57735 ? bk_v3(0, 1, 0) : bk_v3(0, 0, 1));
+  *u = bk_v3_normalize(bk_v3_cross(a, n));
+  *v = bk_v3_cross(n, *u);
+}

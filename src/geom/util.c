@@ -1,0 +1,187 @@
+// Shared utilities: errors, allocation, PCG32, the index map and hashing.
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "bk_geom.h"
+
+bool bk_error_set(bk_error* err, const char* fmt, ...) {
+  if (err) {
+    va_list args;
+    va_start(args, fmt);
+    vsnprintf(err->message, sizeof err->message, fmt, args);
+    va_end(args);
+  }
+  return false;
+}
+
+static void out_of_memory(size_t size) {
+  fprintf(stderr, "breakables: out of memory allocating %zu bytes\n", size);
+  abort();
+}
+
+void* bk_alloc(size_t size) {
+  void* p = malloc(size ? size : 1);
+  if (!p) out_of_memory(size);
+  return p;
+}
+
+void* bk_realloc(void* ptr, size_t size) {
+  void* p = realloc(ptr, size ? size : 1);
+  if (!p) out_of_memory(size);
+  return p;
+}
+
+void* bk_calloc(size_t count, size_t size) {
+  void* p = calloc(count ? count : 1, size ? size : 1);
+  if (!p) out_of_memory(count * size);
+  return p;
+}
+
+uint32_t bk_grow_capacity(uint32_t current, uint32_t need) {
+  if (need <= current) return current;
+  uint64_t cap = current ? current : 16;
+  while (cap < need)
+    cap *= 2;
+  if (cap > UINT32_MAX) {
+    if (need == UINT32_MAX) out_of_memory((size_t)need);
+    cap = UINT32_MAX;
+  }
+  return (uint32_t)cap;
+}
+
+// ---------------------------------------------------------------- PCG32 (O'Neill, pcg-random.org)
+
+bk_rng bk_rng_seed(uint64_t seed, uint64_t stream) {
+  bk_rng rng = {0u, (stream << 1u) | 1u};
+  (void)bk_rng_next(&rng);
+  rng.state += seed;
+  (void)bk_rng_next(&rng);
+  return rng;
+}
+
+uint32_t bk_rng_next(bk_rng* rng) {
+  uint64_t old = rng->state;
+  rng->state = old * 6364136223846793005ull + rng->inc;
+  uint32_t xorshifted = (uint32_t)(((old >> 18u) ^ old) >> 27u);
+  uint32_t rot = (uint32_t)(old >> 59u);
+  return (xorshifted >> rot) | (xorshifted << ((32u - rot) & 31u));
+}
+
+double bk_rng_unit(bk_rng* rng) {
+  // 53 random bits for a full-precision double in [0, 1).
+  uint64_t hi = bk_rng_next(rng) >> 5, lo = bk_rng_next(rng) >> 6;
+  return (double)((hi << 26) | lo) * (1.0 / 9007199254740992.0);
+}
+
+bk_vec3 bk_rng_direction(bk_rng* rng) {
+  // Uniform on the sphere: z uniform in [-1, 1], azimuth uniform.
+  double z = 2.0 * bk_rng_unit(rng) - 1.0;
+  double phi = 2.0 * 3.14159265358979323846 * bk_rng_unit(rng);
+  double r = sqrt(fmax(0.0, 1.0 - z * z));
+  return bk_v3(r * cos(phi), r * sin(phi), z);
+}
+
+// ---------------------------------------------------------------- index map
+
+#define BK_EMPTY_KEY UINT64_MAX
+
+static inline uint32_t slot_of(uint64_t key, uint32_t mask) {
+  // splitmix64 finaliser: edge keys are highly structured, so mix well.
+  key ^= key >> 30;
+  key *= 0xbf58476d1ce4e5b9ull;
+  key ^= key >> 27;
+  key *= 0x94d049bb133111ebull;
+  key ^= key >> 31;
+  return (uint32_t)key & mask;
+}
+
+void bk_index_map_init(bk_index_map* map, uint32_t expected) {
+  uint32_t cap = 16;
+  while (cap < expected * 2u && cap < (1u << 31))
+    cap *= 2;
+  map->keys = bk_alloc(sizeof(uint64_t) * cap);
+  map->values = bk_alloc(sizeof(uint32_t) * cap);
+  memset(map->keys, 0xff, sizeof(uint64_t) * cap);
+  map->count = 0;
+  map->capacity = cap;
+}
+
+void bk_index_map_free(bk_index_map* map) {
+  free(map->keys);
+  free(map->values);
+  memset(map, 0, sizeof *map);
+}
+
+void bk_index_map_clear(bk_index_map* map) {
+  // A map sized for a big mesh and reused for small ones would spend its time
+  // clearing empty slots: shrink to what the last use needed.
+  if (map->capacity > 1024 && (uint64_t)map->count * 16 < map->capacity) {
+    uint32_t expected = map->count;
+    bk_index_map_free(map);
+    bk_index_map_init(map, expected);
+    return;
+  }
+  if (map->keys) memset(map->keys, 0xff, sizeof(uint64_t) * map->capacity);
+  map->count = 0;
+}
+
+static void index_map_rehash(bk_index_map* map, uint32_t capacity) {
+  bk_index_map bigger = {0};
+  bigger.keys = bk_alloc(sizeof(uint64_t) * capacity);
+  bigger.values = bk_alloc(sizeof(uint32_t) * capacity);
+  memset(bigger.keys, 0xff, sizeof(uint64_t) * capacity);
+  bigger.capacity = capacity;
+  for (uint32_t i = 0; i < map->capacity; ++i) {
+    if (map->keys[i] == BK_EMPTY_KEY) continue;
+    uint32_t s = slot_of(map->keys[i], capacity - 1);
+    while (bigger.keys[s] != BK_EMPTY_KEY)
+      s = (s + 1) & (capacity - 1);
+    bigger.keys[s] = map->keys[i];
+    bigger.values[s] = map->values[i];
+  }
+  bigger.count = map->count;
+  free(map->keys);
+  free(map->values);
+  *map = bigger;
+}
+
+uint32_t* bk_index_map_insert(bk_index_map* map, uint64_t key, uint32_t value, bool* inserted) {
+  if (!map->keys) bk_index_map_init(map, 16);
+  if ((map->count + 1) * 2 > map->capacity) index_map_rehash(map, map->capacity * 2);
+  uint32_t mask = map->capacity - 1;
+  uint32_t s = slot_of(key, mask);
+  while (map->keys[s] != BK_EMPTY_KEY) {
+    if (map->keys[s] == key) {
+      if (inserted) *inserted = false;
+      return &map->values[s];
+    }
+    s = (s + 1) & mask;
+  }
+  map->keys[s] = key;
+  map->values[s] = value;
+  map->count++;
+  if (inserted) *inserted = true;
+  return &map->values[s];
+}
+
+uint32_t* bk_index_map_find(const bk_index_map* map, uint64_t key) {
+  if (!map->keys) return NULL;
+  uint32_t mask = map->capacity - 1;
+  uint32_t s = slot_of(key, mask);
+  while (map->keys[s] != BK_EMPTY_KEY) {
+    if (map->keys[s] == key) return &map->values[s];
+    s = (s + 1) & mask;
+  }
+  return NULL;
+}
+
+uint64_t bk_hash_bytes(uint64_t hash, const void* data, size_t size) {
+  const unsigned char* p = data;
+  for (size_t i = 0; i < size; ++i) {
+    hash ^= p[i];
+    hash *= 0x100000001b3ull;
+  }
+  return hash;
+}
