@@ -181,7 +181,10 @@ static int compare_double(const void* a, const void* b) {
 /// they add up to the mesh; writes the sorted hull volumes.
 static uint32_t split(const bk_mesh* m, double* volumes, uint32_t max, const char* what) {
   bk_mesh* hulls = NULL;
-  uint32_t count = bk_mesh_split_hulls(m, &hulls);
+  bk_mesh consumed = {0};
+  bk_mesh_copy(&consumed, m);
+  uint32_t count = bk_mesh_split_hulls(&consumed, &hulls);
+  ENSURE(consumed.triangle_count == 0 && consumed.positions == NULL);
   ENSURE(count >= 1 && hulls != NULL);
   double sum = 0.0;
   for (uint32_t i = 0; i < count; ++i) {
@@ -262,7 +265,9 @@ static void test_eggshell_one_hull(void) {
   bk_mesh egg;
   bk_shape_build(BK_SHAPE_EGGSHELL, &egg);
   bk_mesh* hulls = NULL;
-  ENSURE(bk_mesh_split_hulls(&egg, &hulls) == 1);
+  bk_mesh consumed = {0};
+  bk_mesh_copy(&consumed, &egg);
+  ENSURE(bk_mesh_split_hulls(&consumed, &hulls) == 1);
   ENSURE(bk_mesh_hash(&hulls[0]) == bk_mesh_hash(&egg));
   ENSURE_REL(bk_mesh_volume(&hulls[0]), bk_mesh_volume(&egg), 1e-15);
   bk_mesh_free(&hulls[0]);

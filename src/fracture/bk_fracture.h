@@ -49,9 +49,10 @@ int bk_mesh_fill_holes(bk_mesh* mesh, bk_error* err);
 
 /// Separates a closed mesh into its connected solids. Cavities (inward-facing
 /// closed components, e.g. the inside of an eggshell) stay with the solid that
-/// contains them. Returns the number of meshes written to *out (allocated;
-/// free each mesh and the array). A single-hull mesh is returned as a copy.
-uint32_t bk_mesh_split_hulls(const bk_mesh* mesh, bk_mesh** out);
+/// contains them. Takes ownership of `mesh` (it is zeroed on return; a mesh
+/// that is one hull is moved, not copied). Returns the number of meshes
+/// written to *out (allocated; free each mesh and the array).
+uint32_t bk_mesh_split_hulls(bk_mesh* mesh, bk_mesh** out);
 
 // ---------------------------------------------------------------- mesh tree
 

@@ -1,8 +1,10 @@
 // Bonds between leaves that truly touch. Every cap triangle is tagged with
 // the cut that made it; two leaves touch when their caps of one cut face
 // opposite ways and overlap with positive area. The overlap is measured
-// exactly by clipping the cap triangles against each other in the cut plane,
-// which gives the contact's area and centroid (not bounding-box overlap).
+// exactly by clipping the caps against each other in the cut plane, which
+// gives the contact's area and centroid (not bounding-box overlap). A leaf's
+// cap on one cut is usually a single convex polygon, so it is clipped as one
+// piece; other caps are clipped triangle by triangle.
 #include <stdlib.h>
 #include <string.h>
 
@@ -15,16 +17,29 @@ typedef struct cap_entry {
   uint32_t triangle;
 } cap_entry;
 
-typedef struct tri2 {
-  double p[3][2]; // counter-clockwise in the cut plane's (u, v) coordinates
+// A convex polygon, counter-clockwise in the cut plane's (u, v) coordinates.
+typedef struct piece {
+  uint32_t first, count; // range in the point array
   double min[2], max[2];
-} tri2;
+} piece;
 
+// One leaf's caps on one cut.
 typedef struct leaf_group {
   uint32_t leaf;
-  uint32_t first, count; // range in the projected triangle array
+  uint32_t first, count; // range in the piece array
   double min[2], max[2];
 } leaf_group;
+
+typedef struct scratch {
+  double (*points)[2];
+  uint32_t point_count, point_capacity;
+  piece* pieces;
+  uint32_t piece_count, piece_capacity;
+  uint32_t* edges; // outline building: directed position edges of one group
+  uint32_t edge_capacity;
+  double (*clip[2])[2];
+  uint32_t clip_capacity;
+} scratch;
 
 static int compare_entries(const void* pa, const void* pb) {
   const cap_entry *a = pa, *b = pb;
@@ -52,11 +67,11 @@ static bool boxes_overlap(const double amin[2], const double amax[2], const doub
 }
 
 // Clips polygon `in` (n vertices) to the left of the directed line a->b.
-static int clip_half_plane(const double (*in)[2], int n, const double a[2], const double b[2],
-                           double (*out)[2]) {
-  int m = 0;
+static uint32_t clip_half_plane(const double (*in)[2], uint32_t n, const double a[2], const double b[2],
+                                double (*out)[2]) {
+  uint32_t m = 0;
   double ex = b[0] - a[0], ey = b[1] - a[1];
-  for (int i = 0; i < n; ++i) {
+  for (uint32_t i = 0; i < n; ++i) {
     const double* p = in[i];
     const double* q = in[(i + 1) % n];
     double dp = ex * (p[1] - a[1]) - ey * (p[0] - a[0]);
@@ -72,20 +87,28 @@ static int clip_half_plane(const double (*in)[2], int n, const double a[2], cons
   return m;
 }
 
-// Area and area-weighted centroid sums of the intersection of two CCW triangles.
-static double overlap(const tri2* a, const tri2* b, double* cx, double* cy) {
-  double buf0[12][2], buf1[12][2];
-  memcpy(buf0, a->p, sizeof a->p);
-  int n = 3;
-  for (int e = 0; e < 3 && n >= 3; ++e) {
-    n = clip_half_plane((const double(*)[2])buf0, n, b->p[e], b->p[(e + 1) % 3], buf1);
-    memcpy(buf0, buf1, sizeof(double) * 2 * (size_t)n);
+// Area of the intersection of two convex pieces; adds its area-weighted
+// centroid to (cx, cy).
+static double overlap(scratch* s, const piece* a, const piece* b, double* cx, double* cy) {
+  uint32_t need = 2u * (a->count + b->count) + 2u;
+  if (need > s->clip_capacity) {
+    s->clip_capacity = bk_grow_capacity(s->clip_capacity, need);
+    for (int k = 0; k < 2; ++k)
+      s->clip[k] = bk_realloc(s->clip[k], sizeof(double[2]) * s->clip_capacity);
+  }
+  memcpy(s->clip[0], s->points[a->first], sizeof(double[2]) * a->count);
+  uint32_t n = a->count;
+  int cur = 0;
+  for (uint32_t e = 0; e < b->count && n >= 3; ++e) {
+    n = clip_half_plane((const double(*)[2])s->clip[cur], n, s->points[b->first + e],
+                        s->points[b->first + (e + 1) % b->count], s->clip[1 - cur]);
+    cur = 1 - cur;
   }
   if (n < 3) return 0.0;
   double area2 = 0.0, sx = 0.0, sy = 0.0;
-  for (int i = 0; i < n; ++i) {
-    const double* p = buf0[i];
-    const double* q = buf0[(i + 1) % n];
+  for (uint32_t i = 0; i < n; ++i) {
+    const double* p = s->clip[cur][i];
+    const double* q = s->clip[cur][(i + 1) % n];
     double cross = p[0] * q[1] - q[0] * p[1];
     area2 += cross;
     sx += (p[0] + q[0]) * cross;
@@ -97,15 +120,104 @@ static double overlap(const tri2* a, const tri2* b, double* cx, double* cy) {
   return area2 / 2.0;
 }
 
-static void project(const bk_mesh* mesh, uint32_t t, bk_vec3 u, bk_vec3 v, bool flip, tri2* out) {
-  for (int k = 0; k < 3; ++k) {
-    bk_vec3 p = mesh->positions[bk_mesh_tri_position(mesh, t, flip ? 2 - k : k)];
-    out->p[k][0] = bk_v3_dot(p, u);
-    out->p[k][1] = bk_v3_dot(p, v);
+static void add_point(scratch* s, double x, double y) {
+  if (s->point_count == s->point_capacity) {
+    s->point_capacity = bk_grow_capacity(s->point_capacity, s->point_count + 1);
+    s->points = bk_realloc(s->points, sizeof(double[2]) * s->point_capacity);
   }
-  for (int a = 0; a < 2; ++a) {
-    out->min[a] = fmin(out->p[0][a], fmin(out->p[1][a], out->p[2][a]));
-    out->max[a] = fmax(out->p[0][a], fmax(out->p[1][a], out->p[2][a]));
+  s->points[s->point_count][0] = x;
+  s->points[s->point_count][1] = y;
+  s->point_count++;
+}
+
+static void close_piece(scratch* s, uint32_t first) {
+  if (s->piece_count == s->piece_capacity) {
+    s->piece_capacity = bk_grow_capacity(s->piece_capacity, s->piece_count + 1);
+    s->pieces = bk_realloc(s->pieces, sizeof(piece) * s->piece_capacity);
+  }
+  piece* p = &s->pieces[s->piece_count++];
+  *p = (piece){first, s->point_count - first, {INFINITY, INFINITY}, {-INFINITY, -INFINITY}};
+  for (uint32_t i = first; i < s->point_count; ++i)
+    for (int a = 0; a < 2; ++a)
+      p->min[a] = fmin(p->min[a], s->points[i][a]), p->max[a] = fmax(p->max[a], s->points[i][a]);
+}
+
+// The outline of a group's triangles as one convex loop, if it is one.
+// Above-side caps face -n, so their loops are reversed to run CCW.
+static bool add_convex_outline(scratch* s, const bk_mesh* mesh, const cap_entry* entries, uint32_t count,
+                               bool flip, bk_vec3 u, bk_vec3 v) {
+  enum { MAX_TRIANGLES = 32 };
+  if (count > MAX_TRIANGLES) return false;
+  uint32_t edge_count = 0;
+  if (12u * count > s->edge_capacity) { // all edges, then the outline after them
+    s->edge_capacity = bk_grow_capacity(s->edge_capacity, 12u * count);
+    s->edges = bk_realloc(s->edges, sizeof(uint32_t) * s->edge_capacity);
+  }
+  for (uint32_t i = 0; i < count; ++i)
+    for (uint32_t k = 0; k < 3; ++k) {
+      s->edges[2 * edge_count] = bk_mesh_tri_position(mesh, entries[i].triangle, k);
+      s->edges[2 * edge_count + 1] = bk_mesh_tri_position(mesh, entries[i].triangle, (k + 1) % 3);
+      edge_count++;
+    }
+  // Keep the outline: edges whose reverse is not among them (few edges: quadratic is fine).
+  uint32_t outline = 0;
+  uint32_t* out = s->edges + 2u * edge_count;
+  for (uint32_t e = 0; e < edge_count; ++e) {
+    bool inner = false;
+    for (uint32_t f = 0; f < edge_count && !inner; ++f)
+      inner = s->edges[2 * f] == s->edges[2 * e + 1] && s->edges[2 * f + 1] == s->edges[2 * e];
+    if (inner) continue;
+    out[2 * outline] = s->edges[2 * e], out[2 * outline + 1] = s->edges[2 * e + 1];
+    outline++;
+  }
+  // Follow it from the first edge; it must be one loop using every edge.
+  uint32_t first_point = s->point_count, used = 0, at = 0;
+  for (;;) {
+    bk_vec3 p = mesh->positions[out[2 * at]];
+    add_point(s, bk_v3_dot(p, u), bk_v3_dot(p, v));
+    used++;
+    uint32_t next_vertex = out[2 * at + 1], next = UINT32_MAX;
+    if (next_vertex == out[0]) break;
+    for (uint32_t e = 0; e < outline && next == UINT32_MAX; ++e)
+      if (out[2 * e] == next_vertex) next = e;
+    if (next == UINT32_MAX || used > outline) break;
+    at = next;
+  }
+  uint32_t n = s->point_count - first_point;
+  if (used != outline || n < 3) {
+    s->point_count = first_point;
+    return false;
+  }
+  double(*pts)[2] = &s->points[first_point];
+  if (flip)
+    for (uint32_t i = 0; i < n / 2; ++i) {
+      double tx = pts[i][0], ty = pts[i][1];
+      pts[i][0] = pts[n - 1 - i][0], pts[i][1] = pts[n - 1 - i][1];
+      pts[n - 1 - i][0] = tx, pts[n - 1 - i][1] = ty;
+    }
+  double scale = 0.0;
+  for (uint32_t i = 0; i < n; ++i)
+    scale = fmax(scale, fmax(fabs(pts[(i + 1) % n][0] - pts[i][0]), fabs(pts[(i + 1) % n][1] - pts[i][1])));
+  for (uint32_t i = 0; i < n; ++i) {
+    const double *a = pts[(i + n - 1) % n], *b = pts[i], *c = pts[(i + 1) % n];
+    if ((b[0] - a[0]) * (c[1] - b[1]) - (b[1] - a[1]) * (c[0] - b[0]) < -1e-12 * scale * scale) {
+      s->point_count = first_point; // reflex corner: not convex
+      return false;
+    }
+  }
+  close_piece(s, first_point);
+  return true;
+}
+
+static void add_triangles(scratch* s, const bk_mesh* mesh, const cap_entry* entries, uint32_t count,
+                          bool flip, bk_vec3 u, bk_vec3 v) {
+  for (uint32_t i = 0; i < count; ++i) {
+    uint32_t first = s->point_count;
+    for (uint32_t k = 0; k < 3; ++k) {
+      bk_vec3 p = mesh->positions[bk_mesh_tri_position(mesh, entries[i].triangle, flip ? 2 - k : k)];
+      add_point(s, bk_v3_dot(p, u), bk_v3_dot(p, v));
+    }
+    close_piece(s, first);
   }
 }
 
@@ -169,7 +281,7 @@ void bk_mesh_tree_compute_bonds(bk_mesh_tree* tree) {
   double min_area = 1e-12 * bk_v3_dot(diag, diag); // below this an overlap is rounding noise
   bond_list list = {0};
   bk_index_map_init(&list.index_of_pair, tree->leaf_count * 4u);
-  tri2* tris = bk_alloc(sizeof(tri2) * (entry_count + 1u));
+  scratch s = {0};
   leaf_group* groups = bk_alloc(sizeof(leaf_group) * (entry_count + 1u));
   uint32_t* active[2] = {bk_alloc(sizeof(uint32_t) * (entry_count + 1u)),
                          bk_alloc(sizeof(uint32_t) * (entry_count + 1u))};
@@ -180,19 +292,29 @@ void bk_mesh_tree_compute_bonds(bk_mesh_tree* tree) {
       end++;
     bk_vec3 n = tree->nodes[cut].plane.normal, u, v;
     bk_plane_basis(n, &u, &v);
-    // Project and group by leaf; above-side caps face -n, so flip them to CCW.
+    // One group of convex pieces per (side, leaf).
+    s.point_count = s.piece_count = 0;
     uint32_t group_count = 0, below_groups = 0;
-    for (uint32_t i = begin; i < end; ++i) {
-      const cap_entry* e = &entries[i];
-      project(&bk_mesh_tree_leaf(tree, e->leaf)->mesh, e->triangle, u, v, e->side == 1, &tris[i]);
-      if (i == begin || e->leaf != entries[i - 1].leaf || e->side != entries[i - 1].side) {
-        groups[group_count++] = (leaf_group){e->leaf, i, 0, {INFINITY, INFINITY}, {-INFINITY, -INFINITY}};
-        if (e->side == 0) below_groups = group_count;
-      }
-      leaf_group* g = &groups[group_count - 1];
-      g->count++;
-      for (int a = 0; a < 2; ++a)
-        g->min[a] = fmin(g->min[a], tris[i].min[a]), g->max[a] = fmax(g->max[a], tris[i].max[a]);
+    for (uint32_t i = begin; i < end;) {
+      uint32_t j = i;
+      while (j < end && entries[j].leaf == entries[i].leaf && entries[j].side == entries[i].side)
+        j++;
+      const bk_mesh* mesh = &bk_mesh_tree_leaf(tree, entries[i].leaf)->mesh;
+      bool flip = entries[i].side == 1;
+      uint32_t first_piece = s.piece_count;
+      if (!add_convex_outline(&s, mesh, &entries[i], j - i, flip, u, v))
+        add_triangles(&s, mesh, &entries[i], j - i, flip, u, v);
+      leaf_group* g = &groups[group_count++];
+      *g = (leaf_group){entries[i].leaf,
+                        first_piece,
+                        s.piece_count - first_piece,
+                        {INFINITY, INFINITY},
+                        {-INFINITY, -INFINITY}};
+      for (uint32_t k = first_piece; k < s.piece_count; ++k)
+        for (int a = 0; a < 2; ++a)
+          g->min[a] = fmin(g->min[a], s.pieces[k].min[a]), g->max[a] = fmax(g->max[a], s.pieces[k].max[a]);
+      if (!flip) below_groups = group_count;
+      i = j;
     }
     // Sweep and prune along u: both sides sorted by min u; a group is tested
     // against the other side's groups still open at its start.
@@ -219,8 +341,8 @@ void bk_mesh_tree_compute_bonds(bk_mesh_tree* tree) {
         double area = 0.0, cx = 0.0, cy = 0.0;
         for (uint32_t a = gb->first; a < gb->first + gb->count; ++a)
           for (uint32_t b = ga->first; b < ga->first + ga->count; ++b)
-            if (boxes_overlap(tris[a].min, tris[a].max, tris[b].min, tris[b].max))
-              area += overlap(&tris[a], &tris[b], &cx, &cy);
+            if (boxes_overlap(s.pieces[a].min, s.pieces[a].max, s.pieces[b].min, s.pieces[b].max))
+              area += overlap(&s, &s.pieces[a], &s.pieces[b], &cx, &cy);
         if (area <= min_area) continue;
         bk_vec3 centroid = bk_v3_add(bk_v3_scale(n, tree->nodes[cut].plane.offset),
                                      bk_v3_add(bk_v3_scale(u, cx / area), bk_v3_scale(v, cy / area)));
@@ -231,7 +353,11 @@ void bk_mesh_tree_compute_bonds(bk_mesh_tree* tree) {
     }
     begin = end;
   }
-  free(tris);
+  free(s.points);
+  free(s.pieces);
+  free(s.edges);
+  free(s.clip[0]);
+  free(s.clip[1]);
   free(groups);
   free(active[0]);
   free(active[1]);

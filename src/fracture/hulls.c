@@ -31,7 +31,7 @@ static double winding_number(const bk_mesh* m, const uint32_t* tri_component, ui
   return total / (4.0 * 3.14159265358979323846);
 }
 
-uint32_t bk_mesh_split_hulls(const bk_mesh* m, bk_mesh** out) {
+uint32_t bk_mesh_split_hulls(bk_mesh* m, bk_mesh** out) {
   uint32_t* parent = bk_alloc(sizeof(uint32_t) * (m->position_count + 1u));
   for (uint32_t i = 0; i < m->position_count; ++i)
     parent[i] = i;
@@ -75,8 +75,9 @@ uint32_t bk_mesh_split_hulls(const bk_mesh* m, bk_mesh** out) {
     free(tri_component);
     free(volume);
     free(first_position);
-    *out = bk_calloc(1, sizeof(bk_mesh));
-    bk_mesh_copy(&(*out)[0], m);
+    *out = bk_alloc(sizeof(bk_mesh));
+    (*out)[0] = *m;
+    memset(m, 0, sizeof *m);
     return 1;
   }
   // Solids become outputs in component order; each cavity joins the smallest
@@ -124,5 +125,6 @@ uint32_t bk_mesh_split_hulls(const bk_mesh* m, bk_mesh** out) {
   free(volume);
   free(first_position);
   free(output_of);
+  bk_mesh_free(m);
   return solids;
 }

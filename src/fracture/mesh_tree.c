@@ -123,8 +123,6 @@ static uint32_t split_node(bk_slicer* slicer, bk_face_simplifier* simplifier, co
     bk_mesh *below_hulls = NULL, *above_hulls = NULL;
     uint32_t below_count = bk_mesh_split_hulls(&below, &below_hulls);
     uint32_t above_count = bk_mesh_split_hulls(&above, &above_hulls);
-    bk_mesh_free(&below);
-    bk_mesh_free(&above);
     *pieces = bk_realloc(below_hulls, sizeof(bk_mesh) * (below_count + above_count));
     memcpy(*pieces + below_count, above_hulls, sizeof(bk_mesh) * above_count);
     free(above_hulls);
