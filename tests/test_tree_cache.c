@@ -16,8 +16,9 @@
 
 // Header layout (see tree_cache.c): magic 8, version 4, endian 4, payload size 8, checksum 8.
 enum { HEADER_BYTES = 32, VERSION_OFFSET = 8, ENDIAN_OFFSET = 12, CHECKSUM_OFFSET = 24 };
-// Payload: source_hash 8, pieces 4, seed 8, texture_scale 8, jitter 8, max_depth 4, then node_count.
-enum { NODE_COUNT_OFFSET = HEADER_BYTES + 8 + 4 + 8 + 8 + 8 + 4 };
+// Payload: source_hash 8, pieces 4, seed 8, texture_scale 8, jitter 8, aspect_bias 8, max_depth 4, then
+// node_count.
+enum { NODE_COUNT_OFFSET = HEADER_BYTES + 8 + 4 + 8 + 8 + 8 + 8 + 4 };
 // The root's parent follows the counts (node, leaf, bond: 12 bytes) and its
 // bounds, moments and plane (20 doubles).
 enum { ROOT_PARENT_OFFSET = NODE_COUNT_OFFSET + 12 + 20 * 8 };
@@ -224,7 +225,7 @@ static void test_corruption(void) {
   // (c) version
   memcpy(data, good, size);
   store_u32(data + VERSION_OFFSET, 99);
-  expect_damaged(data, size, "mesh tree version 99 is not supported (expected 1)");
+  expect_damaged(data, size, "mesh tree version 99 is not supported (expected 2)");
 
   // byte order: the marker as a big-endian writer would store it
   memcpy(data, good, size);

@@ -5,15 +5,23 @@
 #include <stdint.h>
 
 #include "bk_fracture.h"
+#include "bk_sim.h"
 
 /// Subcommand entry points; argv[0] is the subcommand name. Return the exit code.
 int bk_cmd_fracture(int argc, char** argv);
+int bk_cmd_sim(int argc, char** argv);
 
 /// Resolves --mesh: a built-in shape name, "bunny" (the bundled asset, scaled
 /// to 1 unit tall standing on y = 0) or a path to an .obj file. Open meshes
 /// with simple holes are repaired with a warning on stderr; anything else that
 /// cannot be fractured is refused with a one-line error.
 bool bk_app_load_mesh(const char* spec, bk_mesh* out, bk_error* err);
+/// Builds the mesh tree of a mesh (scaled uniformly by `scale` when not 0 or
+/// 1), or loads it from the cache directory ($BREAKABLES_CACHE_DIR, else
+/// $XDG_CACHE_HOME/breakables, else ~/.cache/breakables) when a file made
+/// from the same mesh and parameters is there; a fresh build is cached.
+bool bk_app_load_tree(const char* mesh_spec, double scale, const bk_fracture_desc* desc, bk_mesh_tree* out,
+                      bool* from_cache, bk_error* err);
 /// Directory holding assets/ content (next to the executable, or the source tree).
 const char* bk_app_asset_dir(void);
 /// Parses a whole unsigned number in [min, max]; false on junk or overflow.
@@ -24,3 +32,31 @@ bool bk_parse_double(const char* text, double min_exclusive, double max_inclusiv
 double bk_now_ms(void);
 /// Peak resident memory of this process in MiB.
 double bk_peak_rss_mb(void);
+
+/// Overrides for a scene's defaults (zero = the scene's or material's value).
+typedef struct bk_scene_options {
+  uint32_t pieces;
+  uint64_t seed;
+  double texture_scale;
+  double frailty, density, bond_strength;
+  int accumulate; ///< -1 = material's choice, 0 = discrete, 1 = accumulating
+  bool naive, convex_colliders;
+} bk_scene_options;
+
+bk_scene_options bk_default_scene_options(void);
+
+/// A scene set up in a world: its trees (owned) and breakables.
+typedef struct bk_loaded_scene {
+  const bk_scene* scene;
+  bk_world* world;
+  bk_mesh_tree trees[8];
+  bk_breakable_id ids[8];
+  uint32_t tree_count;
+  bool from_cache; ///< a tree came from the cache directory
+} bk_loaded_scene;
+
+bool bk_loaded_scene_create(const bk_scene* scene, const bk_scene_options* options, bk_loaded_scene* out,
+                            bk_error* err);
+void bk_loaded_scene_destroy(bk_loaded_scene* scene);
+/// The i-th shot of a volley from the scene's eye towards (around) its target.
+bk_projectile_desc bk_scene_shot(const bk_scene* scene, uint32_t shot, double speed);

@@ -4,15 +4,17 @@
 
 #include "app.h"
 
-static const char* const usage = "usage: breakables <command> [options]\n"
-                                 "\n"
-                                 "Real-time destruction toolkit: fractures closed meshes into mesh trees of\n"
-                                 "watertight fragments.\n"
-                                 "\n"
-                                 "commands:\n"
-                                 "  fracture   build a mesh tree of fragments from a mesh (headless)\n"
-                                 "\n"
-                                 "Run 'breakables <command> --help' for the options of a command.\n";
+static const char* const usage =
+    "usage: breakables <command> [options]\n"
+    "\n"
+    "Real-time destruction toolkit: fractures closed meshes into mesh trees of\n"
+    "watertight fragments.\n"
+    "\n"
+    "commands:\n"
+    "  fracture   build a mesh tree of fragments from a mesh (headless)\n"
+    "  sim        run a scene headless: fire projectiles, report breaks and costs\n"
+    "\n"
+    "Run 'breakables <command> --help' for the options of a command.\n";
 
 int main(int argc, char** argv) {
   if (argc < 2 || strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0) {
@@ -20,6 +22,7 @@ int main(int argc, char** argv) {
     return 0;
   }
   if (strcmp(argv[1], "fracture") == 0) return bk_cmd_fracture(argc - 1, argv + 1);
+  if (strcmp(argv[1], "sim") == 0) return bk_cmd_sim(argc - 1, argv + 1);
   fprintf(stderr, "breakables: unknown command '%s' (see 'breakables --help')\n", argv[1]);
   return 2;
 }

@@ -62,6 +62,12 @@ typedef struct bk_fracture_desc {
   uint64_t seed;   ///< random seed; the same seed gives the same tree
   double texture_scale; ///< world size of one interior texture tile; 0 = 0.1
   double jitter; ///< plane offset jitter, fraction of the piece's extent (0 = exactly through the centroid)
+  /// Tilts each cut's normal towards the piece's longest principal axis:
+  /// normal = normalize(uniform direction + aspect_bias x axis). 0 (the
+  /// default) gives uniformly distributed directions, as in the thesis; about
+  /// 1.5 gives chunky fragments instead of plates and shards on thin or long
+  /// shapes (walls, slabs, pillars), which also stack and collide far better.
+  double aspect_bias;
   /// Optional progress report, called from the building thread with the leaf
   /// count so far; returning false cancels the build.
   bool (*progress)(void* user, uint32_t leaves, uint32_t target);
@@ -142,7 +148,7 @@ bk_mesh_tree_stats bk_mesh_tree_measure(const bk_mesh_tree* tree);
 // ---------------------------------------------------------------- cache file
 
 /// Current .mtree format version.
-#define BK_MTREE_VERSION 1u
+#define BK_MTREE_VERSION 2u
 
 /// Writes the tree to a versioned, checksummed binary file (via a temporary
 /// file and rename, so an existing file is never half-written).

@@ -21,6 +21,8 @@ bool bk_fracture_desc_validate(const bk_fracture_desc* d, bk_error* err) {
                         d->texture_scale);
   if (!isfinite(d->jitter) || d->jitter < 0.0 || d->jitter > 0.5)
     return bk_error_set(err, "fracture: jitter must be between 0 and 0.5 (got %g)", d->jitter);
+  if (!isfinite(d->aspect_bias) || d->aspect_bias < 0.0 || d->aspect_bias > 100.0)
+    return bk_error_set(err, "fracture: aspect_bias must be between 0 and 100 (got %g)", d->aspect_bias);
   return true;
 }
 
@@ -103,8 +105,20 @@ static uint32_t split_node(bk_slicer* slicer, bk_face_simplifier* simplifier, co
                            bk_mesh** pieces) {
   bk_mass_properties mass = bk_moments_to_mass(node->moments);
   bk_vec3 size = bk_v3_sub(node->bounds.max, node->bounds.min);
+  bk_vec3 longest = {0};
+  if (d->aspect_bias > 0.0) {
+    // The longest direction of the piece has the smallest moment of inertia.
+    double values[3], axes[3][3];
+    bk_sym3_eigen(mass.inertia, values, axes);
+    int k = values[0] <= values[1] && values[0] <= values[2] ? 0 : (values[1] <= values[2] ? 1 : 2);
+    longest = bk_v3(axes[0][k], axes[1][k], axes[2][k]);
+  }
   for (int attempt = 0; attempt < MAX_SPLIT_ATTEMPTS; ++attempt) {
     bk_vec3 n = bk_rng_direction(rng);
+    if (d->aspect_bias > 0.0) {
+      bk_vec3 tilt = bk_v3_scale(longest, bk_v3_dot(n, longest) < 0.0 ? -d->aspect_bias : d->aspect_bias);
+      n = bk_v3_normalize(bk_v3_add(n, tilt));
+    }
     // Extent of the piece along n, for the jitter and the snapping tolerance.
     double extent = fabs(n.x) * size.x + fabs(n.y) * size.y + fabs(n.z) * size.z;
     double shift = d->jitter * extent * (bk_rng_unit(rng) - 0.5);

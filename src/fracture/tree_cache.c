@@ -6,7 +6,7 @@
 //
 // Layout: a fixed 32-byte header followed by the payload.
 //   header:  "BKMTREE\0" | u32 version | u32 0x01020304 | u64 payload size | u64 FNV-1a-64 of the payload
-//   payload: u64 source_hash | u32 pieces | u64 seed | f64 texture_scale | f64 jitter
+//   payload: u64 source_hash | u32 pieces | u64 seed | f64 texture_scale | f64 jitter | f64 aspect_bias
 //            u32 max_depth | u32 node_count | u32 leaf_count | u32 bond_count
 //            node_count x { f64 bounds[6] | f64 moments[10] | f64 plane[4]
 //                           u32 parent, first_child, child_count, leaf_begin, leaf_end, depth
@@ -16,13 +16,11 @@
 //            leaf_count x u32 leaf_nodes
 //            bond_count x { u32 leaf_a, leaf_b | f64 area | f64 centroid[3] | f64 normal[3] }
 // Floats are stored as their IEEE-754 bits, so a round trip is bit-exact.
-#include <errno.h>
 #include <inttypes.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
 #include "bk_fracture.h"
 
@@ -144,6 +142,7 @@ static void put_payload(byte_writer* w, const bk_mesh_tree* tree) {
   put_u64(w, tree->desc.seed);
   put_f64(w, tree->desc.texture_scale);
   put_f64(w, tree->desc.jitter);
+  put_f64(w, tree->desc.aspect_bias);
   put_u32(w, tree->max_depth);
   put_u32(w, tree->node_count);
   put_u32(w, tree->leaf_count);
@@ -256,33 +255,15 @@ static bool check_tree(const bk_mesh_tree* t, bk_error* why) {
 
 // ---------------------------------------------------------------- save
 
+// The tree cache reports every write failure the same way.
+static const bk_atomic_messages mtree_write_messages = {"cannot write", "cannot write", "cannot write"};
+
 static bool write_file(const char* path, const uint8_t* data, size_t size, bk_error* err) {
   // Write beside the target and rename over it, so an existing file is never half-overwritten.
-  size_t path_length = strlen(path);
-  char* tmp = bk_alloc(path_length + 5);
-  memcpy(tmp, path, path_length);
-  memcpy(tmp + path_length, ".tmp", 5);
-  FILE* f = fopen(tmp, "wb");
-  if (!f) {
-    int code = errno;
-    free(tmp);
-    return bk_error_set(err, "%s: cannot write: %s", path, strerror(code));
-  }
-  errno = 0; // so a stream error reported without errno is not blamed on an older failure
-  int code = 0;
-  if (fwrite(data, 1, size, f) != size) code = errno ? errno : EIO;
-  if (code == 0 && fflush(f) != 0) code = errno ? errno : EIO;
-  // Sync before the rename so a crash cannot leave a renamed but empty file.
-  if (code == 0 && fsync(fileno(f)) != 0) code = errno;
-  if (fclose(f) != 0 && code == 0) code = errno ? errno : EIO;
-  if (code == 0 && rename(tmp, path) != 0) code = errno;
-  if (code != 0) {
-    remove(tmp);
-    free(tmp);
-    return bk_error_set(err, "%s: cannot write: %s", path, strerror(code));
-  }
-  free(tmp);
-  return true;
+  FILE* f = bk_file_begin_atomic(path, &mtree_write_messages, err);
+  if (!f) return false;
+  fwrite(data, 1, size, f); // a short write leaves the stream in error, which commit reports
+  return bk_file_commit_atomic(f, path, &mtree_write_messages, err);
 }
 
 bool bk_mesh_tree_save(const bk_mesh_tree* tree, const char* path, bk_error* err) {
@@ -467,6 +448,7 @@ static bool parse_payload(byte_reader* r, bk_mesh_tree* t, const char* path, bk_
   t->desc.seed = get_u64(r);
   t->desc.texture_scale = get_f64(r);
   t->desc.jitter = get_f64(r);
+  t->desc.aspect_bias = get_f64(r);
   t->max_depth = get_u32(r);
   uint32_t nodes = get_u32(r), leaves = get_u32(r), bonds = get_u32(r);
   if (r->overrun) return corrupt(err, path, "payload ends inside the tree header");
@@ -510,41 +492,6 @@ static bool parse_payload(byte_reader* r, bk_mesh_tree* t, const char* path, bk_
   return true;
 }
 
-// Reads a whole file into memory (chunked, so the size need not be known up front).
-static bool read_file(const char* path, uint8_t** out, size_t* out_size, bk_error* err) {
-  *out = NULL;
-  *out_size = 0;
-  FILE* f = fopen(path, "rb");
-  if (!f) return bk_error_set(err, "%s: cannot open: %s", path, strerror(errno));
-  size_t length = 0, capacity = (size_t)1 << 16;
-  uint8_t* data = bk_alloc(capacity);
-  for (;;) {
-    if (length == capacity) {
-      if ((uint64_t)capacity >= MTREE_MAX_FILE_BYTES) {
-        if (fgetc(f) == EOF && !ferror(f)) break; // exactly at the limit
-        free(data);
-        fclose(f);
-        return bk_error_set(err, "%s: file larger than 4 GiB, refusing to load", path);
-      }
-      capacity *= 2;
-      data = bk_realloc(data, capacity);
-    }
-    size_t got = fread(data + length, 1, capacity - length, f);
-    length += got;
-    if (got == 0) break;
-  }
-  if (ferror(f)) {
-    int code = errno;
-    free(data);
-    fclose(f);
-    return bk_error_set(err, "%s: read failed: %s", path, strerror(code));
-  }
-  fclose(f);
-  *out = data;
-  *out_size = length;
-  return true;
-}
-
 // Checks the header in a fixed order so each kind of damage gets its own message.
 static bool check_header(const uint8_t* data, size_t size, const char* path, bk_error* err) {
   if (size < MTREE_HEADER_BYTES) return bk_error_set(err, "%s: truncated header (%zu bytes)", path, size);
@@ -574,16 +521,17 @@ static bool check_header(const uint8_t* data, size_t size, const char* path, bk_
 
 bool bk_mesh_tree_load(const char* path, bk_mesh_tree* out, bk_error* err) {
   memset(out, 0, sizeof *out);
-  uint8_t* data = NULL;
+  void* contents = NULL;
   size_t size = 0;
-  if (!read_file(path, &data, &size, err)) return false;
+  if (!bk_file_read(path, MTREE_MAX_FILE_BYTES, "4 GiB", &contents, &size, err)) return false;
+  const uint8_t* data = contents;
   bool ok = check_header(data, size, path, err);
   bk_mesh_tree tree = {0};
   if (ok) {
     byte_reader r = {.data = data + MTREE_HEADER_BYTES, .size = size - MTREE_HEADER_BYTES, .pos = 0};
     ok = parse_payload(&r, &tree, path, err);
   }
-  free(data);
+  free(contents);
   if (!ok) {
     bk_mesh_tree_free(&tree); // never hand out a half-loaded tree
     return false;

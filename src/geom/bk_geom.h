@@ -5,6 +5,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 
 #include "bk_math.h"
 
@@ -129,6 +130,11 @@ bk_moments bk_moments_add(bk_moments a, bk_moments b);
 bk_mass_properties bk_moments_to_mass(bk_moments m);
 /// Convenience: volume of a closed mesh.
 double bk_mesh_volume(const bk_mesh* mesh);
+/// Eigenvalues and eigenvectors (columns of `vectors`, a right-handed
+/// rotation) of a symmetric 3x3 matrix: principal moments and axes of inertia.
+void bk_sym3_eigen(const double m[3][3], double values[3], double vectors[3][3]);
+/// Quaternion of a rotation matrix.
+bk_quat bk_quat_from_matrix(const double r[3][3]);
 
 // ---------------------------------------------------------------- shapes
 
@@ -215,6 +221,31 @@ uint32_t bk_grow_capacity(uint32_t current, uint32_t need);
 void* bk_alloc(size_t size);
 void* bk_realloc(void* ptr, size_t size);
 void* bk_calloc(size_t count, size_t size);
+
+/// Reads a whole file into a fresh buffer (free it with free()). Files over
+/// max_bytes are refused with "<path>: file larger than <limit_text>, refusing
+/// to load"; limit_text lets each caller name its limit ("1 GiB"). max_bytes
+/// must be a power of two of at least 64 KiB, the granularity the buffer grows by.
+bool bk_file_read(const char* path, uint64_t max_bytes, const char* limit_text, void** data, size_t* size,
+                  bk_error* err);
+
+/// Wording of atomic-write failures; each message reads "<path>: <text>: <reason>".
+typedef struct bk_atomic_messages {
+  const char* open_failed;   ///< the temporary file could not be created
+  const char* write_failed;  ///< writing, flushing, syncing or closing failed
+  const char* rename_failed; ///< the temporary could not replace the target
+} bk_atomic_messages;
+
+/// Starts replacing `path` atomically: opens "<path>.tmp" for writing. Readers
+/// see either the old file or the complete new one, never a partial write.
+/// Returns NULL (err filled) on failure.
+FILE* bk_file_begin_atomic(const char* path, const bk_atomic_messages* messages, bk_error* err);
+/// Finishes a write begun by bk_file_begin_atomic: checks the stream, flushes,
+/// syncs, closes and renames over `path`. Always consumes f; on any failure
+/// the temporary is removed and the target left as it was.
+bool bk_file_commit_atomic(FILE* f, const char* path, const bk_atomic_messages* messages, bk_error* err);
+/// Abandons a write begun by bk_file_begin_atomic: closes f and removes the temporary.
+void bk_file_abort_atomic(FILE* f, const char* path);
 
 #ifdef __cplusplus
 }

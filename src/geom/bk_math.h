@@ -54,3 +54,48 @@ static inline void bk_plane_basis(bk_vec3 n, bk_vec3* u, bk_vec3* v) {
   *u = bk_v3_normalize(bk_v3_cross(a, n));
   *v = bk_v3_cross(n, *u);
 }
+
+/// Unit quaternion (x, y, z, w) for rotations.
+typedef struct bk_quat {
+  double x, y, z, w;
+} bk_quat;
+
+/// A rigid transform: rotate, then translate.
+typedef struct bk_transform {
+  bk_vec3 position;
+  bk_quat rotation;
+} bk_transform;
+
+static inline bk_quat bk_quat_identity(void) { return (bk_quat){0, 0, 0, 1}; }
+static inline bk_transform bk_transform_identity(void) { return (bk_transform){{0, 0, 0}, {0, 0, 0, 1}}; }
+static inline bk_quat bk_quat_mul(bk_quat a, bk_quat b) {
+  return (bk_quat){
+      a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y, a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x,
+      a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w, a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z};
+}
+static inline bk_quat bk_quat_conjugate(bk_quat q) { return (bk_quat){-q.x, -q.y, -q.z, q.w}; }
+static inline bk_vec3 bk_quat_rotate(bk_quat q, bk_vec3 v) {
+  // v + 2w (q x v) + 2 q x (q x v)
+  bk_vec3 u = bk_v3(q.x, q.y, q.z);
+  bk_vec3 t = bk_v3_scale(bk_v3_cross(u, v), 2.0);
+  return bk_v3_add(bk_v3_add(v, bk_v3_scale(t, q.w)), bk_v3_cross(u, t));
+}
+static inline bk_quat bk_quat_normalize(bk_quat q) {
+  double n = sqrt(q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w);
+  return n > 0.0 ? (bk_quat){q.x / n, q.y / n, q.z / n, q.w / n} : bk_quat_identity();
+}
+/// Rotation of `angle` radians about unit `axis`.
+static inline bk_quat bk_quat_axis_angle(bk_vec3 axis, double angle) {
+  double s = sin(0.5 * angle);
+  return (bk_quat){axis.x * s, axis.y * s, axis.z * s, cos(0.5 * angle)};
+}
+static inline bk_vec3 bk_transform_point(bk_transform t, bk_vec3 p) {
+  return bk_v3_add(bk_quat_rotate(t.rotation, p), t.position);
+}
+static inline bk_transform bk_transform_mul(bk_transform a, bk_transform b) {
+  return (bk_transform){bk_transform_point(a, b.position), bk_quat_mul(a.rotation, b.rotation)};
+}
+static inline bk_transform bk_transform_inverse(bk_transform t) {
+  bk_quat r = bk_quat_conjugate(t.rotation);
+  return (bk_transform){bk_v3_scale(bk_quat_rotate(r, t.position), -1.0), r};
+}

@@ -3,7 +3,6 @@
 // Parsing only records raw (v, vt, vn) references per triangle. Corners are
 // built afterwards, once positions are welded, so two faces that repeat a
 // vertex's coordinates under different `v` lines still share one corner.
-#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -450,33 +449,9 @@ bool bk_obj_parse(const char* text, size_t length, const char* name, bk_mesh* ou
 
 bool bk_obj_load(const char* path, bk_mesh* out, bk_error* err) {
   memset(out, 0, sizeof *out);
-  FILE* f = fopen(path, "rb");
-  if (!f) return bk_error_set(err, "%s: cannot open: %s", path, strerror(errno));
-  // Read in chunks rather than trusting a size from fseek: works for pipes too.
-  size_t length = 0, capacity = 1 << 16;
-  char* data = bk_alloc(capacity);
-  for (;;) {
-    if (length == capacity) {
-      if (capacity >= OBJ_MAX_FILE_BYTES) {
-        if (fgetc(f) == EOF && !ferror(f)) break; // exactly at the limit
-        free(data);
-        fclose(f);
-        return bk_error_set(err, "%s: file larger than 1 GiB, refusing to load", path);
-      }
-      capacity *= 2;
-      data = bk_realloc(data, capacity);
-    }
-    size_t got = fread(data + length, 1, capacity - length, f);
-    length += got;
-    if (got == 0) break;
-  }
-  if (ferror(f)) {
-    int code = errno;
-    free(data);
-    fclose(f);
-    return bk_error_set(err, "%s: read failed: %s", path, strerror(code));
-  }
-  fclose(f);
+  void* data = NULL;
+  size_t length = 0;
+  if (!bk_file_read(path, OBJ_MAX_FILE_BYTES, "1 GiB", &data, &length, err)) return false;
   bool ok = bk_obj_parse(data, length, path, out, err);
   free(data);
   return ok;

@@ -1,11 +1,7 @@
 // Wavefront OBJ writer: one `o fragment_<i>` object per mesh, positions with
 // exact round-trip precision, per-corner vt/vn.
-#include <errno.h>
 #include <inttypes.h>
 #include <stdio.h>
-#include <stdlib.h>
-#include <string.h>
-#include <unistd.h>
 
 #include "bk_geom.h"
 
@@ -44,17 +40,10 @@ bool bk_obj_save(const char* path, const bk_mesh* meshes, uint32_t mesh_count, b
   }
 
   // Write beside the target and rename over it, so an existing file is never half-overwritten.
-  size_t path_length = strlen(path);
-  char* tmp = bk_alloc(path_length + 5);
-  memcpy(tmp, path, path_length);
-  memcpy(tmp + path_length, ".tmp", 5);
-  FILE* f = fopen(tmp, "w");
-  if (!f) {
-    int code = errno;
-    free(tmp);
-    return bk_error_set(err, "%s: cannot open for writing: %s", path, strerror(code));
-  }
-  errno = 0; // so a stream error reported without errno is not blamed on an older failure
+  static const bk_atomic_messages messages = {"cannot open for writing", "write failed",
+                                              "cannot replace file"};
+  FILE* f = bk_file_begin_atomic(path, &messages, err);
+  if (!f) return false;
 
   uint64_t positions = 0, corners = 0, triangles = 0;
   for (uint32_t i = 0; i < mesh_count; ++i) {
@@ -69,23 +58,6 @@ bool bk_obj_save(const char* path, const bk_mesh* meshes, uint32_t mesh_count, b
     positions += meshes[i].position_count;
     corners += meshes[i].corner_count;
   }
-
-  // Flush and sync before the rename so a crash cannot leave a renamed but empty file.
-  int code = 0;
-  if (fflush(f) != 0 || ferror(f)) code = errno ? errno : EIO;
-  if (code == 0 && fsync(fileno(f)) != 0) code = errno;
-  if (fclose(f) != 0 && code == 0) code = errno ? errno : EIO;
-  if (code != 0) {
-    remove(tmp);
-    free(tmp);
-    return bk_error_set(err, "%s: write failed: %s", path, strerror(code));
-  }
-  if (rename(tmp, path) != 0) {
-    code = errno;
-    remove(tmp);
-    free(tmp);
-    return bk_error_set(err, "%s: cannot replace file: %s", path, strerror(code));
-  }
-  free(tmp);
-  return true;
+  // fprintf failures are sticky in the stream; commit checks them.
+  return bk_file_commit_atomic(f, path, &messages, err);
 }

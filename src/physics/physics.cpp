@@ -1,0 +1,814 @@
+// physics: the C interface of bk_physics.h implemented over Bullet (single
+// precision). This is the only translation unit that includes Bullet.
+//
+// Ids index slot tables; a slot's generation moves on when its object is
+// destroyed, so stale ids are detected and ignored. Contacts are gathered in
+// Bullet's internal tick callbacks (one pair of calls per substep) and kept
+// as a plain array until the next step.
+#include "bk_physics.h"
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <new>
+#include <vector>
+
+#include <LinearMath/btConvexHull.h>
+#include <LinearMath/btConvexHullComputer.h>
+#include <btBulletDynamicsCommon.h>
+
+namespace {
+
+const double default_gravity_y = -9.81;
+const double default_fixed_dt = 1.0 / 60.0;
+const uint32_t default_contact_capacity = 65536;
+const double default_margin = 0.004;
+const double default_friction = 0.6;
+const double default_restitution = 0.1;
+const uint32_t max_hull_vertices = 64;
+
+enum class ShapeKind { hull, sphere, box, plane, compound };
+
+struct ShapeSlot {
+  btCollisionShape* shape = nullptr;
+  uint32_t generation = 1;
+  ShapeKind kind = ShapeKind::hull;
+  uint32_t uses = 0;              // bodies and compounds referencing this shape
+  double inner_radius = 0.0;      // radius of a sphere at the origin inside the shape (CCD default)
+  double hull_volume = 0.0;       // hulls: volume of the hull before shrinking by the margin
+  std::vector<uint32_t> children; // compound: child slot indices, one per added child
+};
+
+struct BodySlot {
+  btRigidBody* body = nullptr;
+  uint32_t generation = 1;
+  uint32_t shape = 0; // shape slot index
+  double mass = 0.0;
+  uint64_t user_data = 0;
+  // Velocities and centre of mass at the start of the current substep.
+  btVector3 linear_velocity{0, 0, 0}, angular_velocity{0, 0, 0}, center{0, 0, 0};
+};
+
+/// Slots with generations and a free list. `free_list` always has capacity
+/// for every slot, so releasing never allocates (and never throws).
+template <class Slot> struct SlotTable {
+  std::vector<Slot> slots;
+  std::vector<uint32_t> free_list;
+  uint32_t live = 0;
+
+  bool valid(uint32_t index, uint32_t generation) const {
+    return generation != 0 && index < slots.size() && slots[index].generation == generation &&
+           is_live(slots[index]);
+  }
+  static bool is_live(const ShapeSlot& s) { return s.shape != nullptr; }
+  static bool is_live(const BodySlot& s) { return s.body != nullptr; }
+
+  /// Returns a free slot index, reset to a default slot with its generation kept. May throw.
+  uint32_t allocate() {
+    uint32_t index;
+    if (!free_list.empty()) {
+      index = free_list.back();
+      free_list.pop_back();
+      uint32_t generation = slots[index].generation;
+      slots[index] = Slot();
+      slots[index].generation = generation;
+    } else {
+      if (slots.size() >= UINT32_MAX - 1) throw std::bad_alloc();
+      slots.emplace_back();
+      free_list.reserve(slots.size());
+      index = (uint32_t)(slots.size() - 1);
+    }
+    ++live;
+    return index;
+  }
+  void release(uint32_t index) {
+    Slot& s = slots[index];
+    uint32_t generation = s.generation + 1;
+    s = Slot();
+    s.generation = generation == 0 ? 1 : generation;
+    free_list.push_back(index);
+    --live;
+  }
+};
+
+btVector3 to_bt(bk_vec3 v) { return btVector3((btScalar)v.x, (btScalar)v.y, (btScalar)v.z); }
+bk_vec3 to_bk(const btVector3& v) { return bk_v3(v.x(), v.y(), v.z()); }
+
+/// Zero quaternion means identity; others are normalized.
+btQuaternion to_bt(bk_quat q) {
+  if (q.x == 0.0 && q.y == 0.0 && q.z == 0.0 && q.w == 0.0) return btQuaternion::getIdentity();
+  bk_quat n = bk_quat_normalize(q);
+  return btQuaternion((btScalar)n.x, (btScalar)n.y, (btScalar)n.z, (btScalar)n.w);
+}
+btTransform to_bt(bk_transform t) { return btTransform(to_bt(t.rotation), to_bt(t.position)); }
+bk_transform to_bk(const btTransform& t) {
+  btQuaternion q = t.getRotation();
+  return bk_transform{to_bk(t.getOrigin()), bk_quat{q.x(), q.y(), q.z(), q.w()}};
+}
+
+bool quat_is_finite(bk_quat q) {
+  return std::isfinite(q.x) && std::isfinite(q.y) && std::isfinite(q.z) && std::isfinite(q.w);
+}
+bool transform_is_finite(bk_transform t) { return bk_v3_is_finite(t.position) && quat_is_finite(t.rotation); }
+
+/// Exact convex hull of points (double precision): volume, vertex count and the
+/// distance from the origin to the nearest face plane (negative when the
+/// origin is outside). Flat or degenerate input gives volume 0.
+struct HullInfo {
+  double volume = 0.0;
+  double inner_radius = 0.0;
+  std::vector<uint32_t> vertices; // indices into the input of the hull's vertices
+};
+
+HullInfo analyze_hull(const double* xyz, uint32_t count) {
+  HullInfo info;
+  if (count < 4 || count > (uint32_t)std::numeric_limits<int>::max()) return info;
+  btConvexHullComputer hc;
+  hc.compute(xyz, 3 * (int)sizeof(double), (int)count, 0, 0);
+  int nv = hc.vertices.size();
+  if (nv < 4 || hc.original_vertex_index.size() != nv) return info;
+  info.vertices.reserve((size_t)nv);
+  bk_vec3 ref = bk_v3(0, 0, 0);
+  auto point = [&](int v) {
+    const double* p = xyz + 3 * (size_t)hc.original_vertex_index[v];
+    return bk_v3(p[0], p[1], p[2]);
+  };
+  for (int v = 0; v < nv; ++v) {
+    info.vertices.push_back((uint32_t)hc.original_vertex_index[v]);
+    ref = bk_v3_add(ref, point(v));
+  }
+  ref = bk_v3_scale(ref, 1.0 / nv);
+
+  // Faces are polygons; fan them from their first vertex. Each face also
+  // gives a plane (Newell normal) for the inner radius.
+  double volume6 = 0.0, min_distance = INFINITY;
+  for (int f = 0; f < hc.faces.size(); ++f) {
+    const btConvexHullComputer::Edge* first = &hc.edges[hc.faces[f]];
+    bk_vec3 a = point(first->getSourceVertex());
+    bk_vec3 normal = bk_v3(0, 0, 0);
+    const btConvexHullComputer::Edge* e = first;
+    do {
+      bk_vec3 p = point(e->getSourceVertex()), q = point(e->getTargetVertex());
+      normal = bk_v3_add(normal, bk_v3_cross(p, q));
+      e = e->getNextEdgeOfFace();
+    } while (e != first);
+    e = first->getNextEdgeOfFace();
+    bk_vec3 b = point(e->getSourceVertex());
+    for (e = e->getNextEdgeOfFace(); e != first; e = e->getNextEdgeOfFace()) {
+      bk_vec3 c = point(e->getSourceVertex());
+      volume6 += bk_v3_dot(bk_v3_sub(a, ref), bk_v3_cross(bk_v3_sub(b, ref), bk_v3_sub(c, ref)));
+      b = c;
+    }
+    double length = bk_v3_length(normal);
+    if (length > 0.0) min_distance = fmin(min_distance, bk_v3_dot(normal, a) / length);
+  }
+  // Bullet lists face edges counter-clockwise seen from outside, so the
+  // volume is positive; guard against the opposite order anyway.
+  double sign = volume6 < 0.0 ? -1.0 : 1.0;
+  info.volume = fabs(volume6) / 6.0;
+  info.inner_radius = std::isfinite(min_distance) ? sign * min_distance : 0.0;
+  return info;
+}
+
+HullInfo analyze_hull(const std::vector<btVector3>& points) {
+  std::vector<double> xyz;
+  xyz.reserve(points.size() * 3);
+  for (const btVector3& p : points) {
+    xyz.push_back(p.x());
+    xyz.push_back(p.y());
+    xyz.push_back(p.z());
+  }
+  return analyze_hull(xyz.data(), (uint32_t)points.size());
+}
+
+/// At most max_vertices of the hull vertices, chosen by Bullet's incremental
+/// hull builder (it adds the farthest point first until the limit).
+std::vector<btVector3> simplify_hull(const std::vector<btVector3>& points, uint32_t max_vertices) {
+  HullDesc desc(QF_TRIANGLES, (unsigned)points.size(), points.data(), sizeof(btVector3));
+  desc.mMaxVertices = max_vertices;
+  HullLibrary library;
+  HullResult result;
+  std::vector<btVector3> out;
+  if (library.CreateConvexHull(desc, result) == QE_OK) {
+    for (unsigned i = 0; i < result.mNumOutputVertices && i < max_vertices; ++i)
+      out.push_back(result.m_OutputVertices[(int)i]);
+  }
+  library.ReleaseResult(result);
+  return out;
+}
+
+} // namespace
+
+struct bk_physics {
+  btDefaultCollisionConfiguration configuration;
+  btCollisionDispatcher dispatcher{&configuration};
+  btDbvtBroadphase broadphase;
+  btSequentialImpulseConstraintSolver solver;
+  btDiscreteDynamicsWorld world{&dispatcher, &broadphase, &solver, &configuration};
+
+  SlotTable<ShapeSlot> shapes;
+  SlotTable<BodySlot> bodies;
+
+  bk_vec3 gravity = {0, 0, 0};
+  double fixed_dt = default_fixed_dt;
+  double margin = default_margin;
+  double accumulator = 0.0; // simulated time not yet covered by a substep
+  uint32_t contact_capacity = default_contact_capacity;
+  uint32_t contact_total = 0;
+  std::vector<bk_contact> contacts;
+
+  BodySlot* body(bk_body_id id) {
+    return bodies.valid(id.index, id.generation) ? &bodies.slots[id.index] : nullptr;
+  }
+  const BodySlot* body(bk_body_id id) const {
+    return bodies.valid(id.index, id.generation) ? &bodies.slots[id.index] : nullptr;
+  }
+  ShapeSlot* shape(bk_shape_id id) {
+    return shapes.valid(id.index, id.generation) ? &shapes.slots[id.index] : nullptr;
+  }
+  const ShapeSlot* shape(bk_shape_id id) const {
+    return shapes.valid(id.index, id.generation) ? &shapes.slots[id.index] : nullptr;
+  }
+
+  /// Slot of a collision object created by bk_physics_create_body, or NULL.
+  BodySlot* slot_of(const btCollisionObject* object) {
+    return const_cast<BodySlot*>(static_cast<const bk_physics*>(this)->slot_of(object));
+  }
+  const BodySlot* slot_of(const btCollisionObject* object) const {
+    int index = object->getUserIndex();
+    if (index < 0 || (size_t)index >= bodies.slots.size() || bodies.slots[(size_t)index].body != object)
+      return nullptr;
+    return &bodies.slots[(size_t)index];
+  }
+  bk_body_id id_of(const BodySlot* slot) const {
+    return bk_body_id{(uint32_t)(slot - bodies.slots.data()), slot->generation};
+  }
+
+  bk_shape_id add_shape(btCollisionShape* bt_shape, ShapeKind kind, double inner_radius) {
+    uint32_t index;
+    try {
+      index = shapes.allocate();
+    } catch (...) {
+      delete bt_shape;
+      return bk_shape_id{0, 0};
+    }
+    ShapeSlot& s = shapes.slots[index];
+    s.shape = bt_shape;
+    s.kind = kind;
+    s.inner_radius = inner_radius;
+    return bk_shape_id{index, s.generation};
+  }
+
+  void snapshot_velocities() {
+    const btCollisionObjectArray& objects = world.getCollisionObjectArray();
+    for (int i = 0; i < objects.size(); ++i) {
+      BodySlot* s = slot_of(objects[i]);
+      if (!s) continue;
+      s->linear_velocity = s->body->getLinearVelocity();
+      s->angular_velocity = s->body->getAngularVelocity();
+      s->center = s->body->getCenterOfMassPosition();
+    }
+  }
+
+  static bk_vec3 point_velocity(const BodySlot& s, bk_vec3 point) {
+    bk_vec3 arm = bk_v3_sub(point, to_bk(s.center));
+    return bk_v3_add(to_bk(s.linear_velocity), bk_v3_cross(to_bk(s.angular_velocity), arm));
+  }
+
+  /// Records every contact point the solver just pushed on. Manifolds whose
+  /// bodies are all asleep or static were not solved this substep (their
+  /// impulses are stale) and are skipped.
+  void collect_contacts() {
+    int manifolds = dispatcher.getNumManifolds();
+    for (int m = 0; m < manifolds; ++m) {
+      const btPersistentManifold* manifold = dispatcher.getManifoldByIndexInternal(m);
+      const btCollisionObject* o0 = manifold->getBody0();
+      const btCollisionObject* o1 = manifold->getBody1();
+      bool solved = (!o0->isStaticOrKinematicObject() && o0->isActive()) ||
+                    (!o1->isStaticOrKinematicObject() && o1->isActive());
+      BodySlot* a = slot_of(o0);
+      BodySlot* b = slot_of(o1);
+      if (!solved || !a || !b) continue;
+      for (int i = 0; i < manifold->getNumContacts(); ++i) {
+        const btManifoldPoint& pt = manifold->getContactPoint(i);
+        if (!(pt.getAppliedImpulse() > 0)) continue;
+        ++contact_total;
+        if (contacts.size() >= contact_capacity) continue;
+        bk_contact c;
+        c.a = id_of(a);
+        c.b = id_of(b);
+        // Bullet's normal on B points from B towards A, as bk_contact wants.
+        c.normal = to_bk(pt.m_normalWorldOnB);
+        if (pt.m_localPointA.isZero() && o0->getCcdSweptSphereRadius() > 0) {
+          // A predictive (CCD) contact: Bullet stores A's centre and the
+          // centre of A's swept sphere at impact; use where that sphere touches B.
+          c.point = bk_v3_sub(to_bk(pt.getPositionWorldOnB()),
+                              bk_v3_scale(c.normal, o0->getCcdSweptSphereRadius()));
+        } else {
+          c.point =
+              bk_v3_scale(bk_v3_add(to_bk(pt.getPositionWorldOnA()), to_bk(pt.getPositionWorldOnB())), 0.5);
+        }
+        c.impulse = pt.getAppliedImpulse();
+        bk_vec3 relative = bk_v3_sub(point_velocity(*a, c.point), point_velocity(*b, c.point));
+        c.approach_speed = -bk_v3_dot(relative, c.normal);
+        try {
+          contacts.push_back(c);
+        } catch (...) {
+          // Out of memory: the contact stays counted but is dropped.
+        }
+      }
+    }
+  }
+
+  void destroy_body_slot(uint32_t index) {
+    BodySlot& s = bodies.slots[index];
+    world.removeRigidBody(s.body);
+    delete s.body;
+    --shapes.slots[s.shape].uses;
+    bodies.release(index);
+  }
+
+  void destroy_shape_slot(uint32_t index) {
+    ShapeSlot& s = shapes.slots[index];
+    for (uint32_t child : s.children)
+      --shapes.slots[child].uses;
+    delete s.shape;
+    shapes.release(index);
+  }
+};
+
+namespace {
+
+void pre_tick(btDynamicsWorld* world, btScalar) {
+  static_cast<bk_physics*>(world->getWorldUserInfo())->snapshot_velocities();
+}
+
+void post_tick(btDynamicsWorld* world, btScalar) {
+  static_cast<bk_physics*>(world->getWorldUserInfo())->collect_contacts();
+}
+
+} // namespace
+
+// ---------------------------------------------------------------- world
+
+bk_physics_desc bk_default_physics_desc(void) {
+  bk_physics_desc d = {};
+  d.gravity = bk_v3(0, default_gravity_y, 0);
+  d.fixed_dt = default_fixed_dt;
+  d.contact_capacity = default_contact_capacity;
+  d.default_margin = default_margin;
+  return d;
+}
+
+bk_physics* bk_physics_create(const bk_physics_desc* desc, bk_error* err) {
+  bk_physics_desc d = desc ? *desc : bk_default_physics_desc();
+  if (!bk_v3_is_finite(d.gravity)) {
+    bk_error_set(err, "physics: gravity must be finite (got %g, %g, %g)", d.gravity.x, d.gravity.y,
+                 d.gravity.z);
+    return nullptr;
+  }
+  if (d.gravity.x == 0.0 && d.gravity.y == 0.0 && d.gravity.z == 0.0 && !d.use_zero_gravity)
+    d.gravity = bk_v3(0, default_gravity_y, 0);
+  if (d.fixed_dt == 0.0) d.fixed_dt = default_fixed_dt;
+  if (!(d.fixed_dt > 0.0 && d.fixed_dt <= 0.1)) {
+    bk_error_set(err, "physics: fixed_dt must be in (0, 0.1] s (got %g)", d.fixed_dt);
+    return nullptr;
+  }
+  if (d.default_margin == 0.0) d.default_margin = default_margin;
+  if (!(std::isfinite(d.default_margin) && d.default_margin >= 0.0)) {
+    bk_error_set(err, "physics: default_margin must be finite and >= 0 (got %g)", d.default_margin);
+    return nullptr;
+  }
+  if (d.contact_capacity == 0) d.contact_capacity = default_contact_capacity;
+
+  bk_physics* w = new (std::nothrow) bk_physics;
+  if (!w) {
+    bk_error_set(err, "physics: out of memory");
+    return nullptr;
+  }
+  w->gravity = d.gravity;
+  w->fixed_dt = d.fixed_dt;
+  w->margin = d.default_margin;
+  w->contact_capacity = d.contact_capacity;
+  w->world.setGravity(to_bt(d.gravity));
+  // Split impulse for every penetration (threshold 0 instead of Bullet's
+  // -0.04): positional recovery goes through the separate push velocity, so
+  // the applied impulses reported as contacts hold no recovery impulse.
+  btContactSolverInfo& solver_info = w->world.getSolverInfo();
+  solver_info.m_splitImpulse = 1;
+  solver_info.m_splitImpulsePenetrationThreshold = 0;
+  // Full contact manifolds from the first touch against the ground (a box
+  // landing flat gets its corners at once, not one point per step), so bodies
+  // do not tip over on a single deepest point. Not for convex pairs: there it
+  // multiplies the GJK work of every pair (a pile of 300 fragments went from
+  // ~10 ms to ~100 ms a step), and persistent manifolds fill up within a few
+  // steps anyway.
+  w->configuration.setPlaneConvexMultipointIterations();
+  w->world.setInternalTickCallback(pre_tick, w, true);
+  w->world.setInternalTickCallback(post_tick, w, false);
+  return w;
+}
+
+void bk_physics_destroy(bk_physics* w) {
+  if (!w) return;
+  for (uint32_t i = 0; i < w->bodies.slots.size(); ++i)
+    if (w->bodies.slots[i].body) w->destroy_body_slot(i);
+  for (uint32_t i = 0; i < w->shapes.slots.size(); ++i)
+    if (w->shapes.slots[i].shape && w->shapes.slots[i].kind == ShapeKind::compound) w->destroy_shape_slot(i);
+  for (uint32_t i = 0; i < w->shapes.slots.size(); ++i)
+    if (w->shapes.slots[i].shape) w->destroy_shape_slot(i);
+  delete w;
+}
+
+void bk_physics_set_gravity(bk_physics* w, bk_vec3 gravity) {
+  if (!w || !bk_v3_is_finite(gravity)) return;
+  w->gravity = gravity;
+  w->world.setGravity(to_bt(gravity));
+  for (BodySlot& s : w->bodies.slots)
+    if (s.body && s.mass > 0.0) s.body->activate(true);
+}
+
+bk_vec3 bk_physics_gravity(const bk_physics* w) { return w ? w->gravity : bk_v3(0, 0, 0); }
+
+int bk_physics_step(bk_physics* w, double dt, int max_substeps) {
+  if (!w) return 0;
+  w->contacts.clear();
+  w->contact_total = 0;
+  if (!(std::isfinite(dt) && dt > 0.0)) return 0;
+  if (max_substeps < 1) max_substeps = 1;
+  // The accumulator is kept in double here rather than in Bullet's float
+  // clock, so that dt = k * fixed_dt always gives exactly k substeps. Time
+  // beyond max_substeps is dropped, as Bullet does.
+  w->accumulator += dt;
+  double due = floor(w->accumulator / w->fixed_dt + 1e-6);
+  int substeps = due < (double)max_substeps ? (int)due : max_substeps;
+  w->accumulator -= due * w->fixed_dt;
+  if (!(w->accumulator > 0.0 && w->accumulator < w->fixed_dt)) w->accumulator = 0.0;
+  btScalar h = (btScalar)w->fixed_dt;
+  for (int i = 0; i < substeps; ++i)
+    w->world.stepSimulation(h, 1, h);
+  return substeps;
+}
+
+// ---------------------------------------------------------------- shapes
+
+bk_shape_id bk_physics_create_hull(bk_physics* w, const bk_vec3* points, uint32_t count,
+                                   uint32_t max_vertices) {
+  const bk_shape_id null_id = {0, 0};
+  if (!w || !points || count < 4) return null_id;
+  for (uint32_t i = 0; i < count; ++i)
+    if (!bk_v3_is_finite(points[i])) return null_id;
+  if (max_vertices == 0 || max_vertices > max_hull_vertices) max_vertices = max_hull_vertices;
+  if (max_vertices < 4) max_vertices = 4;
+  try {
+    static_assert(sizeof(bk_vec3) == 3 * sizeof(double), "bk_vec3 must be three packed doubles");
+    HullInfo exact = analyze_hull(&points[0].x, count);
+    if (exact.vertices.size() < 4) return null_id;
+    std::vector<btVector3> vertices;
+    vertices.reserve(exact.vertices.size());
+    for (uint32_t v : exact.vertices)
+      vertices.push_back(to_bt(points[v]));
+    if (vertices.size() > max_vertices) vertices = simplify_hull(vertices, max_vertices);
+
+    // Judge flatness on the single-precision vertices Bullet will use.
+    HullInfo final_hull = analyze_hull(vertices);
+    btVector3 lo = vertices.empty() ? btVector3(0, 0, 0) : vertices[0], hi = lo;
+    for (const btVector3& p : vertices) {
+      lo.setMin(p);
+      hi.setMax(p);
+    }
+    double extent = (hi - lo).length();
+    if (final_hull.vertices.size() < 4 || !(final_hull.volume > 1e-9 * extent * extent * extent))
+      return null_id;
+    // Rounding to float may have pushed a nearly coplanar vertex inside.
+    std::vector<btVector3> kept;
+    kept.reserve(final_hull.vertices.size());
+    for (uint32_t v : final_hull.vertices)
+      kept.push_back(vertices[v]);
+    vertices.swap(kept);
+
+    // Shrink the hull by the collision margin so its rounded surface is the
+    // fragment's own. Fragments share faces exactly: unshrunk, neighbouring
+    // cores would touch at distance zero, and every such pair would take
+    // Bullet's slow penetration-depth path (EPA) instead of GJK. The clamp
+    // keeps slivers from collapsing; the margin becomes the actual shrink.
+    double margin = w->margin;
+    if (margin > 0.0) {
+      btConvexHullComputer shrunk;
+      btScalar applied = shrunk.compute(&vertices[0].x(), (int)sizeof(btVector3), (int)vertices.size(),
+                                        (btScalar)margin, (btScalar)0.3);
+      if (applied > 0 && shrunk.vertices.size() >= 4) {
+        vertices.assign(&shrunk.vertices[0], &shrunk.vertices[0] + shrunk.vertices.size());
+        margin = applied;
+        // Moving faces inward splits corners where more than three faces
+        // meet; keep the vertex budget (the result stays inside the core).
+        if (vertices.size() > max_vertices) vertices = simplify_hull(vertices, max_vertices);
+      }
+    }
+    btConvexHullShape* hull =
+        new btConvexHullShape(&vertices[0].x(), (int)vertices.size(), sizeof(btVector3));
+    hull->setMargin((btScalar)margin);
+    // The constructor cached the bounds with Bullet's default 4 cm margin;
+    // stale, they made every fragment overlap dozens of neighbours.
+    hull->recalcLocalAabb();
+    double inner =
+        final_hull.inner_radius > 0.0 ? final_hull.inner_radius : 0.25 * (hi - lo)[(hi - lo).minAxis()];
+    bk_shape_id id = w->add_shape(hull, ShapeKind::hull, inner);
+    ShapeSlot* slot = w->shape(id);
+    if (slot) slot->hull_volume = final_hull.volume;
+    return id;
+  } catch (...) {
+    return null_id;
+  }
+}
+
+bk_shape_id bk_physics_create_sphere(bk_physics* w, double radius) {
+  if (!w || !(std::isfinite(radius) && radius > 0.0)) return bk_shape_id{0, 0};
+  return w->add_shape(new btSphereShape((btScalar)radius), ShapeKind::sphere, radius);
+}
+
+bk_shape_id bk_physics_create_box(bk_physics* w, bk_vec3 half_extents) {
+  bk_vec3 h = half_extents;
+  if (!w || !bk_v3_is_finite(h) || !(h.x > 0.0 && h.y > 0.0 && h.z > 0.0)) return bk_shape_id{0, 0};
+  double smallest = fmin(h.x, fmin(h.y, h.z));
+  btBoxShape* box = new btBoxShape(to_bt(h));
+  // Bullet keeps the box's outer size and puts the margin inside it, so the
+  // margin must stay below the smallest half extent.
+  box->setMargin((btScalar)fmin(w->margin, 0.5 * smallest));
+  return w->add_shape(box, ShapeKind::box, smallest);
+}
+
+bk_shape_id bk_physics_create_plane(bk_physics* w, bk_vec3 normal, double offset) {
+  double length = bk_v3_length(normal);
+  if (!w || !bk_v3_is_finite(normal) || !std::isfinite(offset) || !(length > 0.0 && std::isfinite(length)))
+    return bk_shape_id{0, 0};
+  btStaticPlaneShape* plane =
+      new btStaticPlaneShape(to_bt(bk_v3_scale(normal, 1.0 / length)), (btScalar)(offset / length));
+  return w->add_shape(plane, ShapeKind::plane, 0.0);
+}
+
+bk_shape_id bk_physics_create_compound(bk_physics* w, uint32_t expected_children) {
+  if (!w) return bk_shape_id{0, 0};
+  int capacity = expected_children < 1024 ? (int)expected_children : 1024;
+  return w->add_shape(new btCompoundShape(true, capacity), ShapeKind::compound, 0.0);
+}
+
+void bk_physics_compound_add(bk_physics* w, bk_shape_id compound, bk_shape_id child, bk_transform local) {
+  if (!w) return;
+  ShapeSlot* parent = w->shape(compound);
+  ShapeSlot* c = w->shape(child);
+  // Children are convex (planes are infinite; nested compounds are not supported).
+  if (!parent || !c || parent->kind != ShapeKind::compound || c->kind == ShapeKind::plane ||
+      c->kind == ShapeKind::compound || !transform_is_finite(local))
+    return;
+  try {
+    parent->children.push_back(child.index);
+  } catch (...) {
+    return;
+  }
+  ++c->uses;
+  static_cast<btCompoundShape*>(parent->shape)->addChildShape(to_bt(local), c->shape);
+}
+
+void bk_physics_destroy_shape(bk_physics* w, bk_shape_id shape) {
+  if (!w) return;
+  ShapeSlot* s = w->shape(shape);
+  // A shape still used by a body or a compound is left alone (destroying it
+  // would leave them pointing at freed memory).
+  if (!s || s->uses > 0) return;
+  w->destroy_shape_slot(shape.index);
+}
+
+bool bk_physics_shape_valid(const bk_physics* w, bk_shape_id shape) { return w && w->shape(shape); }
+
+uint32_t bk_physics_hull_vertices(const bk_physics* w, bk_shape_id hull, bk_vec3* out, uint32_t capacity) {
+  const ShapeSlot* s = w ? w->shape(hull) : nullptr;
+  if (!s || s->kind != ShapeKind::hull) return 0;
+  const btConvexHullShape* shape = static_cast<const btConvexHullShape*>(s->shape);
+  uint32_t n = (uint32_t)shape->getNumPoints();
+  for (uint32_t i = 0; out && i < n && i < capacity; ++i)
+    out[i] = to_bk(shape->getUnscaledPoints()[i]);
+  return n;
+}
+
+double bk_physics_hull_volume(const bk_physics* w, bk_shape_id hull) {
+  const ShapeSlot* s = w ? w->shape(hull) : nullptr;
+  if (!s || s->kind != ShapeKind::hull) return 0.0;
+  return s->hull_volume;
+}
+
+uint32_t bk_physics_shape_count(const bk_physics* w) { return w ? w->shapes.live : 0; }
+
+// ---------------------------------------------------------------- bodies
+
+bk_body_desc bk_default_body_desc(void) {
+  bk_body_desc d = {};
+  d.transform = bk_transform_identity();
+  d.friction = default_friction;
+  d.restitution = default_restitution;
+  return d;
+}
+
+namespace {
+
+bool check_finite(double value, const char* field, bk_error* err) {
+  if (std::isfinite(value)) return true;
+  return bk_error_set(err, "body: %s must be finite (got %g)", field, value);
+}
+
+bool check_finite(bk_vec3 v, const char* field, bk_error* err) {
+  if (bk_v3_is_finite(v)) return true;
+  return bk_error_set(err, "body: %s must be finite (got %g, %g, %g)", field, v.x, v.y, v.z);
+}
+
+bool validate_body(const bk_physics* w, const bk_body_desc* d, bk_error* err) {
+  if (!w) return bk_error_set(err, "body: world is NULL");
+  if (!d) return bk_error_set(err, "body: description is NULL");
+  const ShapeSlot* shape = w->shape(d->shape);
+  if (!shape)
+    return bk_error_set(err, "body: shape {%u, %u} is not a valid shape id", d->shape.index,
+                        d->shape.generation);
+  if (!(std::isfinite(d->mass) && d->mass >= 0.0))
+    return bk_error_set(err, "body: mass must be finite and >= 0 (got %g)", d->mass);
+  if (shape->kind == ShapeKind::plane && d->mass != 0.0)
+    return bk_error_set(err, "body: mass must be 0 for a plane shape (planes are static only; got %g)",
+                        d->mass);
+  bk_vec3 I = d->inertia;
+  if (!check_finite(I, "inertia", err)) return false;
+  if (d->mass > 0.0 && !(I.x > 0.0 && I.y > 0.0 && I.z > 0.0))
+    return bk_error_set(err, "body: inertia must be > 0 on a dynamic body (got %g, %g, %g)", I.x, I.y, I.z);
+  if (!check_finite(d->transform.position, "transform.position", err)) return false;
+  if (!quat_is_finite(d->transform.rotation))
+    return bk_error_set(err, "body: transform.rotation must be finite");
+  if (!check_finite(d->linear_velocity, "linear_velocity", err) ||
+      !check_finite(d->angular_velocity, "angular_velocity", err) ||
+      !check_finite(d->friction, "friction", err) || !check_finite(d->restitution, "restitution", err) ||
+      !check_finite(d->linear_damping, "linear_damping", err) ||
+      !check_finite(d->angular_damping, "angular_damping", err) ||
+      !check_finite(d->ccd_radius, "ccd_radius", err))
+    return false;
+  if (d->friction < 0.0) return bk_error_set(err, "body: friction must be >= 0 (got %g)", d->friction);
+  if (d->restitution < 0.0)
+    return bk_error_set(err, "body: restitution must be >= 0 (got %g)", d->restitution);
+  if (!(d->linear_damping >= 0.0 && d->linear_damping <= 1.0))
+    return bk_error_set(err, "body: linear_damping must be in [0, 1] (got %g)", d->linear_damping);
+  if (!(d->angular_damping >= 0.0 && d->angular_damping <= 1.0))
+    return bk_error_set(err, "body: angular_damping must be in [0, 1] (got %g)", d->angular_damping);
+  if (d->ccd_radius < 0.0) return bk_error_set(err, "body: ccd_radius must be >= 0 (got %g)", d->ccd_radius);
+  return true;
+}
+
+/// Radius of a sphere around the body origin that stays inside the shape:
+/// Bullet sweeps it for continuous collision detection.
+double embedded_radius(const ShapeSlot& s) {
+  if (s.inner_radius > 0.0) return s.inner_radius;
+  btVector3 lo, hi;
+  s.shape->getAabb(btTransform::getIdentity(), lo, hi);
+  btVector3 size = hi - lo;
+  return 0.25 * size[size.minAxis()];
+}
+
+} // namespace
+
+bk_body_id bk_physics_create_body(bk_physics* w, const bk_body_desc* desc, bk_error* err) {
+  const bk_body_id null_id = {0, 0};
+  if (!validate_body(w, desc, err)) return null_id;
+  const bk_body_desc& d = *desc;
+  uint32_t index;
+  try {
+    index = w->bodies.allocate();
+  } catch (...) {
+    bk_error_set(err, "body: out of memory");
+    return null_id;
+  }
+  ShapeSlot& shape = w->shapes.slots[d.shape.index];
+  bool dynamic = d.mass > 0.0;
+  btVector3 inertia = dynamic ? to_bt(d.inertia) : btVector3(0, 0, 0);
+  btRigidBody::btRigidBodyConstructionInfo info((btScalar)d.mass, nullptr, shape.shape, inertia);
+  info.m_startWorldTransform = to_bt(d.transform);
+  info.m_friction = (btScalar)(d.friction == 0.0 ? default_friction : d.friction);
+  info.m_restitution = (btScalar)(d.restitution == 0.0 ? default_restitution : d.restitution);
+  info.m_linearDamping = (btScalar)d.linear_damping;
+  info.m_angularDamping = (btScalar)d.angular_damping;
+  btRigidBody* body = new btRigidBody(info);
+  body->setUserIndex((int)index);
+  if (dynamic) {
+    body->setLinearVelocity(to_bt(d.linear_velocity));
+    body->setAngularVelocity(to_bt(d.angular_velocity));
+    if (d.ccd) {
+      double radius = d.ccd_radius > 0.0 ? d.ccd_radius : embedded_radius(shape);
+      body->setCcdMotionThreshold((btScalar)(0.5 * radius));
+      body->setCcdSweptSphereRadius((btScalar)radius);
+    }
+    if (d.disable_sleep) body->setActivationState(DISABLE_DEACTIVATION);
+  }
+  BodySlot& s = w->bodies.slots[index];
+  s.body = body;
+  s.shape = d.shape.index;
+  s.mass = dynamic ? d.mass : 0.0;
+  s.user_data = d.user_data;
+  ++shape.uses;
+  w->world.addRigidBody(body);
+  return bk_body_id{index, s.generation};
+}
+
+void bk_physics_destroy_body(bk_physics* w, bk_body_id body) {
+  if (w && w->body(body)) w->destroy_body_slot(body.index);
+}
+
+bool bk_physics_body_valid(const bk_physics* w, bk_body_id body) { return w && w->body(body); }
+
+uint32_t bk_physics_body_count(const bk_physics* w) { return w ? w->bodies.live : 0; }
+
+bk_transform bk_physics_body_transform(const bk_physics* w, bk_body_id body) {
+  const BodySlot* s = w ? w->body(body) : nullptr;
+  return s ? to_bk(s->body->getCenterOfMassTransform()) : bk_transform_identity();
+}
+
+void bk_physics_body_set_transform(bk_physics* w, bk_body_id body, bk_transform transform) {
+  BodySlot* s = w ? w->body(body) : nullptr;
+  if (!s || !transform_is_finite(transform)) return;
+  s->body->setCenterOfMassTransform(to_bt(transform));
+  w->world.updateSingleAabb(s->body);
+  if (s->mass > 0.0) s->body->activate(true);
+}
+
+bk_vec3 bk_physics_body_linear_velocity(const bk_physics* w, bk_body_id body) {
+  const BodySlot* s = w ? w->body(body) : nullptr;
+  return s ? to_bk(s->body->getLinearVelocity()) : bk_v3(0, 0, 0);
+}
+
+bk_vec3 bk_physics_body_angular_velocity(const bk_physics* w, bk_body_id body) {
+  const BodySlot* s = w ? w->body(body) : nullptr;
+  return s ? to_bk(s->body->getAngularVelocity()) : bk_v3(0, 0, 0);
+}
+
+void bk_physics_body_set_velocity(bk_physics* w, bk_body_id body, bk_vec3 linear, bk_vec3 angular) {
+  BodySlot* s = w ? w->body(body) : nullptr;
+  if (!s || s->mass == 0.0 || !bk_v3_is_finite(linear) || !bk_v3_is_finite(angular)) return;
+  s->body->setLinearVelocity(to_bt(linear));
+  s->body->setAngularVelocity(to_bt(angular));
+  s->body->activate(true);
+}
+
+void bk_physics_body_set_mass(bk_physics* w, bk_body_id body, double mass, bk_vec3 inertia) {
+  BodySlot* s = w ? w->body(body) : nullptr;
+  // Static bodies stay static: turning one dynamic would need new broadphase filters.
+  if (!s || s->mass == 0.0 || !(std::isfinite(mass) && mass > 0.0) || !bk_v3_is_finite(inertia) ||
+      !(inertia.x > 0.0 && inertia.y > 0.0 && inertia.z > 0.0))
+    return;
+  s->body->setMassProps((btScalar)mass, to_bt(inertia));
+  s->body->updateInertiaTensor();
+  s->body->activate(true);
+  s->mass = mass;
+}
+
+double bk_physics_body_mass(const bk_physics* w, bk_body_id body) {
+  const BodySlot* s = w ? w->body(body) : nullptr;
+  return s ? s->mass : 0.0;
+}
+
+void bk_physics_body_apply_impulse(bk_physics* w, bk_body_id body, bk_vec3 impulse, bk_vec3 world_point) {
+  BodySlot* s = w ? w->body(body) : nullptr;
+  if (!s || s->mass == 0.0 || !bk_v3_is_finite(impulse) || !bk_v3_is_finite(world_point)) return;
+  bk_vec3 arm = bk_v3_sub(world_point, to_bk(s->body->getCenterOfMassPosition()));
+  s->body->applyImpulse(to_bt(impulse), to_bt(arm));
+  s->body->activate(true);
+}
+
+bool bk_physics_body_awake(const bk_physics* w, bk_body_id body) {
+  const BodySlot* s = w ? w->body(body) : nullptr;
+  return s && s->mass > 0.0 && s->body->isActive();
+}
+
+uint64_t bk_physics_body_user_data(const bk_physics* w, bk_body_id body) {
+  const BodySlot* s = w ? w->body(body) : nullptr;
+  return s ? s->user_data : 0;
+}
+
+// ---------------------------------------------------------------- queries
+
+uint32_t bk_physics_contacts(const bk_physics* w, bk_contact* out, uint32_t capacity) {
+  if (!w) return 0;
+  for (uint32_t i = 0; out && i < capacity && i < w->contacts.size(); ++i)
+    out[i] = w->contacts[i];
+  return w->contact_total;
+}
+
+bool bk_physics_ray_cast(const bk_physics* w, bk_vec3 from, bk_vec3 to, bk_ray_hit* hit) {
+  if (!w || !bk_v3_is_finite(from) || !bk_v3_is_finite(to) || !(bk_v3_length(bk_v3_sub(to, from)) > 0.0))
+    return false;
+  btVector3 a = to_bt(from), b = to_bt(to);
+  btCollisionWorld::ClosestRayResultCallback callback(a, b);
+  w->world.rayTest(a, b, callback);
+  if (!callback.hasHit()) return false;
+  const BodySlot* s = w->slot_of(callback.m_collisionObject);
+  if (!s) return false;
+  if (hit) {
+    hit->body = w->id_of(s);
+    hit->fraction = callback.m_closestHitFraction;
+    hit->point = bk_v3_lerp(from, to, hit->fraction);
+    hit->normal = bk_v3_normalize(to_bk(callback.m_hitNormalWorld));
+  }
+  return true;
+}

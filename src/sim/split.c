@@ -1,0 +1,137 @@
+// Splitting (thesis 5.2.1-5.2.3, improved): only the body whose bonds broke
+// is searched for connected components, over its own leaves and its
+// surviving bonds; the rest of the graph is untouched (the thesis rebuilt the
+// whole graph and measured that as half its break cost). Each component gets
+// a body built from its minimal node set, exact mass properties, and the old
+// body's motion at its new centre of mass (v + w x r). A budget of new bodies
+// per step keeps one huge hit from stalling a frame: what does not fit waits
+// for the next step, in order.
+#include <stdlib.h>
+#include <string.h>
+
+#include "sim_internal.h"
+
+static void reserve_scratch(bk_world* w, uint32_t n) {
+  if (n <= w->scratch_capacity) return;
+  w->scratch_capacity = bk_grow_capacity(w->scratch_capacity, n);
+  w->scratch_leaves = bk_realloc(w->scratch_leaves, sizeof(uint32_t) * w->scratch_capacity);
+  w->scratch_component = bk_realloc(w->scratch_component, sizeof(uint32_t) * w->scratch_capacity);
+  w->scratch_stack = bk_realloc(w->scratch_stack, sizeof(uint32_t) * w->scratch_capacity);
+}
+
+static int compare_u32(const void* a, const void* b) {
+  uint32_t x = *(const uint32_t*)a, y = *(const uint32_t*)b;
+  return x < y ? -1 : x > y;
+}
+
+// Labels the cluster's leaves by connected component (flood fill over the
+// CSR graph); returns the component count. Labels go to scratch_component,
+// indexed like c->leaves; leaf -> position via binary search on the sorted list.
+static uint32_t label_components(bk_world* w, const cluster* c, uint32_t slot) {
+  const breakable* b = &w->breakables[c->breakable];
+  uint32_t* label = w->scratch_component;
+  for (uint32_t i = 0; i < c->leaf_count; ++i)
+    label[i] = UINT32_MAX;
+  uint32_t components = 0;
+  for (uint32_t start = 0; start < c->leaf_count; ++start) {
+    if (label[start] != UINT32_MAX) continue;
+    uint32_t top = 0;
+    w->scratch_stack[top++] = start;
+    label[start] = components;
+    while (top) {
+      uint32_t i = w->scratch_stack[--top];
+      uint32_t leaf = c->leaves[i];
+      for (uint32_t k = b->adjacency_start[leaf]; k < b->adjacency_start[leaf + 1]; ++k) {
+        uint32_t bond = b->adjacency[k];
+        if (b->bond_broken[bond]) continue;
+        const bk_bond* bd = &b->tree->bonds[bond];
+        uint32_t other = bd->leaf_a == leaf ? bd->leaf_b : bd->leaf_a;
+        if (b->leaf_cluster[other] != slot) continue;
+        const uint32_t* found = bsearch(&other, c->leaves, c->leaf_count, sizeof(uint32_t), compare_u32);
+        uint32_t j = (uint32_t)(found - c->leaves);
+        if (label[j] != UINT32_MAX) continue;
+        label[j] = components;
+        w->scratch_stack[top++] = j;
+      }
+    }
+    components++;
+  }
+  return components;
+}
+
+// Replaces cluster `slot` by one cluster per component, creating at most
+// max_bodies bodies. Over that, the components beyond the budget stay
+// together with the largest one as a single body (for a step, invisibly)
+// that is queued to split further next step. Returns the bodies created.
+static uint32_t split_cluster(bk_world* w, uint32_t slot, uint32_t components, uint32_t max_bodies) {
+  cluster old = w->clusters[slot];
+  bk_transform tree_to_world = bk_cluster_tree_to_world(w, &old);
+  bk_motion motion = {bk_v3(0, 0, 0), bk_v3(0, 0, 0),
+                      bk_physics_body_transform(w->physics, old.body).position};
+  if (!old.is_static) {
+    motion.linear = bk_physics_body_linear_velocity(w->physics, old.body);
+    motion.angular = bk_physics_body_angular_velocity(w->physics, old.body);
+  }
+  const uint32_t* label = w->scratch_component;
+  uint32_t* sizes = bk_calloc(components, sizeof(uint32_t));
+  for (uint32_t i = 0; i < old.leaf_count; ++i)
+    sizes[label[i]]++;
+  // Which part each component goes to: its own, or the remainder (part 0,
+  // always holding the largest component).
+  uint32_t largest = 0;
+  for (uint32_t k = 1; k < components; ++k)
+    if (sizes[k] > sizes[largest]) largest = k;
+  uint32_t* part_of = bk_alloc(sizeof(uint32_t) * components);
+  uint32_t parts = 1;
+  for (uint32_t k = 0; k < components; ++k)
+    part_of[k] = k == largest || parts >= max_bodies || components <= 1 ? 0 : parts++;
+  bool remainder_split = parts < components;
+  uint32_t* part_sizes = bk_calloc(parts, sizeof(uint32_t));
+  for (uint32_t k = 0; k < components; ++k)
+    part_sizes[part_of[k]] += sizes[k];
+  uint32_t** part_leaves = bk_alloc(sizeof(uint32_t*) * parts);
+  for (uint32_t p = 0; p < parts; ++p) {
+    part_leaves[p] = bk_alloc(sizeof(uint32_t) * part_sizes[p]);
+    part_sizes[p] = 0;
+  }
+  for (uint32_t i = 0; i < old.leaf_count; ++i) {
+    uint32_t p = part_of[label[i]];
+    part_leaves[p][part_sizes[p]++] = old.leaves[i]; // stays ascending
+  }
+  uint32_t breakable_index = old.breakable;
+  bk_cluster_release(w, slot);
+  for (uint32_t p = 0; p < parts; ++p) {
+    uint32_t s = bk_cluster_alloc(w, breakable_index);
+    cluster* c = &w->clusters[s];
+    c->leaves = part_leaves[p];
+    c->leaf_count = part_sizes[p];
+    bk_error err = {0};
+    if (!bk_cluster_build(w, s, tree_to_world, motion, &err)) {
+      bk_cluster_release(w, s); // cannot happen for valid trees; never keep a half-built body
+      continue;
+    }
+    if (p == 0 && remainder_split) bk_world_queue_split(w, s);
+  }
+  free(part_leaves);
+  free(part_sizes);
+  free(part_of);
+  free(sizes);
+  w->break_events++;
+  return parts;
+}
+
+void bk_world_split(bk_world* w) {
+  uint32_t budget = w->desc.max_new_bodies_per_step, done = 0;
+  while (done < w->split_queue_count && budget >= 2) {
+    uint32_t slot = w->split_queue[done++];
+    cluster* c = &w->clusters[slot];
+    if (!c->alive || !c->dirty) continue;
+    c->dirty = c->queued = false;
+    reserve_scratch(w, c->leaf_count);
+    uint32_t components = label_components(w, c, slot);
+    if (components > 1) budget -= split_cluster(w, slot, components, budget);
+  }
+  if (done == 0) return;
+  memmove(w->split_queue, w->split_queue + done, sizeof(uint32_t) * (w->split_queue_count - done));
+  w->split_queue_count -= done;
+}

@@ -1,0 +1,651 @@
+// Physics layer: free fall and resting contact, contact reports (impulse,
+// normal direction, approach speed, substeps), continuous collision, hull
+// construction, compounds, id generations, validation, ray casts, cleanup.
+#include <math.h>
+#include <stdint.h>
+#include <string.h>
+
+#include "bk_physics.h"
+#include "ensure.h"
+
+static const double g = 9.81;
+static const double pi = 3.14159265358979323846;
+static const double dt = 1.0 / 60.0;
+
+static double range(bk_rng* rng, double lo, double hi) { return lo + (hi - lo) * bk_rng_unit(rng); }
+
+#define MAX_CONTACTS 4096
+static bk_contact contacts[MAX_CONTACTS];
+
+static bk_physics* make_world(void) {
+  bk_error err = {{0}};
+  bk_physics_desc desc = bk_default_physics_desc();
+  bk_physics* w = bk_physics_create(&desc, &err);
+  ENSURE_MSG(w, "%s", err.message);
+  return w;
+}
+
+static bk_body_id make_ground(bk_physics* w) {
+  bk_body_desc d = bk_default_body_desc();
+  d.shape = bk_physics_create_plane(w, bk_v3(0, 1, 0), 0.0);
+  ENSURE(!bk_shape_is_null(d.shape));
+  bk_error err = {{0}};
+  bk_body_id ground = bk_physics_create_body(w, &d, &err);
+  ENSURE_MSG(!bk_body_is_null(ground), "%s", err.message);
+  return ground;
+}
+
+/// Principal inertia of a solid box with the given half extents.
+static bk_vec3 box_inertia(double mass, bk_vec3 h) {
+  return bk_v3(mass * (h.y * h.y + h.z * h.z) / 3.0, mass * (h.x * h.x + h.z * h.z) / 3.0,
+               mass * (h.x * h.x + h.y * h.y) / 3.0);
+}
+
+/// A 1 kg cube of side 0.5 m with its centre at (0, y, 0).
+static bk_body_id make_box(bk_physics* w, double y, bool disable_sleep) {
+  bk_vec3 h = bk_v3(0.25, 0.25, 0.25);
+  bk_body_desc d = bk_default_body_desc();
+  d.shape = bk_physics_create_box(w, h);
+  d.mass = 1.0;
+  d.inertia = box_inertia(1.0, h);
+  d.transform.position = bk_v3(0, y, 0);
+  d.disable_sleep = disable_sleep;
+  bk_error err = {{0}};
+  bk_body_id box = bk_physics_create_body(w, &d, &err);
+  ENSURE_MSG(!bk_body_is_null(box), "%s", err.message);
+  return box;
+}
+
+static uint32_t step_and_get_contacts(bk_physics* w, double step_dt, int max_substeps, int* substeps) {
+  int n = bk_physics_step(w, step_dt, max_substeps);
+  if (substeps) *substeps = n;
+  uint32_t count = bk_physics_contacts(w, contacts, MAX_CONTACTS);
+  ENSURE(count <= MAX_CONTACTS);
+  return count;
+}
+
+static void test_defaults(void) {
+  bk_physics_desc d = bk_default_physics_desc();
+  ENSURE(d.gravity.x == 0.0 && d.gravity.y == -9.81 && d.gravity.z == 0.0);
+  ENSURE_SMALL(d.fixed_dt, 1.0 / 60.0, 1e-15);
+  ENSURE(d.contact_capacity == 65536);
+  ENSURE(d.default_margin == 0.004);
+
+  // All-zero description: the defaults apply.
+  bk_physics_desc zero = {0};
+  bk_physics* w = bk_physics_create(&zero, NULL);
+  ENSURE(w);
+  ENSURE(bk_physics_gravity(w).y == -9.81);
+  bk_physics_destroy(w);
+
+  // Zero gravity on request.
+  zero.use_zero_gravity = true;
+  w = bk_physics_create(&zero, NULL);
+  ENSURE(w);
+  ENSURE(bk_v3_length(bk_physics_gravity(w)) == 0.0);
+  bk_physics_set_gravity(w, bk_v3(0, 0, -1));
+  ENSURE(bk_physics_gravity(w).z == -1.0);
+  bk_physics_destroy(w);
+
+  bk_body_desc b = bk_default_body_desc();
+  ENSURE(b.friction == 0.6 && b.restitution == 0.1);
+  ENSURE(b.transform.rotation.w == 1.0 && b.mass == 0.0);
+}
+
+static void test_fall_and_rest(void) {
+  bk_physics* w = make_world();
+  make_ground(w);
+  bk_body_id box = make_box(w, 2.0, false);
+
+  // 15 substeps of 1/60 s: Bullet's semi-implicit Euler gets the velocity
+  // exactly and the position to within g t dt / 2 (2 cm here, ~1.2 % of y).
+  for (int i = 0; i < 15; ++i)
+    ENSURE(bk_physics_step(w, dt, 1) == 1);
+  double t = 0.25;
+  bk_transform x = bk_physics_body_transform(w, box);
+  ENSURE_REL(bk_physics_body_linear_velocity(w, box).y, -g * t, 0.01);
+  ENSURE_SMALL(x.position.y, 2.0 - 0.5 * g * t * t, 0.5 * g * t * dt + 1e-4);
+  ENSURE_REL(x.position.y, 2.0 - 0.5 * g * t * t, 0.015);
+  ENSURE_SMALL(x.position.x, 0.0, 1e-6);
+
+  for (int i = 15; i < 180; ++i)
+    bk_physics_step(w, dt, 1);
+  x = bk_physics_body_transform(w, box);
+  ENSURE_SMALL(x.position.y, 0.25, 0.02);
+  ENSURE_SMALL(bk_v3_length(bk_physics_body_linear_velocity(w, box)), 0.0, 0.05);
+  ENSURE(fabs(x.rotation.w) > 0.9999);
+  bk_physics_destroy(w);
+}
+
+static void test_contacts(void) {
+  bk_physics* w = make_world();
+  bk_body_id ground = make_ground(w);
+  bk_body_id box = make_box(w, 2.0, true);
+
+  // The impact: some contact closes at about sqrt(2 g h) with h = 1.75 m.
+  double max_approach = 0.0;
+  for (int i = 0; i < 60; ++i) {
+    uint32_t n = step_and_get_contacts(w, dt, 1, NULL);
+    for (uint32_t k = 0; k < n; ++k)
+      max_approach = fmax(max_approach, contacts[k].approach_speed);
+  }
+  ENSURE_MSG(max_approach > 5.0, "max approach speed %g", max_approach);
+  ENSURE(max_approach < sqrt(2.0 * g * 1.75) + 0.5);
+
+  // Settle, then every step reports the resting contacts.
+  for (int i = 0; i < 120; ++i)
+    bk_physics_step(w, dt, 1);
+  for (int i = 0; i < 60; ++i) {
+    uint32_t n = step_and_get_contacts(w, dt, 1, NULL);
+    ENSURE(n >= 1);
+    double sum = 0.0;
+    for (uint32_t k = 0; k < n; ++k) {
+      const bk_contact* c = &contacts[k];
+      bool box_is_a = bk_body_equal(c->a, box) && bk_body_equal(c->b, ground);
+      bool box_is_b = bk_body_equal(c->b, box) && bk_body_equal(c->a, ground);
+      ENSURE(box_is_a || box_is_b);
+      // The normal points from b towards a.
+      ENSURE_SMALL(c->normal.y, box_is_a ? 1.0 : -1.0, 1e-4);
+      ENSURE(c->impulse > 0.0);
+      ENSURE(fabs(c->approach_speed) < 0.3);
+      ENSURE_SMALL(c->point.y, 0.0, 0.02);
+      ENSURE(fabs(c->point.x) <= 0.26 && fabs(c->point.z) <= 0.26);
+      sum += c->impulse;
+    }
+    ENSURE_REL(sum, 1.0 * g * dt, 0.2);
+  }
+
+  // Capacity: fewer stored than counted, and the count is unaffected.
+  bk_physics_step(w, dt, 1);
+  uint32_t total = bk_physics_contacts(w, NULL, 0);
+  ENSURE(total >= 1);
+  ENSURE(bk_physics_contacts(w, contacts, 1) == total);
+  bk_physics_destroy(w);
+}
+
+static void test_contact_capacity(void) {
+  bk_physics_desc desc = bk_default_physics_desc();
+  desc.contact_capacity = 2;
+  bk_physics* w = bk_physics_create(&desc, NULL);
+  ENSURE(w);
+  make_ground(w);
+  make_box(w, 0.25, true);
+  for (int i = 0; i < 30; ++i)
+    bk_physics_step(w, dt, 1);
+  for (uint32_t k = 0; k < MAX_CONTACTS; ++k)
+    contacts[k].impulse = -1.0;
+  uint32_t total = bk_physics_contacts(w, contacts, MAX_CONTACTS);
+  ENSURE_MSG(total > 2, "total %u", total);
+  ENSURE(contacts[0].impulse > 0.0 && contacts[1].impulse > 0.0);
+  ENSURE(contacts[2].impulse == -1.0);
+  bk_physics_destroy(w);
+}
+
+static void test_substep_contacts(void) {
+  bk_physics* w = make_world();
+  make_ground(w);
+  make_box(w, 0.25, true);
+  for (int i = 0; i < 60; ++i)
+    bk_physics_step(w, dt, 1);
+  int substeps = 0;
+  uint32_t single = step_and_get_contacts(w, dt, 1, &substeps);
+  ENSURE(substeps == 1 && single >= 1);
+  uint32_t four = step_and_get_contacts(w, 4.0 * dt, 4, &substeps);
+  ENSURE(substeps == 4);
+  ENSURE_MSG(four >= 4 * single - 2 && four <= 4 * single + 2, "single %u, four substeps %u", single, four);
+
+  // max_substeps caps the work; the extra time is dropped.
+  ENSURE(bk_physics_step(w, 10.0 * dt, 3) == 3);
+  ENSURE(bk_physics_step(w, dt, 3) == 1);
+  // Partial steps accumulate.
+  ENSURE(bk_physics_step(w, 0.5 * dt, 1) == 0);
+  ENSURE(bk_physics_contacts(w, NULL, 0) == 0);
+  ENSURE(bk_physics_step(w, 0.5 * dt, 1) == 1);
+  ENSURE(bk_physics_step(w, -1.0, 1) == 0);
+  ENSURE(bk_physics_step(w, NAN, 1) == 0);
+  bk_physics_destroy(w);
+}
+
+/// Shoots a small fast sphere at a thin static wall at x = 0; returns its final x.
+static double shoot_at_wall(bool ccd) {
+  bk_physics_desc desc = bk_default_physics_desc();
+  desc.use_zero_gravity = true;
+  desc.gravity = bk_v3(0, 0, 0);
+  bk_physics* w = bk_physics_create(&desc, NULL);
+  ENSURE(w);
+  bk_body_desc wall = bk_default_body_desc();
+  wall.shape = bk_physics_create_box(w, bk_v3(0.01, 1.0, 1.0));
+  ENSURE(!bk_body_is_null(bk_physics_create_body(w, &wall, NULL)));
+
+  double r = 0.02, m = 0.1;
+  bk_body_desc d = bk_default_body_desc();
+  d.shape = bk_physics_create_sphere(w, r);
+  d.mass = m;
+  double I = 0.4 * m * r * r;
+  d.inertia = bk_v3(I, I, I);
+  d.transform.position = bk_v3(-1.0, 0.1, 0.0);
+  d.linear_velocity = bk_v3(300.0, 0, 0);
+  d.ccd = ccd;
+  bk_body_id ball = bk_physics_create_body(w, &d, NULL);
+  ENSURE(!bk_body_is_null(ball));
+  double max_approach = 0.0;
+  for (int i = 0; i < 30; ++i) {
+    uint32_t n = step_and_get_contacts(w, dt, 1, NULL);
+    for (uint32_t k = 0; k < n; ++k) {
+      max_approach = fmax(max_approach, contacts[k].approach_speed);
+      // Contacts lie on the wall's near face.
+      ENSURE_SMALL(contacts[k].point.x, -0.01, 1e-3);
+      ENSURE_SMALL(fabs(contacts[k].normal.x), 1.0, 1e-4);
+    }
+  }
+  double x = bk_physics_body_transform(w, ball).position.x;
+  if (ccd) ENSURE_MSG(max_approach > 100.0, "max approach speed %g", max_approach);
+  bk_physics_destroy(w);
+  return x;
+}
+
+static void test_ccd(void) {
+  double with_ccd = shoot_at_wall(true);
+  ENSURE_MSG(with_ccd < -0.01, "ball at x = %g with CCD", with_ccd);
+  double without = shoot_at_wall(false);
+  ENSURE_MSG(without > 0.01, "ball at x = %g without CCD (expected to tunnel)", without);
+}
+
+static void test_hulls(void) {
+  bk_physics* w = make_world();
+  bk_rng rng = bk_rng_seed(7, 1);
+
+  // Cube corners plus interior points: exactly the 8 corners survive.
+  bk_vec3 points[600];
+  uint32_t n = 0;
+  for (int i = 0; i < 8; ++i)
+    points[n++] = bk_v3(i & 1 ? 0.5 : -0.5, i & 2 ? 0.5 : -0.5, i & 4 ? 0.5 : -0.5);
+  for (int i = 0; i < 100; ++i)
+    points[n++] = bk_v3(range(&rng, -0.49, 0.49), range(&rng, -0.49, 0.49), range(&rng, -0.49, 0.49));
+  bk_shape_id cube = bk_physics_create_hull(w, points, n, 0);
+  ENSURE(!bk_shape_is_null(cube));
+  bk_vec3 vertices[64];
+  ENSURE(bk_physics_hull_vertices(w, cube, vertices, 64) == 8);
+  // The core is the cube shrunk by the collision margin (the margin grows it back).
+  double core = 0.5 - bk_default_physics_desc().default_margin;
+  for (int i = 0; i < 8; ++i) {
+    ENSURE_SMALL(fabs(vertices[i].x), core, 2e-4); // Bullet quantizes while shrinking
+    ENSURE_SMALL(fabs(vertices[i].y), core, 2e-4); // Bullet quantizes while shrinking
+    ENSURE_SMALL(fabs(vertices[i].z), core, 2e-4); // Bullet quantizes while shrinking
+  }
+  ENSURE_SMALL(bk_physics_hull_volume(w, cube), 1.0, 1e-9);
+  ENSURE(bk_physics_hull_vertices(w, cube, NULL, 0) == 8);
+
+  // 500 points on the unit sphere: simplified to at most 64 vertices.
+  for (n = 0; n < 500; ++n)
+    points[n] = bk_rng_direction(&rng);
+  bk_shape_id ball = bk_physics_create_hull(w, points, n, 0);
+  ENSURE(!bk_shape_is_null(ball));
+  uint32_t count = bk_physics_hull_vertices(w, ball, vertices, 64);
+  ENSURE_MSG(count >= 4 && count <= 64, "%u vertices", count);
+  // Core vertices lie just inside the sphere (shrunk by the margin).
+  for (uint32_t i = 0; i < count; ++i) {
+    ENSURE(bk_v3_length(vertices[i]) <= 1.0 + 1e-6);
+    ENSURE(bk_v3_length(vertices[i]) >= 1.0 - 3.0 * bk_default_physics_desc().default_margin);
+  }
+  double sphere_volume = 4.0 / 3.0 * pi;
+  ENSURE_REL(bk_physics_hull_volume(w, ball), sphere_volume, 0.10);
+  ENSURE(bk_physics_hull_volume(w, ball) < sphere_volume);
+
+  // A smaller vertex budget is honoured too.
+  bk_shape_id coarse = bk_physics_create_hull(w, points, n, 16);
+  ENSURE(!bk_shape_is_null(coarse));
+  count = bk_physics_hull_vertices(w, coarse, NULL, 0);
+  ENSURE_MSG(count >= 4 && count <= 16, "%u vertices", count);
+
+  // Degenerate input.
+  ENSURE(bk_shape_is_null(bk_physics_create_hull(w, points, 3, 0)));
+  bk_vec3 flat[20];
+  for (int i = 0; i < 20; ++i)
+    flat[i] = bk_v3(range(&rng, -1, 1), 0.3 * i, 2.0);
+  for (int i = 0; i < 20; ++i)
+    flat[i].z = 2.0 + 0.5 * flat[i].x - 0.25 * flat[i].y; // one tilted plane
+  ENSURE(bk_shape_is_null(bk_physics_create_hull(w, flat, 20, 0)));
+  bk_vec3 same[6];
+  for (int i = 0; i < 6; ++i)
+    same[i] = bk_v3(1, 2, 3);
+  ENSURE(bk_shape_is_null(bk_physics_create_hull(w, same, 6, 0)));
+  flat[3].x = NAN;
+  ENSURE(bk_shape_is_null(bk_physics_create_hull(w, flat, 20, 0)));
+
+  // Non-hull shapes have no hull data; bad parameters give null shapes.
+  bk_shape_id sphere = bk_physics_create_sphere(w, 0.5);
+  ENSURE(bk_physics_hull_vertices(w, sphere, vertices, 64) == 0 && bk_physics_hull_volume(w, sphere) == 0.0);
+  ENSURE(bk_shape_is_null(bk_physics_create_sphere(w, 0.0)));
+  ENSURE(bk_shape_is_null(bk_physics_create_sphere(w, NAN)));
+  ENSURE(bk_shape_is_null(bk_physics_create_box(w, bk_v3(1, 0, 1))));
+  ENSURE(bk_shape_is_null(bk_physics_create_plane(w, bk_v3(0, 0, 0), 1.0)));
+  ENSURE(bk_physics_shape_count(w) == 4);
+  bk_physics_destroy(w);
+}
+
+static bk_shape_id unit_cube_hull(bk_physics* w) {
+  bk_vec3 corners[8];
+  for (int i = 0; i < 8; ++i)
+    corners[i] = bk_v3(i & 1 ? 0.5 : -0.5, i & 2 ? 0.5 : -0.5, i & 4 ? 0.5 : -0.5);
+  bk_shape_id cube = bk_physics_create_hull(w, corners, 8, 0);
+  ENSURE(!bk_shape_is_null(cube));
+  return cube;
+}
+
+static void test_compounds(void) {
+  bk_physics* w = make_world();
+  make_ground(w);
+  bk_shape_id cube = unit_cube_hull(w);
+
+  // Two unit cubes side by side: a 2 x 1 x 1 body of 2 kg.
+  bk_shape_id pair[2];
+  for (int k = 0; k < 2; ++k) {
+    pair[k] = bk_physics_create_compound(w, 2);
+    ENSURE(!bk_shape_is_null(pair[k]));
+    bk_transform left = bk_transform_identity(), right = bk_transform_identity();
+    left.position.x = -0.5;
+    right.position.x = 0.5;
+    bk_physics_compound_add(w, pair[k], cube, left);
+    bk_physics_compound_add(w, pair[k], cube, right);
+  }
+  bk_body_id bodies[2];
+  for (int k = 0; k < 2; ++k) {
+    bk_body_desc d = bk_default_body_desc();
+    d.shape = pair[k];
+    d.mass = 2.0;
+    d.inertia = box_inertia(2.0, bk_v3(1.0, 0.5, 0.5));
+    d.transform.position = bk_v3(0, 2.0, 3.0 * k);
+    bodies[k] = bk_physics_create_body(w, &d, NULL);
+    ENSURE(!bk_body_is_null(bodies[k]));
+  }
+  ENSURE(bk_physics_body_mass(w, bodies[0]) == 2.0);
+
+  // A shape in use can not be destroyed; the call is ignored.
+  bk_physics_destroy_shape(w, cube);
+  bk_physics_destroy_shape(w, pair[0]);
+  ENSURE(bk_physics_shape_valid(w, cube) && bk_physics_shape_valid(w, pair[0]));
+
+  for (int i = 0; i < 180; ++i)
+    bk_physics_step(w, dt, 1);
+  for (int k = 0; k < 2; ++k) {
+    bk_transform x = bk_physics_body_transform(w, bodies[k]);
+    ENSURE_SMALL(x.position.y, 0.5, 0.02);
+    ENSURE_SMALL(x.position.x, 0.0, 1e-3);
+    ENSURE_SMALL(x.position.z, 3.0 * k, 1e-3);
+    ENSURE_MSG(fabs(x.rotation.w) > 0.9999, "rotation (%g, %g, %g, %g)", x.rotation.x, x.rotation.y,
+               x.rotation.z, x.rotation.w);
+  }
+
+  // Tear down in a valid order: bodies, then compounds, then their child.
+  bk_physics_destroy_body(w, bodies[1]);
+  bk_physics_destroy_shape(w, pair[1]);
+  ENSURE(!bk_physics_shape_valid(w, pair[1]));
+  bk_physics_destroy_shape(w, cube);
+  ENSURE(bk_physics_shape_valid(w, cube)); // still in pair[0]
+  bk_physics_destroy_body(w, bodies[0]);
+  bk_physics_destroy_shape(w, pair[0]);
+  bk_physics_destroy_shape(w, cube);
+  ENSURE(!bk_physics_shape_valid(w, cube));
+  ENSURE(bk_physics_shape_count(w) == 1); // the ground plane
+  ENSURE(bk_physics_body_count(w) == 1);
+
+  // Compounds take convex children only.
+  bk_shape_id outer = bk_physics_create_compound(w, 0);
+  bk_shape_id inner = bk_physics_create_compound(w, 0);
+  bk_shape_id plane = bk_physics_create_plane(w, bk_v3(0, 1, 0), 0);
+  bk_physics_compound_add(w, outer, inner, bk_transform_identity());
+  bk_physics_compound_add(w, outer, plane, bk_transform_identity());
+  bk_physics_compound_add(w, outer, outer, bk_transform_identity());
+  bk_physics_destroy_shape(w, inner);
+  bk_physics_destroy_shape(w, plane);
+  ENSURE(!bk_physics_shape_valid(w, inner) && !bk_physics_shape_valid(w, plane));
+
+  // The world takes whatever is left, compounds and children included.
+  bk_shape_id cube2 = unit_cube_hull(w);
+  bk_physics_compound_add(w, outer, cube2, bk_transform_identity());
+  bk_body_desc d = bk_default_body_desc();
+  d.shape = outer;
+  d.mass = 1.0;
+  d.inertia = bk_v3(1, 1, 1);
+  ENSURE(!bk_body_is_null(bk_physics_create_body(w, &d, NULL)));
+  bk_physics_destroy(w);
+}
+
+static void test_ids(void) {
+  bk_physics* w = make_world();
+  bk_body_id ground = make_ground(w);
+  bk_body_id box = make_box(w, 1.0, false);
+  ENSURE(bk_physics_body_valid(w, box));
+  ENSURE(bk_physics_body_count(w) == 2);
+  bk_physics_destroy_body(w, box);
+  ENSURE(!bk_physics_body_valid(w, box));
+  ENSURE(bk_physics_body_count(w) == 1);
+
+  bk_body_id again = make_box(w, 1.0, false);
+  ENSURE(again.index == box.index);
+  ENSURE(again.generation != box.generation && again.generation != 0);
+  ENSURE(!bk_physics_body_valid(w, box));
+
+  // Stale and null ids are harmless everywhere.
+  bk_body_id null_body = {0, 0};
+  bk_body_id ids[2] = {box, null_body};
+  for (int k = 0; k < 2; ++k) {
+    bk_body_id id = ids[k];
+    bk_physics_destroy_body(w, id);
+    bk_physics_body_set_transform(w, id, bk_transform_identity());
+    bk_physics_body_set_velocity(w, id, bk_v3(1, 2, 3), bk_v3(0, 0, 0));
+    bk_physics_body_set_mass(w, id, 3.0, bk_v3(1, 1, 1));
+    bk_physics_body_apply_impulse(w, id, bk_v3(1, 0, 0), bk_v3(0, 0, 0));
+    ENSURE(bk_physics_body_mass(w, id) == 0.0);
+    ENSURE(bk_v3_length(bk_physics_body_linear_velocity(w, id)) == 0.0);
+    ENSURE(bk_v3_length(bk_physics_body_angular_velocity(w, id)) == 0.0);
+    ENSURE(!bk_physics_body_awake(w, id));
+    ENSURE(bk_physics_body_user_data(w, id) == 0);
+    ENSURE(bk_physics_body_transform(w, id).rotation.w == 1.0);
+  }
+  bk_shape_id null_shape = {0, 0};
+  bk_shape_id dead = bk_physics_create_sphere(w, 1.0);
+  bk_physics_destroy_shape(w, dead);
+  bk_shape_id shapes[2] = {dead, null_shape};
+  for (int k = 0; k < 2; ++k) {
+    ENSURE(!bk_physics_shape_valid(w, shapes[k]));
+    bk_physics_destroy_shape(w, shapes[k]);
+    bk_physics_compound_add(w, shapes[k], shapes[k], bk_transform_identity());
+    ENSURE(bk_physics_hull_vertices(w, shapes[k], NULL, 0) == 0);
+    ENSURE(bk_physics_hull_volume(w, shapes[k]) == 0.0);
+  }
+  ENSURE(bk_physics_body_count(w) == 2 && bk_physics_shape_count(w) == 3); // plane and two boxes
+  // A NULL world is harmless too.
+  ENSURE(bk_physics_step(NULL, dt, 1) == 0);
+  ENSURE(!bk_physics_body_valid(NULL, again));
+  bk_physics_destroy(NULL);
+
+  // Body state round trips.
+  bk_body_desc d = bk_default_body_desc();
+  d.shape = bk_physics_create_sphere(w, 0.1);
+  d.mass = 2.0;
+  d.inertia = bk_v3(0.008, 0.008, 0.008);
+  d.user_data = UINT64_C(0x1234567890abcdef);
+  d.transform.position = bk_v3(5, 5, 5);
+  d.transform.rotation = (bk_quat){0, 0, 0, 0}; // identity
+  bk_body_id ball = bk_physics_create_body(w, &d, NULL);
+  ENSURE(!bk_body_is_null(ball));
+  ENSURE(bk_physics_body_user_data(w, ball) == UINT64_C(0x1234567890abcdef));
+  ENSURE(bk_physics_body_transform(w, ball).rotation.w == 1.0);
+  ENSURE(bk_physics_body_awake(w, ball));
+  ENSURE(!bk_physics_body_awake(w, ground));
+  bk_transform t = {{1, 2, 3}, bk_quat_axis_angle(bk_v3(0, 0, 1), 0.5)};
+  bk_physics_body_set_transform(w, ball, t);
+  bk_transform back = bk_physics_body_transform(w, ball);
+  ENSURE_SMALL(back.position.y, 2.0, 1e-6);
+  ENSURE_SMALL(fabs(back.rotation.z), fabs(t.rotation.z), 1e-6);
+  bk_physics_body_set_velocity(w, ball, bk_v3(1, 0, 0), bk_v3(0, 2, 0));
+  ENSURE_SMALL(bk_physics_body_linear_velocity(w, ball).x, 1.0, 1e-6);
+  ENSURE_SMALL(bk_physics_body_angular_velocity(w, ball).y, 2.0, 1e-6);
+  bk_physics_body_set_mass(w, ball, 4.0, bk_v3(0.016, 0.016, 0.016));
+  ENSURE(bk_physics_body_mass(w, ball) == 4.0);
+  bk_physics_body_set_mass(w, ball, 0.0, bk_v3(1, 1, 1)); // not allowed: ignored
+  ENSURE(bk_physics_body_mass(w, ball) == 4.0);
+  // An impulse through the centre changes only the linear velocity, by J / m.
+  bk_physics_body_set_velocity(w, ball, bk_v3(0, 0, 0), bk_v3(0, 0, 0));
+  bk_physics_body_apply_impulse(w, ball, bk_v3(0, 0, 8), back.position);
+  ENSURE_SMALL(bk_physics_body_linear_velocity(w, ball).z, 2.0, 1e-6);
+  ENSURE_SMALL(bk_v3_length(bk_physics_body_angular_velocity(w, ball)), 0.0, 1e-6);
+  bk_physics_destroy(w);
+}
+
+static void expect_body_error(bk_physics* w, const bk_body_desc* d, const char* field) {
+  bk_error err = {{0}};
+  bk_body_id id = bk_physics_create_body(w, d, &err);
+  ENSURE(bk_body_is_null(id));
+  ENSURE_MSG(strstr(err.message, field) != NULL, "message \"%s\" should name %s", err.message, field);
+}
+
+static void test_validation(void) {
+  bk_physics* w = make_world();
+  bk_body_desc good = bk_default_body_desc();
+  good.shape = bk_physics_create_box(w, bk_v3(0.5, 0.5, 0.5));
+  good.mass = 1.0;
+  good.inertia = bk_v3(1, 1, 1);
+
+  bk_body_desc d = good;
+  d.mass = NAN;
+  expect_body_error(w, &d, "mass");
+  d = good;
+  d.mass = -1.0;
+  expect_body_error(w, &d, "mass");
+  d = good;
+  d.inertia.y = 0.0;
+  expect_body_error(w, &d, "inertia");
+  d = good;
+  d.shape.generation += 5;
+  expect_body_error(w, &d, "shape");
+  d = good;
+  d.shape = (bk_shape_id){0, 0};
+  expect_body_error(w, &d, "shape");
+  d = good;
+  d.linear_velocity.x = INFINITY;
+  expect_body_error(w, &d, "linear_velocity");
+  d = good;
+  d.transform.position.z = NAN;
+  expect_body_error(w, &d, "transform");
+  d = good;
+  d.shape = bk_physics_create_plane(w, bk_v3(0, 1, 0), 0.0);
+  expect_body_error(w, &d, "mass"); // planes are static only
+  ENSURE(bk_physics_body_count(w) == 0);
+
+  // A static body needs no inertia.
+  d = good;
+  d.mass = 0.0;
+  d.inertia = bk_v3(0, 0, 0);
+  ENSURE(!bk_body_is_null(bk_physics_create_body(w, &d, NULL)));
+  bk_physics_destroy(w);
+
+  bk_error err = {{0}};
+  bk_physics_desc desc = bk_default_physics_desc();
+  desc.fixed_dt = -0.01;
+  ENSURE(bk_physics_create(&desc, &err) == NULL);
+  ENSURE_MSG(strstr(err.message, "fixed_dt"), "%s", err.message);
+  desc.fixed_dt = 0.5;
+  ENSURE(bk_physics_create(&desc, &err) == NULL);
+  ENSURE_MSG(strstr(err.message, "fixed_dt"), "%s", err.message);
+  desc.fixed_dt = NAN;
+  ENSURE(bk_physics_create(&desc, &err) == NULL);
+  ENSURE_MSG(strstr(err.message, "fixed_dt"), "%s", err.message);
+  desc = bk_default_physics_desc();
+  desc.gravity.y = NAN;
+  ENSURE(bk_physics_create(&desc, &err) == NULL);
+  ENSURE_MSG(strstr(err.message, "gravity"), "%s", err.message);
+  desc = bk_default_physics_desc();
+  desc.default_margin = -0.1;
+  ENSURE(bk_physics_create(&desc, &err) == NULL);
+  ENSURE_MSG(strstr(err.message, "default_margin"), "%s", err.message);
+  // fixed_dt = 0 means the default, like every zero field of the description.
+  desc = bk_default_physics_desc();
+  desc.fixed_dt = 0.0;
+  w = bk_physics_create(&desc, &err);
+  ENSURE(w);
+  ENSURE(bk_physics_step(w, 1.0 / 60.0, 1) == 1);
+  bk_physics_destroy(w);
+}
+
+static void test_ray_cast(void) {
+  bk_physics* w = make_world();
+  bk_body_id ground = make_ground(w);
+  bk_ray_hit hit;
+  ENSURE(bk_physics_ray_cast(w, bk_v3(0.3, 4.0, -0.2), bk_v3(0.3, -1.0, -0.2), &hit));
+  ENSURE(bk_body_equal(hit.body, ground));
+  ENSURE_SMALL(hit.fraction, 0.8, 1e-5);
+  ENSURE_SMALL(hit.point.x, 0.3, 1e-5);
+  ENSURE_SMALL(hit.point.y, 0.0, 1e-4);
+  ENSURE_SMALL(hit.point.z, -0.2, 1e-5);
+  ENSURE_SMALL(hit.normal.y, 1.0, 1e-5);
+
+  // A box in the way is hit first.
+  bk_body_id box = make_box(w, 1.0, false);
+  ENSURE(bk_physics_ray_cast(w, bk_v3(0.1, 4.0, 0.0), bk_v3(0.1, -1.0, 0.0), &hit));
+  ENSURE(bk_body_equal(hit.body, box));
+  ENSURE_SMALL(hit.point.y, 1.25, 1e-4);
+  ENSURE_SMALL(hit.fraction, 2.75 / 5.0, 1e-5);
+
+  // Misses.
+  ENSURE(!bk_physics_ray_cast(w, bk_v3(5, 4, 0), bk_v3(5, 1, 0), &hit));
+  ENSURE(!bk_physics_ray_cast(w, bk_v3(5, 4, 0), bk_v3(5, 4, 0), &hit));
+  bk_physics_destroy(w);
+}
+
+static void test_churn(void) {
+  bk_physics* w = make_world();
+  make_ground(w);
+  bk_rng rng = bk_rng_seed(11, 1);
+  enum { N = 1000 };
+  static bk_body_id bodies[N];
+  static bk_shape_id shapes[N];
+  for (int i = 0; i < N; ++i) {
+    bk_vec3 pts[12];
+    for (int k = 0; k < 12; ++k)
+      pts[k] = bk_v3(range(&rng, -0.1, 0.1), range(&rng, -0.1, 0.1), range(&rng, -0.1, 0.1));
+    shapes[i] = i % 3 == 0   ? bk_physics_create_hull(w, pts, 12, 0)
+                : i % 3 == 1 ? bk_physics_create_box(w, bk_v3(0.05, 0.05, 0.05))
+                             : bk_physics_create_sphere(w, 0.05);
+    ENSURE(!bk_shape_is_null(shapes[i]));
+    bk_body_desc d = bk_default_body_desc();
+    d.shape = shapes[i];
+    d.mass = 0.1;
+    d.inertia = bk_v3(1e-3, 1e-3, 1e-3);
+    d.transform.position = bk_v3((i % 10) * 0.3, 0.2 + (i / 100) * 0.3, ((i / 10) % 10) * 0.3);
+    d.ccd = i % 2 == 0;
+    bodies[i] = bk_physics_create_body(w, &d, NULL);
+    ENSURE(!bk_body_is_null(bodies[i]));
+  }
+  ENSURE(bk_physics_body_count(w) == N + 1 && bk_physics_shape_count(w) == N + 1);
+  for (int i = 0; i < 10; ++i)
+    bk_physics_step(w, dt, 1);
+  // Destroy in a scrambled order.
+  for (int i = 0; i < N; ++i) {
+    int k = (i * 7919) % N;
+    bk_physics_destroy_body(w, bodies[k]);
+    bk_physics_destroy_shape(w, shapes[k]);
+  }
+  ENSURE(bk_physics_body_count(w) == 1 && bk_physics_shape_count(w) == 1);
+  bk_physics_step(w, dt, 1);
+  bk_physics_destroy(w);
+}
+
+int main(void) {
+  RUN(test_defaults);
+  RUN(test_fall_and_rest);
+  RUN(test_contacts);
+  RUN(test_contact_capacity);
+  RUN(test_substep_contacts);
+  RUN(test_ccd);
+  RUN(test_hulls);
+  RUN(test_compounds);
+  RUN(test_ids);
+  RUN(test_validation);
+  RUN(test_ray_cast);
+  RUN(test_churn);
+  fprintf(stderr, "test_physics: all passed\n");
+  return 0;
+}

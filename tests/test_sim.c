@@ -1,0 +1,356 @@
+// Breakable bodies on Bullet: one body per cluster, exact mass, colliders
+// from the minimal node set, damage and splits, resting stability,
+// determinism, and no leaks over many breaks.
+#include <stdlib.h>
+#include <string.h>
+
+#include "bk_sim.h"
+#include "ensure.h"
+
+static bk_mesh_tree make_tree(bk_shape shape, uint32_t pieces, uint64_t seed) {
+  bk_mesh mesh = {0};
+  bk_shape_build(shape, &mesh);
+  bk_fracture_desc desc = bk_default_fracture_desc();
+  desc.pieces = pieces;
+  desc.seed = seed;
+  bk_mesh_tree tree = {0};
+  bk_error err = {0};
+  ENSURE_MSG(bk_mesh_tree_build(&mesh, &desc, &tree, &err), "%s", err.message);
+  bk_mesh_free(&mesh);
+  return tree;
+}
+
+static bk_world* make_world(void) {
+  bk_world_desc desc = bk_default_world_desc();
+  bk_error err = {0};
+  bk_world* world = bk_world_create(&desc, &err);
+  ENSURE_MSG(world != NULL, "%s", err.message);
+  return world;
+}
+
+static bk_breakable_id add(bk_world* world, const bk_mesh_tree* tree, bk_breakable_desc desc) {
+  desc.tree = tree;
+  bk_error err = {0};
+  bk_breakable_id id = bk_world_add_breakable(world, &desc, &err);
+  ENSURE_MSG(id.generation != 0, "%s", err.message);
+  return id;
+}
+
+// An unbroken object is one body using the root's collider, with the source
+// mesh's exact mass and principal inertia.
+static void test_unbroken_is_one_body(void) {
+  bk_mesh_tree tree = make_tree(BK_SHAPE_CUBE, 64, 1);
+  bk_world* world = make_world();
+  bk_breakable_desc desc = bk_default_breakable_desc();
+  desc.density = 1000.0;
+  desc.transform.position = bk_v3(0, 3, 0);
+  add(world, &tree, desc);
+  bk_world_step(world);
+  bk_world_stats s = bk_world_get_stats(world);
+  ENSURE(s.bodies == 1 && s.colliders == 1 && s.colliders_naive == 64);
+  bk_body_view view = {0};
+  ENSURE(bk_world_body_view(world, 0, &view));
+  ENSURE(view.node_count == 1 && view.nodes[0] == 0 && view.leaf_count == 64);
+  uint32_t colliders[4];
+  ENSURE(bk_world_body_colliders(world, 0, colliders, 4) == 1 && colliders[0] == 0);
+  // Unit cube: mass 1000 kg, inertia m/6 about every axis.
+  ENSURE_REL(bk_physics_body_mass(bk_world_physics(world), view.body), 1000.0, 1e-12);
+  ENSURE_REL(s.total_mass, 1000.0, 1e-12);
+  bk_world_destroy(world);
+  bk_mesh_tree_free(&tree);
+}
+
+// A hollow eggshell is not a solid egg for collisions: with convex colliders
+// off its hull overestimates it, so its children stand in.
+static void test_eggshell_not_solid(void) {
+  bk_mesh_tree tree = make_tree(BK_SHAPE_EGGSHELL, 64, 2);
+  bk_world* world = make_world();
+  bk_breakable_desc desc = bk_default_breakable_desc();
+  add(world, &tree, desc);
+  bk_world_stats s = bk_world_get_stats(world);
+  ENSURE_MSG(s.colliders > 1 && s.colliders <= 64, "%u colliders", s.colliders);
+  desc.convex_colliders = true;
+  desc.transform.position = bk_v3(3, 0, 0);
+  add(world, &tree, desc);
+  ENSURE(bk_world_get_stats(world).colliders == s.colliders + 1); // the convex one is the root's hull
+  bk_world_destroy(world);
+  bk_mesh_tree_free(&tree);
+}
+
+typedef struct outcome {
+  uint32_t bodies, bonds_broken, colliders, colliders_naive;
+  double mass;
+  bk_vec3 sum_positions;
+} outcome;
+
+// A wall anchored on the ground, hit by a projectile.
+static outcome shoot_wall(const bk_mesh_tree* tree, bool naive, double speed) {
+  bk_world* world = make_world();
+  bk_breakable_desc desc = bk_default_breakable_desc();
+  desc.anchored = true;
+  desc.naive = naive;
+  add(world, tree, desc);
+  double mass_before = bk_world_get_stats(world).total_mass;
+  bk_projectile_desc shot = {
+      .position = bk_v3(0.1, 0.7, 3.0), .velocity = bk_v3(0, 0, -speed), .radius = 0.1, .mass = 8};
+  bk_world_fire(world, &shot);
+  for (int i = 0; i < 90; ++i)
+    bk_world_step(world);
+  bk_world_stats s = bk_world_get_stats(world);
+  ENSURE(!s.nan);
+  ENSURE_REL(s.total_mass, mass_before, 1e-9);
+  outcome o = {s.bodies, s.bonds_broken, s.colliders, s.colliders_naive, s.total_mass, {0, 0, 0}};
+  for (uint32_t i = 0; i < bk_world_body_count(world); ++i) {
+    bk_body_view v = {0};
+    ENSURE(bk_world_body_view(world, i, &v));
+    o.sum_positions = bk_v3_add(o.sum_positions, v.tree_to_world.position);
+  }
+  bk_world_destroy(world);
+  return o;
+}
+
+static void test_wall_breaks(void) {
+  bk_mesh_tree tree = make_tree(BK_SHAPE_WALL, 128, 3000);
+  outcome a = shoot_wall(&tree, false, 40.0);
+  ENSURE_MSG(a.bodies >= 3 && a.bonds_broken > 0, "%u bodies, %u bonds broken", a.bodies, a.bonds_broken);
+  // Far fewer colliders than one per fragment.
+  ENSURE_MSG(a.colliders < a.colliders_naive, "%u vs %u", a.colliders, a.colliders_naive);
+  // Deterministic: the same run gives the same result, bit for bit.
+  outcome b = shoot_wall(&tree, false, 40.0);
+  ENSURE(a.bodies == b.bodies && a.bonds_broken == b.bonds_broken);
+  ENSURE(memcmp(&a.sum_positions, &b.sum_positions, sizeof(bk_vec3)) == 0);
+  fprintf(stderr, "    wall x128 hit at 40 m/s: %u bodies, %u bonds broken, colliders %u (plain BCRB %u)\n",
+          a.bodies, a.bonds_broken, a.colliders, a.colliders_naive);
+  bk_mesh_tree_free(&tree);
+}
+
+// The same impact in naive mode makes the same clusters with more colliders.
+static void test_naive_same_clusters(void) {
+  bk_mesh_tree tree = make_tree(BK_SHAPE_WALL, 128, 5);
+  uint32_t counts[2] = {0, 0}, colliders[2] = {0, 0}, naive_colliders[2] = {0, 0};
+  uint32_t* leaf_body[2] = {calloc(tree.leaf_count, sizeof(uint32_t)),
+                            calloc(tree.leaf_count, sizeof(uint32_t))};
+  for (int mode = 0; mode < 2; ++mode) {
+    bk_world* world = make_world();
+    bk_breakable_desc desc = bk_default_breakable_desc();
+    desc.anchored = true;
+    desc.naive = mode == 1;
+    add(world, &tree, desc);
+    bk_world_impact(world, bk_v3(0.2, 0.6, 0.1), 300.0);
+    bk_world_step(world);
+    bk_world_stats s = bk_world_get_stats(world);
+    counts[mode] = s.bodies;
+    colliders[mode] = s.colliders;
+    naive_colliders[mode] = s.colliders_naive;
+    // Label each leaf with the smallest leaf of its body: comparable across runs.
+    for (uint32_t i = 0; i < bk_world_body_count(world); ++i) {
+      bk_body_view v = {0};
+      ENSURE(bk_world_body_view(world, i, &v));
+      for (uint32_t k = 0; k < v.leaf_count; ++k)
+        leaf_body[mode][v.leaves[k]] = v.leaves[0];
+    }
+    bk_world_destroy(world);
+  }
+  ENSURE_MSG(counts[0] > 2, "the impact should break the wall (%u bodies)", counts[0]);
+  ENSURE(counts[0] == counts[1]);
+  ENSURE(memcmp(leaf_body[0], leaf_body[1], sizeof(uint32_t) * tree.leaf_count) == 0);
+  ENSURE(colliders[1] == naive_colliders[1] && colliders[0] < colliders[1]);
+  free(leaf_body[0]);
+  free(leaf_body[1]);
+  bk_mesh_tree_free(&tree);
+}
+
+// Two weak hits: an accumulating bond breaks, a discrete one does not.
+static void test_discrete_vs_accumulating(void) {
+  bk_mesh_tree tree = make_tree(BK_SHAPE_CUBE, 2, 4);
+  ENSURE(tree.bond_count == 1);
+  const bk_bond* bond = &tree.bonds[0];
+  for (int accumulate = 0; accumulate < 2; ++accumulate) {
+    bk_world* world = make_world();
+    bk_breakable_desc desc = bk_default_breakable_desc();
+    desc.accumulate = accumulate == 1;
+    desc.transform.position = bk_v3(0, 0.5, 0);
+    bk_breakable_id id = add(world, &tree, desc);
+    double initial = 0.0;
+    bk_world_bond_health(world, id, 0, &initial);
+    // Damage at the bond centroid is frailty x impulse / s_min^3: aim for 60% of its hit points.
+    double s_min = bk_default_world_desc().damage_min_distance;
+    double impulse = 0.6 * initial * s_min * s_min * s_min / desc.frailty;
+    bk_vec3 at = bk_v3_add(bond->centroid, bk_v3(0, 0.5, 0));
+    bk_world_impact(world, at, impulse);
+    bk_world_step(world);
+    ENSURE(bk_world_get_stats(world).bodies == 1);
+    bk_world_impact(world, at, impulse);
+    bk_world_step(world);
+    double left = bk_world_bond_health(world, id, 0, NULL);
+    if (accumulate) {
+      ENSURE(left == 0.0 && bk_world_get_stats(world).bodies == 2);
+    } else {
+      ENSURE_REL(left, initial, 1e-12);
+      ENSURE(bk_world_get_stats(world).bodies == 1);
+    }
+    bk_world_destroy(world);
+  }
+  bk_mesh_tree_free(&tree);
+}
+
+// Left alone for two simulated minutes, a standing object keeps every bond.
+static void test_resting_keeps_bonds(void) {
+  bk_mesh_tree wall = make_tree(BK_SHAPE_WALL, 64, 6), pillar = make_tree(BK_SHAPE_PILLAR, 64, 7);
+  bk_world* world = make_world();
+  bk_breakable_desc desc = bk_default_breakable_desc();
+  desc.anchored = true;
+  add(world, &wall, desc);
+  desc.anchored = false;
+  desc.transform.position = bk_v3(3, 0, 0);
+  add(world, &pillar, desc);
+  for (int i = 0; i < 120 * 60; ++i)
+    bk_world_step(world);
+  bk_world_stats s = bk_world_get_stats(world);
+  ENSURE_MSG(s.bonds_broken == 0 && s.bodies == 2 && !s.nan, "%u bonds broke, %u bodies", s.bonds_broken,
+             s.bodies);
+  // The pillar still stands where it was.
+  bk_body_view v = {0};
+  ENSURE(bk_world_body_view(world, 1, &v));
+  ENSURE_SMALL(v.tree_to_world.position.x, 3.0, 0.01);
+  ENSURE_SMALL(v.tree_to_world.position.y, 0.0, 0.01);
+  bk_world_destroy(world);
+  bk_mesh_tree_free(&wall);
+  bk_mesh_tree_free(&pillar);
+}
+
+// Splits keep the motion: a body spinning freely breaks into pieces moving
+// with v + w x r at their own centres of mass.
+static void test_split_keeps_motion(void) {
+  bk_mesh_tree tree = make_tree(BK_SHAPE_CUBE, 8, 8);
+  bk_world_desc wd = bk_default_world_desc();
+  wd.no_ground = true;
+  wd.gravity = bk_v3(0, -1e-12, 0); // (all zero means the default); no g dt added by the split step
+  bk_world* world = bk_world_create(&wd, NULL);
+  bk_breakable_desc desc = bk_default_breakable_desc();
+  desc.transform.position = bk_v3(0, 10, 0);
+  add(world, &tree, desc);
+  bk_body_view v = {0};
+  ENSURE(bk_world_body_view(world, 0, &v));
+  bk_vec3 omega = bk_v3(0, 2.0, 0), velocity = bk_v3(1, 0, 0);
+  bk_physics_body_set_velocity(bk_world_physics(world), v.body, velocity, omega);
+  bk_world_impact(world, bk_v3(0, 10, 0), 1e9); // shatter everything
+  bk_world_step(world);
+  uint32_t bodies = bk_world_body_count(world);
+  ENSURE(bodies == 8);
+  double momentum_x = 0.0, total = 0.0;
+  for (uint32_t i = 0; i < bodies; ++i) {
+    ENSURE(bk_world_body_view(world, i, &v));
+    bk_physics* p = bk_world_physics(world);
+    double m = bk_physics_body_mass(p, v.body);
+    bk_vec3 lv = bk_physics_body_linear_velocity(p, v.body), av = bk_physics_body_angular_velocity(p, v.body);
+    bk_vec3 r = bk_v3_sub(bk_physics_body_transform(p, v.body).position, bk_v3(0, 10, 0));
+    bk_vec3 expected = bk_v3_add(velocity, bk_v3_cross(omega, r));
+    ENSURE_SMALL(bk_v3_length(bk_v3_sub(lv, expected)), 0.0, 0.05);
+    ENSURE_SMALL(bk_v3_length(bk_v3_sub(av, omega)), 0.0, 1e-6);
+    momentum_x += m * lv.x;
+    total += m;
+  }
+  ENSURE_REL(momentum_x / total, 1.0, 0.02); // linear momentum preserved
+  bk_world_destroy(world);
+  bk_mesh_tree_free(&tree);
+}
+
+// The split budget: a shattering hit creates at most `budget` bodies a step;
+// the rest follows over the next steps until every fragment is free.
+static void test_split_budget(void) {
+  bk_mesh_tree tree = make_tree(BK_SHAPE_SLAB, 32, 9);
+  bk_world_desc wd = bk_default_world_desc();
+  wd.max_new_bodies_per_step = 4;
+  bk_world* world = bk_world_create(&wd, NULL);
+  bk_breakable_desc desc = bk_default_breakable_desc();
+  desc.transform.position = bk_v3(-2, 0, 0);
+  add(world, &tree, desc);
+  desc.transform.position = bk_v3(2, 0, 0);
+  add(world, &tree, desc);
+  bk_world_impact(world, bk_v3(0, 0, 0), 1e12); // shatter both
+  uint32_t bodies = 2, steps = 0;
+  double mass = bk_world_get_stats(world).total_mass;
+  do {
+    bk_world_step(world);
+    bk_world_stats s = bk_world_get_stats(world);
+    // Each split removes one body and creates its parts: at most budget - 1 more.
+    ENSURE_MSG(s.bodies <= bodies + 3, "step %u: %u -> %u bodies", steps, bodies, s.bodies);
+    ENSURE_REL(s.total_mass, mass, 1e-9);
+    if (steps == 0) ENSURE(s.bodies == 5 && s.pending_splits == 2);
+    bodies = s.bodies;
+  } while (++steps < 100 && bk_world_get_stats(world).pending_splits > 0);
+  ENSURE_MSG(bodies == 64 && steps >= 20, "%u bodies after %u steps", bodies, steps);
+  bk_world_destroy(world);
+  bk_mesh_tree_free(&tree);
+}
+
+static void test_bad_input(void) {
+  bk_mesh_tree tree = make_tree(BK_SHAPE_CUBE, 4, 10);
+  bk_world* world = make_world();
+  bk_breakable_desc desc = bk_default_breakable_desc();
+  desc.tree = &tree;
+  desc.density = NAN;
+  bk_error err = {0};
+  ENSURE(bk_world_add_breakable(world, &desc, &err).generation == 0);
+  ENSURE_MSG(strstr(err.message, "density") != NULL, "%s", err.message);
+  desc = bk_default_breakable_desc();
+  desc.tree = &tree;
+  desc.frailty = -1.0;
+  ENSURE(bk_world_add_breakable(world, &desc, &err).generation == 0);
+  ENSURE_MSG(strstr(err.message, "frailty") != NULL, "%s", err.message);
+  desc = bk_default_breakable_desc();
+  ENSURE(bk_world_add_breakable(world, &desc, &err).generation == 0);
+  ENSURE_MSG(strstr(err.message, "tree") != NULL, "%s", err.message);
+  bk_world_desc wd = bk_default_world_desc();
+  wd.fixed_dt = -1.0;
+  ENSURE(bk_world_create(&wd, &err) == NULL);
+  ENSURE_MSG(strstr(err.message, "fixed_dt") != NULL, "%s", err.message);
+  wd = bk_default_world_desc();
+  wd.max_new_bodies_per_step = 1;
+  ENSURE(bk_world_create(&wd, &err) == NULL);
+  ENSURE_MSG(strstr(err.message, "max_new_bodies_per_step") != NULL, "%s", err.message);
+  bk_projectile_desc shot = {.position = bk_v3(NAN, 0, 0), .velocity = bk_v3(0, 0, 0)};
+  ENSURE(bk_body_is_null(bk_world_fire(world, &shot)));
+  bk_world_destroy(world);
+  bk_mesh_tree_free(&tree);
+}
+
+// Many worlds, many breaks: LeakSanitizer checks nothing is left behind.
+static void test_many_breaks(void) {
+  bk_mesh_tree tree = make_tree(BK_SHAPE_CUBE, 16, 11);
+  uint32_t breaks = 0;
+  for (int round = 0; round < 60 && breaks < 100; ++round) {
+    bk_world* world = make_world();
+    bk_breakable_desc desc = bk_default_breakable_desc();
+    desc.transform.position = bk_v3(0, 0.5, 0);
+    add(world, &tree, desc);
+    // Knock out bonds one region at a time: 30 times a bond's hit points at s_min from its centroid.
+    double s_min = bk_default_world_desc().damage_min_distance;
+    for (uint32_t bond = (uint32_t)round % 3; bond < tree.bond_count; bond += 2) {
+      double initial = 0.0;
+      bk_world_bond_health(world, (bk_breakable_id){0, 1}, bond, &initial);
+      bk_world_impact(world, bk_v3_add(tree.bonds[bond].centroid, bk_v3(0, 0.5, 0)),
+                      30.0 * initial * s_min * s_min * s_min);
+      bk_world_step(world);
+    }
+    breaks += bk_world_get_stats(world).break_events;
+    bk_world_destroy(world);
+  }
+  ENSURE_MSG(breaks >= 100, "only %u breaks", breaks);
+  bk_mesh_tree_free(&tree);
+}
+
+int main(void) {
+  RUN(test_unbroken_is_one_body);
+  RUN(test_eggshell_not_solid);
+  RUN(test_discrete_vs_accumulating);
+  RUN(test_naive_same_clusters);
+  RUN(test_split_keeps_motion);
+  RUN(test_split_budget);
+  RUN(test_bad_input);
+  RUN(test_many_breaks);
+  RUN(test_wall_breaks);
+  RUN(test_resting_keeps_bonds);
+  return 0;
+}
