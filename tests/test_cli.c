@@ -165,6 +165,56 @@ static void test_repairs_simple_hole(void) {
   ENSURE(strstr(r->out, "\"watertight\": true") != NULL);
 }
 
+static void test_sim(void) {
+  setenv("BREAKABLES_CACHE_DIR", BK_TEST_TMP "/cache", 1);
+  run_result* r = run("sim --scene wall --pieces 64 --shots 2 --steps 150 --json");
+  ENSURE_MSG(r->status == 0, "%s", r->err);
+  const char* keys[] = {"scene",
+                        "pieces",
+                        "bodies_initial",
+                        "bodies_final",
+                        "break_events",
+                        "bonds_broken",
+                        "colliders_initial",
+                        "colliders_final",
+                        "colliders_naive_final",
+                        "step_ms_median",
+                        "step_ms_max",
+                        "break_ms_median",
+                        "break_ms_max",
+                        "mass_rel_error",
+                        "nan"};
+  for (size_t i = 0; i < sizeof keys / sizeof *keys; ++i) {
+    char quoted[64];
+    snprintf(quoted, sizeof quoted, "\"%s\"", keys[i]);
+    ENSURE_MSG(strstr(r->out, quoted) != NULL, "missing %s in %s", keys[i], r->out);
+  }
+  ENSURE(strstr(r->out, "\"nan\": false") && json_number(r->out, "mass_rel_error") < 1e-9);
+  ENSURE(json_number(r->out, "bodies_initial") == 1 && json_number(r->out, "colliders_initial") == 1);
+  ENSURE(json_number(r->out, "bodies_final") > 1 && json_number(r->out, "bonds_broken") > 0);
+  ENSURE(json_number(r->out, "colliders_final") < json_number(r->out, "colliders_naive_final"));
+  // The second run loads the mesh tree from the cache, and gives the same result.
+  char first[sizeof result.out];
+  memcpy(first, r->out, sizeof first);
+  r = run("sim --scene wall --pieces 64 --shots 2 --steps 150 --json");
+  ENSURE(strstr(r->out, "\"from_cache\": true") != NULL);
+  ENSURE(json_number(r->out, "bonds_broken") == json_number(first, "bonds_broken"));
+  ENSURE(json_number(r->out, "bodies_final") == json_number(first, "bodies_final"));
+  // Plain BCRB: one collider per fragment.
+  r = run("sim --scene wall --pieces 64 --shots 2 --steps 150 --naive --json");
+  ENSURE(json_number(r->out, "colliders_final") == json_number(r->out, "colliders_naive_final"));
+  r = run("sim --help");
+  const char* options[] = {"--scene",   "--pieces",  "--seed",     "--shots",      "--steps", "--speed",
+                           "--frailty", "--density", "--discrete", "--accumulate", "--naive", "--json"};
+  for (size_t i = 0; i < sizeof options / sizeof *options; ++i)
+    ENSURE_MSG(strstr(r->out, options[i]) != NULL, "sim help does not describe %s", options[i]);
+  expect_error("sim --scene castle", 2, "unknown scene 'castle'");
+  expect_error("sim --steps 0", 2, "--steps must be a whole number from 1 to 1000000");
+  expect_error("sim --frailty nan", 2, "--frailty must be a positive number");
+  expect_error("sim --density -5", 2, "--density must be a positive number");
+  expect_error("sim --explode", 2, "unknown option '--explode'");
+}
+
 int main(void) {
   RUN(test_help);
   RUN(test_json);
@@ -172,5 +222,6 @@ int main(void) {
   RUN(test_same_seed_same_file);
   RUN(test_errors);
   RUN(test_repairs_simple_hole);
+  RUN(test_sim);
   return 0;
 }

@@ -53,8 +53,12 @@ static void test_unbroken_is_one_body(void) {
   ENSURE(view.node_count == 1 && view.nodes[0] == 0 && view.leaf_count == 64);
   uint32_t colliders[4];
   ENSURE(bk_world_body_colliders(world, 0, colliders, 4) == 1 && colliders[0] == 0);
-  // Unit cube: mass 1000 kg, inertia m/6 about every axis.
+  // Unit cube: mass 1000 kg, inertia m/6 about every axis, centred at its centroid.
   ENSURE_REL(bk_physics_body_mass(bk_world_physics(world), view.body), 1000.0, 1e-12);
+  bk_vec3 inertia = bk_physics_body_inertia(bk_world_physics(world), view.body);
+  ENSURE_REL(inertia.x, 1000.0 / 6.0, 1e-5); // Bullet stores the inverse in single precision
+  ENSURE_REL(inertia.y, 1000.0 / 6.0, 1e-5);
+  ENSURE_REL(inertia.z, 1000.0 / 6.0, 1e-5);
   ENSURE_REL(s.total_mass, 1000.0, 1e-12);
   bk_world_destroy(world);
   bk_mesh_tree_free(&tree);
@@ -62,6 +66,36 @@ static void test_unbroken_is_one_body(void) {
 
 // A hollow eggshell is not a solid egg for collisions: with convex colliders
 // off its hull overestimates it, so its children stand in.
+// A lopsided shape's body frame is its principal frame: the inertia Bullet
+// holds equals the eigenvalues of the exact inertia tensor of the mesh.
+static void test_torus_principal_inertia(void) {
+  bk_mesh_tree tree = make_tree(BK_SHAPE_TORUS, 16, 3);
+  bk_world* world = make_world();
+  bk_breakable_desc desc = bk_default_breakable_desc();
+  desc.density = 500.0;
+  desc.transform.position = bk_v3(0, 2, 0);
+  desc.transform.rotation = bk_quat_axis_angle(bk_v3_normalize(bk_v3(1, 2, 3)), 0.7);
+  add(world, &tree, desc);
+  bk_body_view view = {0};
+  ENSURE(bk_world_body_view(world, 0, &view));
+  bk_mass_properties exact = bk_moments_to_mass(bk_mesh_moments(&tree.nodes[0].mesh));
+  double values[3], axes[3][3];
+  bk_sym3_eigen(exact.inertia, values, axes);
+  bk_vec3 held = bk_physics_body_inertia(bk_world_physics(world), view.body);
+  double sorted_held[3] = {held.x, held.y, held.z};
+  for (int i = 0; i < 3; ++i) {
+    bool found = false;
+    for (int k = 0; k < 3 && !found; ++k)
+      found = fabs(sorted_held[k] - 500.0 * values[i]) <= 1e-5 * 500.0 * values[i];
+    ENSURE_MSG(found, "principal moment %g not held by the body", 500.0 * values[i]);
+  }
+  ENSURE_REL(bk_physics_body_mass(bk_world_physics(world), view.body), 500.0 * exact.volume, 1e-12);
+  // The tree frame comes back where it was put.
+  ENSURE_SMALL(bk_v3_length(bk_v3_sub(view.tree_to_world.position, desc.transform.position)), 0.0, 1e-6);
+  bk_world_destroy(world);
+  bk_mesh_tree_free(&tree);
+}
+
 static void test_eggshell_not_solid(void) {
   bk_mesh_tree tree = make_tree(BK_SHAPE_EGGSHELL, 64, 2);
   bk_world* world = make_world();
@@ -343,6 +377,7 @@ static void test_many_breaks(void) {
 
 int main(void) {
   RUN(test_unbroken_is_one_body);
+  RUN(test_torus_principal_inertia);
   RUN(test_eggshell_not_solid);
   RUN(test_discrete_vs_accumulating);
   RUN(test_naive_same_clusters);

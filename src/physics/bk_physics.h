@@ -116,6 +116,8 @@ void bk_physics_body_set_velocity(bk_physics* world, bk_body_id body, bk_vec3 li
 /// Changes mass and principal inertia (density edits); mass 0 is not allowed here.
 void bk_physics_body_set_mass(bk_physics* world, bk_body_id body, double mass, bk_vec3 inertia);
 double bk_physics_body_mass(const bk_physics* world, bk_body_id body);
+/// Principal moments of inertia of a dynamic body (zero for static ones).
+bk_vec3 bk_physics_body_inertia(const bk_physics* world, bk_body_id body);
 void bk_physics_body_apply_impulse(bk_physics* world, bk_body_id body, bk_vec3 impulse, bk_vec3 world_point);
 bool bk_physics_body_awake(const bk_physics* world, bk_body_id body);
 uint64_t bk_physics_body_user_data(const bk_physics* world, bk_body_id body);

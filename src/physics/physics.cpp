@@ -768,6 +768,14 @@ double bk_physics_body_mass(const bk_physics* w, bk_body_id body) {
   return s ? s->mass : 0.0;
 }
 
+bk_vec3 bk_physics_body_inertia(const bk_physics* w, bk_body_id body) {
+  const BodySlot* s = w ? w->body(body) : nullptr;
+  if (!s || s->mass == 0.0) return bk_v3(0, 0, 0);
+  btVector3 inv = s->body->getInvInertiaDiagLocal();
+  return bk_v3(inv.x() > 0 ? 1.0 / inv.x() : 0.0, inv.y() > 0 ? 1.0 / inv.y() : 0.0,
+               inv.z() > 0 ? 1.0 / inv.z() : 0.0);
+}
+
 void bk_physics_body_apply_impulse(bk_physics* w, bk_body_id body, bk_vec3 impulse, bk_vec3 world_point) {
   BodySlot* s = w ? w->body(body) : nullptr;
   if (!s || s->mass == 0.0 || !bk_v3_is_finite(impulse) || !bk_v3_is_finite(world_point)) return;
