@@ -10,6 +10,8 @@
 /// Subcommand entry points; argv[0] is the subcommand name. Return the exit code.
 int bk_cmd_fracture(int argc, char** argv);
 int bk_cmd_sim(int argc, char** argv);
+int bk_cmd_play(int argc, char** argv);
+int bk_cmd_editor(int argc, char** argv);
 
 /// Resolves --mesh: a built-in shape name, "bunny" (the bundled asset, scaled
 /// to 1 unit tall standing on y = 0) or a path to an .obj file. Open meshes
@@ -41,6 +43,9 @@ typedef struct bk_scene_options {
   double frailty, density, bond_strength;
   int accumulate; ///< -1 = material's choice, 0 = discrete, 1 = accumulating
   bool naive, convex_colliders;
+  /// Optional fracture progress report (leaves so far, target), from the building thread.
+  bool (*progress)(void* user, uint32_t leaves, uint32_t target);
+  void* progress_user;
 } bk_scene_options;
 
 bk_scene_options bk_default_scene_options(void);

@@ -5,22 +5,28 @@
 #include "app.h"
 
 static const char* const usage =
-    "usage: breakables <command> [options]\n"
+    "usage: breakables [command] [options]\n"
     "\n"
     "Real-time destruction toolkit: fractures closed meshes into mesh trees of\n"
     "watertight fragments.\n"
     "\n"
     "commands:\n"
+    "  play       the demo game (the default when no command is given)\n"
+    "  editor     preview the fragments of a mesh, pull them apart, export them\n"
     "  fracture   build a mesh tree of fragments from a mesh (headless)\n"
     "  sim        run a scene headless: fire projectiles, report breaks and costs\n"
     "\n"
     "Run 'breakables <command> --help' for the options of a command.\n";
 
 int main(int argc, char** argv) {
-  if (argc < 2 || strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0) {
+  if (argc >= 2 && (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0)) {
     fputs(usage, stdout);
     return 0;
   }
+  // No command, or only options: the game.
+  if (argc < 2 || argv[1][0] == '-') return bk_cmd_play(argc, argv);
+  if (strcmp(argv[1], "play") == 0) return bk_cmd_play(argc - 1, argv + 1);
+  if (strcmp(argv[1], "editor") == 0) return bk_cmd_editor(argc - 1, argv + 1);
   if (strcmp(argv[1], "fracture") == 0) return bk_cmd_fracture(argc - 1, argv + 1);
   if (strcmp(argv[1], "sim") == 0) return bk_cmd_sim(argc - 1, argv + 1);
   fprintf(stderr, "breakables: unknown command '%s' (see 'breakables --help')\n", argv[1]);

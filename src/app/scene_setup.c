@@ -23,6 +23,8 @@ bool bk_loaded_scene_create(const bk_scene* scene, const bk_scene_options* optio
     fd.seed = options->seed;
     fd.texture_scale = options->texture_scale > 0.0 ? options->texture_scale : fd.texture_scale;
     fd.aspect_bias = scene->aspect_bias;
+    fd.progress = options->progress;
+    fd.progress_user = options->progress_user;
     bool cached = false;
     if (!bk_app_load_tree(object->mesh, object->scale, &fd, &out->trees[i], &cached, err)) {
       bk_loaded_scene_destroy(out);

@@ -55,6 +55,7 @@ typedef struct bk_world_desc {
   double impulse_threshold;         ///< contacts with less impulse (N s) do no damage; default 0.5
   double damage_min_distance;       ///< s_min of the damage formula (m); default 0.05
   uint32_t max_new_bodies_per_step; ///< split budget (at least 2); default 48
+  double projectile_lifetime;       ///< seconds before a projectile is removed; default 8
 } bk_world_desc;
 
 bk_world_desc bk_default_world_desc(void);
@@ -147,8 +148,9 @@ bk_world_stats bk_world_get_stats(const bk_world* world);
 typedef struct bk_body_view {
   bk_breakable_id breakable;
   const bk_mesh_tree* tree;
-  bk_transform tree_to_world; ///< the tree frame's placement now
-  const uint32_t* nodes;      ///< minimal node set
+  bk_transform tree_to_world;          ///< the tree frame's placement now
+  bk_transform tree_to_world_previous; ///< and at the start of the last step (interpolate between them)
+  const uint32_t* nodes;               ///< minimal node set
   uint32_t node_count;
   const uint32_t* leaves; ///< its fragments, ascending
   uint32_t leaf_count;
@@ -163,6 +165,10 @@ bool bk_world_body_view(const bk_world* world, uint32_t index, bk_body_view* out
 uint32_t bk_world_body_colliders(const bk_world* world, uint32_t index, uint32_t* nodes_out,
                                  uint32_t capacity);
 
+/// Number of live projectiles and where one is (false if index is out of range).
+uint32_t bk_world_projectile_count(const bk_world* world);
+bool bk_world_projectile(const bk_world* world, uint32_t index, bk_vec3* position, double* radius);
+
 /// Hit points left of a bond (0 when broken) and its initial hit points.
 double bk_world_bond_health(const bk_world* world, bk_breakable_id id, uint32_t bond, double* initial);
 
@@ -175,7 +181,8 @@ typedef struct bk_scene_object {
   bk_vec3 axis;         ///< rotation axis (zero = none)
   double angle;         ///< radians
   double scale;         ///< uniform scale of the mesh (0 = 1)
-  const char* material; ///< material preset name
+  const char* material; ///< material preset name (physics)
+  const char* look;     ///< how it is drawn (render material); NULL = same as material
   bool anchored;
 } bk_scene_object;
 

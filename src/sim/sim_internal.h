@@ -38,6 +38,7 @@ typedef struct cluster {
   uint32_t* colliders; // nodes whose hulls are the compound's children
   uint32_t collider_count;
   bk_transform principal; // body frame in the tree frame
+  bk_transform previous;  // tree frame at the start of the last step (for interpolated drawing)
   double mass;
 } cluster;
 
@@ -58,7 +59,11 @@ struct bk_world {
   uint32_t* split_queue; // clusters with broken bonds, oldest first
   uint32_t split_queue_count, split_queue_capacity;
   bk_body_id* projectiles;
+  bk_shape_id* projectile_shape;
+  double* projectile_radius;
+  uint64_t* projectile_born; // step number
   uint32_t projectile_count, projectile_capacity;
+  uint64_t step_count;
   bk_contact* contacts;
   uint32_t contact_capacity;
   bk_break_event* events;

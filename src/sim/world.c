@@ -18,7 +18,8 @@ bk_world_desc bk_default_world_desc(void) {
                          .impact_speed = 1.0,
                          .impulse_threshold = 0.5,
                          .damage_min_distance = 0.05,
-                         .max_new_bodies_per_step = 48};
+                         .max_new_bodies_per_step = 48,
+                         .projectile_lifetime = 8.0};
 }
 
 bk_world* bk_world_create(const bk_world_desc* desc_in, bk_error* err) {
@@ -29,6 +30,10 @@ bk_world* bk_world_create(const bk_world_desc* desc_in, bk_error* err) {
   if (d.impulse_threshold == 0.0) d.impulse_threshold = def.impulse_threshold;
   if (d.damage_min_distance == 0.0) d.damage_min_distance = def.damage_min_distance;
   if (d.max_new_bodies_per_step == 0) d.max_new_bodies_per_step = def.max_new_bodies_per_step;
+  if (d.projectile_lifetime == 0.0) d.projectile_lifetime = def.projectile_lifetime;
+  if (!(d.projectile_lifetime > 0.0) || !isfinite(d.projectile_lifetime))
+    return bk_error_set(err, "world: projectile_lifetime must be positive (got %g)", d.projectile_lifetime),
+           NULL;
   if (!bk_v3_is_finite(d.gravity)) return bk_error_set(err, "world: gravity must be finite"), NULL;
   if (!(d.fixed_dt > 0.0 && d.fixed_dt <= 0.1))
     return bk_error_set(err, "world: fixed_dt must be in (0, 0.1] s (got %g)", d.fixed_dt), NULL;
@@ -93,6 +98,9 @@ void bk_world_destroy(bk_world* w) {
   free(w->live);
   free(w->split_queue);
   free(w->projectiles);
+  free(w->projectile_radius);
+  free(w->projectile_shape);
+  free(w->projectile_born);
   free(w->contacts);
   free(w->events);
   free(w->scratch_leaves);
@@ -271,7 +279,13 @@ bk_body_id bk_world_fire(bk_world* w, const bk_projectile_desc* desc) {
   if (w->projectile_count == w->projectile_capacity) {
     w->projectile_capacity = bk_grow_capacity(w->projectile_capacity, w->projectile_count + 1);
     w->projectiles = bk_realloc(w->projectiles, sizeof(bk_body_id) * w->projectile_capacity);
+    w->projectile_radius = bk_realloc(w->projectile_radius, sizeof(double) * w->projectile_capacity);
+    w->projectile_shape = bk_realloc(w->projectile_shape, sizeof(bk_shape_id) * w->projectile_capacity);
+    w->projectile_born = bk_realloc(w->projectile_born, sizeof(uint64_t) * w->projectile_capacity);
   }
+  w->projectile_radius[w->projectile_count] = radius;
+  w->projectile_shape[w->projectile_count] = sphere;
+  w->projectile_born[w->projectile_count] = w->step_count;
   w->projectiles[w->projectile_count++] = body;
   return body;
 }
@@ -288,9 +302,34 @@ void bk_world_refresh_live(bk_world* w) {
   w->live_dirty = false;
 }
 
+// Old projectiles go (with their sphere shapes) so a long session stays bounded.
+static void retire_projectiles(bk_world* w) {
+  uint64_t max_age = (uint64_t)(w->desc.projectile_lifetime / w->desc.fixed_dt);
+  uint32_t kept = 0;
+  for (uint32_t i = 0; i < w->projectile_count; ++i) {
+    if (w->step_count - w->projectile_born[i] > max_age) {
+      bk_physics_destroy_body(w->physics, w->projectiles[i]);
+      bk_physics_destroy_shape(w->physics, w->projectile_shape[i]);
+      continue;
+    }
+    w->projectiles[kept] = w->projectiles[i];
+    w->projectile_radius[kept] = w->projectile_radius[i];
+    w->projectile_shape[kept] = w->projectile_shape[i];
+    w->projectile_born[kept] = w->projectile_born[i];
+    kept++;
+  }
+  w->projectile_count = kept;
+}
+
 void bk_world_step(bk_world* w) {
   double start = now_ms();
   w->event_count = 0;
+  for (uint32_t i = 0; i < w->live_count; ++i) {
+    cluster* c = &w->clusters[w->live[i]];
+    c->previous = bk_cluster_tree_to_world(w, c);
+  }
+  retire_projectiles(w);
+  w->step_count++;
   bk_physics_step(w->physics, w->desc.fixed_dt, 1);
   double after_physics = now_ms();
   uint32_t contacts = bk_physics_contacts(w->physics, w->contacts, w->contact_capacity);
@@ -352,6 +391,7 @@ bool bk_world_body_view(const bk_world* w, uint32_t index, bk_body_view* out) {
   *out = (bk_body_view){.breakable = {c->breakable, b->generation},
                         .tree = b->tree,
                         .tree_to_world = bk_cluster_tree_to_world(w, c),
+                        .tree_to_world_previous = c->previous,
                         .nodes = c->nodes,
                         .node_count = c->node_count,
                         .leaves = c->leaves,
@@ -377,4 +417,13 @@ double bk_world_bond_health(const bk_world* w, bk_breakable_id id, uint32_t bond
   }
   if (initial) *initial = b->bond_hp_initial[bond];
   return b->bond_broken[bond] ? 0.0 : b->bond_hp[bond];
+}
+
+uint32_t bk_world_projectile_count(const bk_world* w) { return w->projectile_count; }
+
+bool bk_world_projectile(const bk_world* w, uint32_t index, bk_vec3* position, double* radius) {
+  if (index >= w->projectile_count) return false;
+  *position = bk_physics_body_transform(w->physics, w->projectiles[index]).position;
+  *radius = w->projectile_radius[index];
+  return true;
 }

@@ -1,0 +1,62 @@
+#version 330 core
+// Sun with a soft shadow map, hemisphere ambient, normal-mapped outer
+// surface, separate texture for interior (cut) faces, and a distance haze
+// that matches the sky.
+in vec3 v_position;
+in vec3 v_normal;
+in vec4 v_tangent;
+in vec2 v_uv;
+in float v_interior;
+in vec4 v_light_position;
+
+uniform sampler2D u_albedo;
+uniform sampler2D u_normal_map;
+uniform sampler2D u_interior;
+uniform sampler2DShadow u_shadow_map;
+uniform vec3 u_sun_direction; // towards the sun
+uniform vec3 u_sun_color;
+uniform vec3 u_sky_color;
+uniform vec3 u_ground_color;
+uniform vec3 u_eye;
+uniform vec3 u_tint;
+uniform vec4 u_highlight; // rgb, strength
+uniform float u_interior_scale;
+uniform float u_gloss;
+
+out vec4 out_color;
+
+float shadow_factor(vec3 n) {
+  vec3 p = v_light_position.xyz / v_light_position.w * 0.5 + 0.5;
+  if (p.z > 1.0) return 1.0;
+  float slope = clamp(1.0 - dot(n, u_sun_direction), 0.0, 1.0);
+  p.z -= 0.0006 + 0.002 * slope;
+  // One hardware-filtered tap is already a 2x2 comparison: soft enough, and
+  // software renderers pay for every extra lookup.
+  return texture(u_shadow_map, p);
+}
+
+void main() {
+  vec3 n = normalize(v_normal);
+  vec3 albedo;
+  if (v_interior > 0.5) {
+    albedo = texture(u_interior, v_uv * u_interior_scale).rgb;
+  } else {
+    albedo = texture(u_albedo, v_uv).rgb;
+    vec3 t = normalize(v_tangent.xyz - n * dot(n, v_tangent.xyz));
+    vec3 b = cross(n, t) * v_tangent.w;
+    vec3 m = texture(u_normal_map, v_uv).xyz * 2.0 - 1.0;
+    n = normalize(mat3(t, b, n) * m);
+  }
+  albedo *= u_tint;
+  vec3 view = normalize(u_eye - v_position);
+  float diffuse = max(dot(n, u_sun_direction), 0.0);
+  float shadow = shadow_factor(normalize(v_normal));
+  vec3 half_vector = normalize(u_sun_direction + view);
+  float specular = pow(max(dot(n, half_vector), 0.0), mix(16.0, 96.0, u_gloss)) * mix(0.04, 0.5, u_gloss);
+  vec3 ambient = mix(u_ground_color, u_sky_color, n.y * 0.5 + 0.5) * 0.55;
+  vec3 color = albedo * (ambient + u_sun_color * diffuse * shadow) + u_sun_color * specular * shadow;
+  color = mix(color, u_highlight.rgb, u_highlight.a);
+  float haze = 1.0 - exp(-0.012 * length(u_eye - v_position));
+  color = mix(color, u_sky_color * 0.9, haze);
+  out_color = vec4(color, 1.0); // the framebuffer encodes sRGB
+}

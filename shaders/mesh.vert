@@ -1,0 +1,32 @@
+#version 330 core
+// Fragments and the ground: world-space lighting inputs plus the light-space
+// position for the shadow lookup.
+layout(location = 0) in vec3 in_position;
+layout(location = 1) in vec3 in_normal;
+layout(location = 2) in vec2 in_uv;
+layout(location = 3) in vec4 in_tangent;
+layout(location = 4) in float in_interior;
+
+uniform mat4 u_model;
+uniform mat4 u_view_projection;
+uniform mat4 u_light_view_projection;
+uniform float u_uv_scale;
+
+out vec3 v_position;
+out vec3 v_normal;
+out vec4 v_tangent;
+out vec2 v_uv;
+out float v_interior;
+out vec4 v_light_position;
+
+void main() {
+  vec4 world = u_model * vec4(in_position, 1.0);
+  mat3 rotation = mat3(u_model);
+  v_position = world.xyz;
+  v_normal = rotation * in_normal;
+  v_tangent = vec4(rotation * in_tangent.xyz, in_tangent.w);
+  v_uv = in_uv * u_uv_scale;
+  v_interior = in_interior;
+  v_light_position = u_light_view_projection * world;
+  gl_Position = u_view_projection * world;
+}

@@ -1,0 +1,246 @@
+// breakables editor: preview the fragments of a mesh (thesis Appendix A).
+// Orbit with Alt + left drag, zoom with Alt + right drag, pull the fragments
+// apart with Shift + drag or the explode slider; change mesh, pieces, seed
+// and texture scale; export the fragments to OBJ and the tree to .mtree.
+#include <GLFW/glfw3.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "bk_ui.h"
+#include "game.h"
+
+static const char* const editor_usage =
+    "usage: breakables editor [--mesh NAME|PATH.obj] [--pieces N] [--seed S] [--texture-scale X]\n"
+    "                         [--explode X] [--frames N] [--screenshot FILE.png] [--width W] [--height H]\n"
+    "\n"
+    "Preview the fragments of a mesh and export them.\n"
+    "\n"
+    "options:\n"
+    "  --mesh NAME|PATH.obj  cube, torus, eggshell, bunny, wall, slab, pillar or an OBJ (default: bunny)\n"
+    "  --pieces N            fragments, 1..65536 (default: 64)\n"
+    "  --seed S              fracture seed (default: 3000)\n"
+    "  --texture-scale X     world size of one interior texture tile (default: 0.1)\n"
+    "  --explode X           pull fragments apart, 0..3 (default: 0)\n"
+    "  --frames N            run N frames, then exit with a one-line summary\n"
+    "  --screenshot FILE.png save the last frame\n"
+    "  --width W --height H  window size (default: 1280x720)\n"
+    "  -h, --help            show this help\n"
+    "\n"
+    "controls: Alt + left drag = orbit, Alt + right drag = zoom, Shift + drag = explode,\n"
+    "F1 = panel, Esc = quit.\n";
+
+typedef struct editor {
+  GLFWwindow* window;
+  bk_renderer* renderer;
+  bool ui, show_panel;
+  char mesh[512];
+  int mesh_choice;
+  int pieces, seed;
+  double texture_scale, explode;
+  bk_mesh_tree tree;
+  bk_render_tree render_tree;
+  bk_vec3* leaf_offsets; // leaf centroid - source centroid
+  double yaw, pitch, distance;
+  bk_vec3 target;
+  double mouse_x, mouse_y;
+  char status[600];
+} editor;
+
+static const char* const mesh_names[] = {"bunny", "cube", "torus", "eggshell", "wall", "slab", "pillar"};
+
+static bool rebuild(editor* e, bk_error* err) {
+  bk_fracture_desc desc = bk_default_fracture_desc();
+  desc.pieces = (uint32_t)e->pieces;
+  desc.seed = (uint64_t)e->seed;
+  desc.texture_scale = e->texture_scale;
+  bk_mesh_tree tree = {0};
+  bool cached = false;
+  double start = glfwGetTime();
+  if (!bk_app_load_tree(e->mesh, 0.0, &desc, &tree, &cached, err)) return false;
+  if (e->tree.node_count) {
+    bk_renderer_release_tree(e->renderer, e->render_tree);
+    bk_mesh_tree_free(&e->tree);
+    free(e->leaf_offsets);
+  }
+  e->tree = tree;
+  e->render_tree = bk_renderer_upload_tree(e->renderer, &e->tree);
+  bk_vec3 centre = bk_moments_to_mass(e->tree.nodes[0].moments).centroid;
+  e->leaf_offsets = bk_alloc(sizeof(bk_vec3) * e->tree.leaf_count);
+  for (uint32_t l = 0; l < e->tree.leaf_count; ++l)
+    e->leaf_offsets[l] =
+        bk_v3_sub(bk_moments_to_mass(bk_mesh_tree_leaf(&e->tree, l)->moments).centroid, centre);
+  e->target = centre;
+  bk_aabb box = e->tree.nodes[0].bounds;
+  e->distance = 2.2 * bk_v3_length(bk_v3_sub(box.max, box.min)) + 0.5;
+  snprintf(e->status, sizeof e->status, "%u fragments, %u bonds (%s in %.0f ms)", e->tree.leaf_count,
+           e->tree.bond_count, cached ? "cache" : "fractured", (glfwGetTime() - start) * 1e3);
+  return true;
+}
+
+static void handle_mouse(editor* e) {
+  double x = 0, y = 0;
+  glfwGetCursorPos(e->window, &x, &y);
+  double dx = x - e->mouse_x, dy = y - e->mouse_y;
+  e->mouse_x = x, e->mouse_y = y;
+  if (e->ui && bk_ui_wants_mouse()) return;
+  bool alt = glfwGetKey(e->window, GLFW_KEY_LEFT_ALT) == GLFW_PRESS ||
+             glfwGetKey(e->window, GLFW_KEY_RIGHT_ALT) == GLFW_PRESS;
+  bool shift = glfwGetKey(e->window, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS;
+  bool left = glfwGetMouseButton(e->window, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS;
+  bool right = glfwGetMouseButton(e->window, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS;
+  if (alt && left) {
+    e->yaw += dx * 0.008;
+    e->pitch = fmax(-1.5, fmin(1.5, e->pitch + dy * 0.008));
+  } else if (alt && right) {
+    e->distance = fmax(0.2, e->distance * exp(dx * 0.006));
+  } else if (shift && (left || right)) {
+    e->explode = fmax(0.0, fmin(3.0, e->explode + dx * 0.004));
+  }
+}
+
+static void export_files(editor* e) {
+  bk_error err = {0};
+  bk_mesh* leaves = bk_alloc(sizeof(bk_mesh) * e->tree.leaf_count);
+  for (uint32_t i = 0; i < e->tree.leaf_count; ++i)
+    leaves[i] = bk_mesh_tree_leaf(&e->tree, i)->mesh;
+  bool ok = bk_obj_save("fragments.obj", leaves, e->tree.leaf_count, &err) &&
+            bk_mesh_tree_save(&e->tree, "fragments.mtree", &err);
+  free(leaves);
+  snprintf(e->status, sizeof e->status, "%s", ok ? "wrote fragments.obj and fragments.mtree" : err.message);
+}
+
+static void panel(editor* e) {
+  if (!bk_ui_begin_window("Fragment editor", 10.0f, 10.0f, 340.0f, 0.0f, &e->show_panel)) {
+    bk_ui_end_window();
+    return;
+  }
+  bool rebuild_now = false;
+  if (bk_ui_combo("mesh", &e->mesh_choice, mesh_names, (int)(sizeof mesh_names / sizeof *mesh_names))) {
+    snprintf(e->mesh, sizeof e->mesh, "%s", mesh_names[e->mesh_choice]);
+    rebuild_now = true;
+  }
+  bk_ui_slider_int("pieces", &e->pieces, 1, 4096);
+  bk_ui_slider_int("seed", &e->seed, 0, 100000);
+  bk_ui_slider_double("texture scale", &e->texture_scale, 0.01, 2.0, "%.2f", true);
+  if (bk_ui_button("fracture")) rebuild_now = true;
+  bk_ui_slider_double("explode", &e->explode, 0.0, 3.0, "%.2f", false);
+  bk_ui_tooltip("or Shift + drag");
+  if (bk_ui_button("export fragments.obj + fragments.mtree")) export_files(e);
+  bk_ui_text("%s", e->status);
+  bk_ui_end_window();
+  if (rebuild_now) {
+    bk_error err = {0};
+    if (!rebuild(e, &err)) snprintf(e->status, sizeof e->status, "%s", err.message);
+  }
+}
+
+int bk_cmd_editor(int argc, char** argv) {
+  bk_window_options wo = {.width = 1280, .height = 720};
+  editor* e = bk_calloc(1, sizeof *e);
+  snprintf(e->mesh, sizeof e->mesh, "bunny");
+  e->pieces = 64, e->seed = 3000, e->texture_scale = 0.1, e->pitch = 0.35, e->yaw = 0.6, e->show_panel = true;
+  for (int i = 1; i < argc; ++i) {
+    const char* arg = argv[i];
+    int parsed = bk_parse_window_option("editor", argc, argv, &i, &wo);
+    if (parsed == 0) continue;
+    if (parsed == 2) return free(e), 2;
+    uint64_t number = 0;
+    const char* value = i + 1 < argc ? argv[i + 1] : NULL;
+    if (strcmp(arg, "-h") == 0 || strcmp(arg, "--help") == 0) {
+      fputs(editor_usage, stdout);
+      return free(e), 0;
+    }
+    bool ok = value != NULL;
+    if (ok && strcmp(arg, "--mesh") == 0)
+      snprintf(e->mesh, sizeof e->mesh, "%s", value);
+    else if (ok && strcmp(arg, "--pieces") == 0)
+      ok = bk_parse_u64(value, 1, 65536, &number), e->pieces = (int)number;
+    else if (ok && strcmp(arg, "--seed") == 0)
+      ok = bk_parse_u64(value, 0, 2147483647, &number), e->seed = (int)number;
+    else if (ok && strcmp(arg, "--texture-scale") == 0)
+      ok = bk_parse_double(value, 0.0, 1e6, &e->texture_scale);
+    else if (ok && strcmp(arg, "--explode") == 0)
+      ok = bk_parse_double(value, -1e-9, 3.0, &e->explode);
+    else {
+      fprintf(stderr,
+              "breakables editor: unknown option or missing value '%s' (see 'breakables editor --help')\n",
+              arg);
+      return free(e), 2;
+    }
+    if (!ok) {
+      fprintf(stderr, "breakables editor: bad value for %s: '%s' (see 'breakables editor --help')\n", arg,
+              value);
+      return free(e), 2;
+    }
+    ++i;
+  }
+  for (int i = 0; i < (int)(sizeof mesh_names / sizeof *mesh_names); ++i)
+    if (strcmp(e->mesh, mesh_names[i]) == 0) e->mesh_choice = i;
+
+  bk_error err = {0};
+  void* window = NULL;
+  if (!bk_window_open("Breakables editor", &wo, &window, &e->renderer, &err)) {
+    fprintf(stderr, "breakables editor: %s\n", err.message);
+    return free(e), 1;
+  }
+  e->window = window;
+  int status = 0;
+  if (!rebuild(e, &err)) {
+    fprintf(stderr, "breakables editor: %s: %s\n", e->mesh, err.message);
+    bk_window_close(window, e->renderer);
+    return free(e), 1;
+  }
+  e->ui = bk_ui_create(e->window);
+  uint32_t frame = 0;
+  unsigned gl_error = 0;
+  double frame_ms_sum = 0.0;
+  int look = bk_renderer_material(e->renderer, "stone");
+  while (!glfwWindowShouldClose(e->window) && (wo.frames == 0 || frame < wo.frames)) {
+    double start = glfwGetTime();
+    glfwPollEvents();
+    if (glfwGetKey(e->window, GLFW_KEY_ESCAPE) == GLFW_PRESS) break;
+    if (glfwGetKey(e->window, GLFW_KEY_F1) == GLFW_PRESS) e->show_panel = true;
+    handle_mouse(e);
+    int width = 0, height = 0;
+    glfwGetFramebufferSize(e->window, &width, &height);
+    bk_vec3 offset = bk_v3(cos(e->pitch) * sin(e->yaw), sin(e->pitch), cos(e->pitch) * cos(e->yaw));
+    // The preview stands on the ground: lift the mesh so its lowest point is at y = 0.
+    bk_vec3 lift = bk_v3(0, -e->tree.nodes[0].bounds.min.y + 0.02, 0);
+    bk_camera camera = {.eye = bk_v3_add(bk_v3_add(e->target, lift), bk_v3_scale(offset, e->distance)),
+                        .target = bk_v3_add(e->target, lift)};
+    bk_renderer_begin_frame(e->renderer, &camera, width, height);
+    for (uint32_t l = 0; l < e->tree.leaf_count; ++l) {
+      uint32_t node = e->tree.leaf_nodes[l];
+      bk_transform model = {bk_v3_add(lift, bk_v3_scale(e->leaf_offsets[l], e->explode)), bk_quat_identity()};
+      bk_node_draw draw = {
+          .tree = e->render_tree, .nodes = &node, .node_count = 1, .model = model, .material = look};
+      bk_renderer_draw_nodes(e->renderer, &draw);
+    }
+    unsigned error = bk_renderer_end_frame(e->renderer);
+    if (error && !gl_error) gl_error = error;
+    if (e->ui) {
+      bk_ui_begin_frame();
+      if (e->show_panel) panel(e);
+      bk_ui_end_frame();
+    }
+    if (wo.frames && frame + 1 == wo.frames && wo.screenshot &&
+        !bk_renderer_screenshot(e->renderer, width, height, wo.screenshot, &err)) {
+      fprintf(stderr, "breakables editor: %s\n", err.message);
+      status = 1;
+    }
+    glfwSwapBuffers(e->window);
+    frame_ms_sum += (glfwGetTime() - start) * 1e3;
+    frame++;
+  }
+  if (wo.frames)
+    printf("frames %u, fragments %u, mean frame ms %.2f, gl errors %s\n", frame, e->tree.leaf_count,
+           frame ? frame_ms_sum / frame : 0.0, gl_error ? "yes" : "none");
+  if (gl_error) status = 1;
+  if (e->ui) bk_ui_destroy();
+  bk_renderer_release_tree(e->renderer, e->render_tree);
+  bk_mesh_tree_free(&e->tree);
+  free(e->leaf_offsets);
+  bk_window_close(window, e->renderer);
+  free(e);
+  return status;
+}

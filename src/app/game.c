@@ -1,0 +1,397 @@
+// breakables play: the demo game. Fixed 60 Hz physics with interpolated
+// drawing, a free-fly camera, projectiles, dust and debris, the tuning panel,
+// and scripted runs that save a screenshot.
+#include <GLFW/glfw3.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "bk_ui.h"
+#include "game_state.h"
+
+static const char* const play_usage =
+    "usage: breakables [play] [--scene NAME] [--pieces N] [--seed S] [--frames N] [--autofire K]\n"
+    "                  [--screenshot FILE.png] [--width W] [--height H] [--hide-panel]\n"
+    "\n"
+    "The demo game: shoot projectiles at breakable objects and tune them live.\n"
+    "\n"
+    "options:\n"
+    "  --scene NAME          wall, eggshell, pillar, slab, bunny, torus, showcase (default: showcase)\n"
+    "  --pieces N            fragments per object (default: the scene's)\n"
+    "  --seed S              fracture seed (default: 3000)\n"
+    "  --frames N            run N frames, then exit with a one-line summary\n"
+    "  --autofire K          fire K projectiles at the scene's target at regular intervals\n"
+    "  --screenshot FILE.png save the last frame\n"
+    "  --width W --height H  window size (default: 1280x720)\n"
+    "  --hide-panel          start with the tuning panel hidden (F1 shows it)\n"
+    "  -h, --help            show this help\n"
+    "\n"
+    "controls: right mouse drag = look, W A S D Q E = move (Shift = fast), left click or\n"
+    "Space = fire, 1-7 = scenes, R = reset, P = pause, N = single step, T = slow motion,\n"
+    "B / G / H = bonds / mesh-tree nodes / collider hulls overlays, F1 = panel, Esc = quit.\n";
+
+static bk_transform lerp_transform(bk_transform a, bk_transform b, double t) {
+  bk_quat qa = a.rotation, qb = b.rotation;
+  if (qa.x * qb.x + qa.y * qb.y + qa.z * qb.z + qa.w * qb.w < 0.0) qb = (bk_quat){-qb.x, -qb.y, -qb.z, -qb.w};
+  bk_quat q = bk_quat_normalize((bk_quat){qa.x + (qb.x - qa.x) * t, qa.y + (qb.y - qa.y) * t,
+                                          qa.z + (qb.z - qa.z) * t, qa.w + (qb.w - qa.w) * t});
+  return (bk_transform){bk_v3_lerp(a.position, b.position, t), q};
+}
+
+bk_vec3 bk_game_forward(const bk_game* g) {
+  return bk_v3(cos(g->pitch) * sin(g->yaw), sin(g->pitch), -cos(g->pitch) * cos(g->yaw));
+}
+
+static void aim_camera(bk_game* g, bk_vec3 eye, bk_vec3 target) {
+  g->eye = eye;
+  bk_vec3 d = bk_v3_normalize(bk_v3_sub(target, eye));
+  g->pitch = asin(fmax(-1.0, fmin(1.0, d.y)));
+  g->yaw = atan2(d.x, -d.z);
+}
+
+bool bk_game_load_scene(bk_game* g, uint32_t index, bk_error* err) {
+  const bk_scene* scene = bk_scene_at(index);
+  if (!scene) return bk_error_set(err, "no scene %u", index);
+  bk_game_unload_scene(g);
+  if (!bk_loaded_scene_create(scene, &g->options, &g->scene, err)) return false;
+  g->scene_index = index;
+  for (uint32_t i = 0; i < g->scene.tree_count; ++i) {
+    g->render_trees[i] = bk_renderer_upload_tree(g->renderer, &g->scene.trees[i]);
+    const bk_scene_object* object = &scene->objects[i];
+    g->looks[i] = bk_renderer_material(g->renderer, object->look ? object->look : object->material);
+    const bk_material* m = bk_material_find(object->material);
+    if (m) {
+      g->frailty[i] = m->frailty;
+      g->density[i] = m->density;
+    }
+  }
+  aim_camera(g, scene->eye, scene->target);
+  g->projectile_speed = scene->projectile_speed;
+  g->projectile_radius = scene->projectile_radius;
+  g->projectile_mass = scene->projectile_mass;
+  g->accumulator = 0.0;
+  g->shots = 0;
+  return true;
+}
+
+void bk_game_unload_scene(bk_game* g) {
+  for (uint32_t i = 0; i < g->scene.tree_count; ++i)
+    bk_renderer_release_tree(g->renderer, g->render_trees[i]);
+  if (g->scene.world) bk_loaded_scene_destroy(&g->scene);
+  memset(&g->scene, 0, sizeof g->scene);
+}
+
+void bk_game_fire(bk_game* g, bk_vec3 from, bk_vec3 direction) {
+  bk_projectile_desc shot = {.position = from,
+                             .velocity = bk_v3_scale(bk_v3_normalize(direction), g->projectile_speed),
+                             .radius = g->projectile_radius,
+                             .mass = g->projectile_mass};
+  bk_world_fire(g->scene.world, &shot);
+  g->shots++;
+}
+
+static const float* tint_of(const bk_game* g, bk_breakable_id id) {
+  static const float stone[3] = {0.62f, 0.58f, 0.52f}, white[3] = {0.92f, 0.92f, 0.9f};
+  const bk_scene_object* object = &g->scene.scene->objects[id.index < g->scene.tree_count ? id.index : 0];
+  return strcmp(object->material, "porcelain") == 0 || strcmp(object->material, "eggshell") == 0 ||
+                 strcmp(object->material, "glass") == 0
+             ? white
+             : stone;
+}
+
+static void step_world(bk_game* g) {
+  bk_world_step(g->scene.world);
+  // A big hit breaks hundreds of bonds at once. Blended particles cost fill
+  // rate, so a step emits at most ~32 puffs and ~150 chips, spread evenly
+  // over its broken bonds.
+  bk_break_event events[1024];
+  uint32_t total = bk_world_break_events(g->scene.world, events, 1024);
+  uint32_t n = total < 1024 ? total : 1024;
+  uint32_t dust_every = n / 32 + 1, chip_every = n / 75 + 1;
+  for (uint32_t i = 0; i < n; ++i) {
+    bool dust = i % dust_every == 0;
+    int chips = i % chip_every == 0 ? 2 : 0;
+    if (dust || chips)
+      bk_particles_emit_break(&g->particles, &events[i], tint_of(g, events[i].breakable), chips, dust);
+  }
+  bk_world_stats s = bk_world_get_stats(g->scene.world);
+  g->physics_ms = s.physics_ms;
+  g->break_ms = s.break_ms;
+}
+
+static void handle_input(bk_game* g, double dt) {
+  GLFWwindow* w = g->window;
+  bool ui_keys = g->ui && bk_ui_wants_keyboard(), ui_mouse = g->ui && bk_ui_wants_mouse();
+  double mx = 0, my = 0;
+  glfwGetCursorPos(w, &mx, &my);
+  if (!ui_mouse && glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS) {
+    g->yaw += (mx - g->mouse_x) * 0.004;
+    g->pitch = fmax(-1.5, fmin(1.5, g->pitch - (my - g->mouse_y) * 0.004));
+  }
+  g->mouse_x = mx, g->mouse_y = my;
+  if (ui_keys) return;
+  bk_vec3 f = bk_game_forward(g), right = bk_v3_normalize(bk_v3_cross(f, bk_v3(0, 1, 0)));
+  double speed = (glfwGetKey(w, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS ? 12.0 : 3.5) * dt;
+  if (glfwGetKey(w, GLFW_KEY_W) == GLFW_PRESS) g->eye = bk_v3_add(g->eye, bk_v3_scale(f, speed));
+  if (glfwGetKey(w, GLFW_KEY_S) == GLFW_PRESS) g->eye = bk_v3_sub(g->eye, bk_v3_scale(f, speed));
+  if (glfwGetKey(w, GLFW_KEY_D) == GLFW_PRESS) g->eye = bk_v3_add(g->eye, bk_v3_scale(right, speed));
+  if (glfwGetKey(w, GLFW_KEY_A) == GLFW_PRESS) g->eye = bk_v3_sub(g->eye, bk_v3_scale(right, speed));
+  if (glfwGetKey(w, GLFW_KEY_E) == GLFW_PRESS) g->eye.y += speed;
+  if (glfwGetKey(w, GLFW_KEY_Q) == GLFW_PRESS) g->eye.y = fmax(0.1, g->eye.y - speed);
+}
+
+static void key_callback(GLFWwindow* window, int key, int scancode, int action, int mods) {
+  (void)scancode;
+  (void)mods;
+  bk_game* g = glfwGetWindowUserPointer(window);
+  if (action != GLFW_PRESS || (g->ui && bk_ui_wants_keyboard())) return;
+  if (key == GLFW_KEY_ESCAPE) glfwSetWindowShouldClose(window, GLFW_TRUE);
+  if (key == GLFW_KEY_SPACE) bk_game_fire(g, g->eye, bk_game_forward(g));
+  if (key == GLFW_KEY_R) g->reload = true;
+  if (key == GLFW_KEY_P) g->paused = !g->paused;
+  if (key == GLFW_KEY_N) g->step_once = true;
+  if (key == GLFW_KEY_T) g->time_scale = g->time_scale < 1.0 ? 1.0 : 0.2;
+  if (key == GLFW_KEY_B) g->show_bonds = !g->show_bonds;
+  if (key == GLFW_KEY_G) g->show_nodes = !g->show_nodes;
+  if (key == GLFW_KEY_H) g->show_hulls = !g->show_hulls;
+  if (key == GLFW_KEY_F1) g->show_panel = !g->show_panel;
+  if (key >= GLFW_KEY_1 && key <= GLFW_KEY_9 && (uint32_t)(key - GLFW_KEY_1) < bk_scene_count()) {
+    g->next_scene = key - GLFW_KEY_1;
+    g->reload = true;
+  }
+}
+
+static void mouse_callback(GLFWwindow* window, int button, int action, int mods) {
+  (void)mods;
+  bk_game* g = glfwGetWindowUserPointer(window);
+  if (button == GLFW_MOUSE_BUTTON_LEFT && action == GLFW_PRESS && !(g->ui && bk_ui_wants_mouse()))
+    bk_game_fire(g, g->eye, bk_game_forward(g));
+}
+
+// Distinct colours for a body's chosen nodes, and green-to-red for bond health.
+static void node_color(uint32_t i, float out[4]) {
+  float h = (float)((i * 0.618033988749895) - floor(i * 0.618033988749895));
+  out[0] = 0.5f + 0.5f * cosf(6.2831853f * h), out[1] = 0.5f + 0.5f * cosf(6.2831853f * (h + 0.33f));
+  out[2] = 0.5f + 0.5f * cosf(6.2831853f * (h + 0.67f)), out[3] = 0.55f;
+}
+
+static void draw_world(bk_game* g, double alpha) {
+  bk_world* w = g->scene.world;
+  uint32_t bodies = bk_world_body_count(w);
+  for (uint32_t i = 0; i < bodies; ++i) {
+    bk_body_view v = {0};
+    if (!bk_world_body_view(w, i, &v)) continue;
+    bk_transform model = lerp_transform(v.tree_to_world_previous, v.tree_to_world, alpha);
+    float colors[4 * 256];
+    bool colored = g->show_nodes && v.node_count <= 256;
+    for (uint32_t k = 0; colored && k < v.node_count; ++k)
+      node_color(v.nodes[k], &colors[4 * k]);
+    bk_node_draw draw = {.tree = g->render_trees[v.breakable.index],
+                         .nodes = v.nodes,
+                         .node_count = v.node_count,
+                         .model = model,
+                         .material = g->looks[v.breakable.index],
+                         .node_colors = colored ? colors : NULL};
+    bk_renderer_draw_nodes(g->renderer, &draw);
+    if (g->show_hulls) {
+      // Collider hulls as wireframe: the edges of each collider node's mesh.
+      uint32_t colliders[512];
+      uint32_t n = bk_world_body_colliders(w, i, colliders, 512);
+      const float wire[4] = {0.1f, 1.0f, 0.3f, 0.8f};
+      for (uint32_t k = 0; k < n && k < 512; ++k) {
+        const bk_mesh* m = &v.tree->nodes[colliders[k]].mesh;
+        for (uint32_t t = 0; t < m->triangle_count && t < 4096; ++t)
+          for (int e = 0; e < 3; ++e) {
+            uint32_t a = bk_mesh_tri_position(m, t, e), b = bk_mesh_tri_position(m, t, (e + 1) % 3);
+            if (a < b)
+              bk_renderer_draw_line(g->renderer, bk_transform_point(model, m->positions[a]),
+                                    bk_transform_point(model, m->positions[b]), wire);
+          }
+      }
+    }
+  }
+  if (g->show_bonds) {
+    // Bonds between fragments of the same body, coloured by remaining hit points.
+    for (uint32_t i = 0; i < bodies; ++i) {
+      bk_body_view v = {0};
+      if (!bk_world_body_view(w, i, &v) || v.leaf_count < 2) continue;
+      bk_transform model = lerp_transform(v.tree_to_world_previous, v.tree_to_world, alpha);
+      for (uint32_t b = 0; b < v.tree->bond_count; ++b) {
+        const bk_bond* bond = &v.tree->bonds[b];
+        double initial = 0.0, left = bk_world_bond_health(w, v.breakable, b, &initial);
+        if (left <= 0.0 || bond->leaf_a < v.leaves[0] || bond->leaf_a > v.leaves[v.leaf_count - 1]) continue;
+        bk_vec3 a = bk_moments_to_mass(bk_mesh_tree_leaf(v.tree, bond->leaf_a)->moments).centroid;
+        bk_vec3 c = bk_moments_to_mass(bk_mesh_tree_leaf(v.tree, bond->leaf_b)->moments).centroid;
+        float health = (float)(left / initial);
+        const float color[4] = {1.0f - health, health, 0.1f, 0.9f};
+        bk_renderer_draw_line(g->renderer, bk_transform_point(model, a), bk_transform_point(model, c), color);
+      }
+    }
+  }
+  const float steel[3] = {0.25f, 0.25f, 0.28f};
+  for (uint32_t i = 0; i < bk_world_projectile_count(w); ++i) {
+    bk_vec3 p = {0};
+    double radius = 0.0;
+    if (bk_world_projectile(w, i, &p, &radius)) bk_renderer_draw_sphere(g->renderer, p, radius, steel);
+  }
+}
+
+static void record_history(bk_game* g, double frame_ms) {
+  int i = g->history_at % BK_HISTORY;
+  g->frame_history[i] = (float)frame_ms;
+  g->physics_history[i] = (float)g->physics_ms;
+  g->break_history[i] = (float)g->break_ms;
+  g->history_at++;
+}
+
+int bk_cmd_play(int argc, char** argv) {
+  bk_window_options wo = {.width = 1280, .height = 720};
+  bk_game* g = bk_calloc(1, sizeof *g);
+  g->options = bk_default_scene_options();
+  const char* scene_name = "showcase";
+  bool hide_panel = false;
+  for (int i = 1; i < argc; ++i) {
+    const char* arg = argv[i];
+    int parsed = bk_parse_window_option("play", argc, argv, &i, &wo);
+    if (parsed == 0) continue;
+    if (parsed == 2) return free(g), 2;
+    uint64_t number = 0;
+    if (strcmp(arg, "-h") == 0 || strcmp(arg, "--help") == 0) {
+      fputs(play_usage, stdout);
+      return free(g), 0;
+    } else if (strcmp(arg, "--hide-panel") == 0) {
+      hide_panel = true;
+    } else if (strcmp(arg, "--scene") == 0 && i + 1 < argc) {
+      scene_name = argv[++i];
+    } else if (strcmp(arg, "--pieces") == 0 && i + 1 < argc) {
+      if (!bk_parse_u64(argv[++i], 1, 65536, &number)) {
+        fprintf(stderr, "breakables play: --pieces must be a whole number from 1 to 65536\n");
+        return free(g), 2;
+      }
+      g->options.pieces = (uint32_t)number;
+    } else if (strcmp(arg, "--seed") == 0 && i + 1 < argc) {
+      if (!bk_parse_u64(argv[++i], 0, UINT64_MAX, &g->options.seed)) {
+        fprintf(stderr, "breakables play: --seed must be a whole number >= 0\n");
+        return free(g), 2;
+      }
+    } else {
+      fprintf(stderr,
+              "breakables play: unknown option or missing value '%s' (see 'breakables play --help')\n", arg);
+      return free(g), 2;
+    }
+  }
+  int scene_index = -1;
+  for (uint32_t i = 0; i < bk_scene_count(); ++i)
+    if (strcmp(bk_scene_at(i)->name, scene_name) == 0) scene_index = (int)i;
+  if (scene_index < 0) {
+    fprintf(stderr, "breakables play: unknown scene '%s' (see 'breakables play --help')\n", scene_name);
+    return free(g), 2;
+  }
+
+  bk_error err = {0};
+  void* window = NULL;
+  if (!bk_window_open("Breakables", &wo, &window, &g->renderer, &err)) {
+    fprintf(stderr, "breakables play: %s\n", err.message);
+    return free(g), 1;
+  }
+  g->window = window;
+  g->time_scale = 1.0;
+  g->show_panel = !hide_panel;
+  bk_particles_init(&g->particles, 4096, 1);
+  glfwSetWindowUserPointer(g->window, g);
+  glfwSetKeyCallback(g->window, key_callback);
+  glfwSetMouseButtonCallback(g->window, mouse_callback);
+  g->ui = bk_ui_create(g->window);
+  if (!bk_game_load_scene(g, (uint32_t)scene_index, &err)) {
+    fprintf(stderr, "breakables play: %s\n", err.message);
+    bk_game_unload_scene(g);
+    bk_particles_free(&g->particles);
+    if (g->ui) bk_ui_destroy();
+    bk_window_close(window, g->renderer);
+    return free(g), 1;
+  }
+  uint32_t bodies_start = bk_world_body_count(g->scene.world);
+  const double fixed = 1.0 / 60.0;
+  double last = glfwGetTime(), frame_ms_sum = 0.0;
+  unsigned gl_error = 0;
+  uint32_t frame = 0, fired = 0;
+  int status = 0;
+  while (!glfwWindowShouldClose(g->window) && (wo.frames == 0 || frame < wo.frames)) {
+    double now = glfwGetTime();
+    // Scripted runs advance exactly one physics step per frame, so they are
+    // reproducible whatever the machine's speed.
+    double dt = wo.frames ? fixed : fmin(now - last, 0.1);
+    last = now;
+    glfwPollEvents();
+    handle_input(g, dt);
+    if (g->reload) {
+      g->reload = false;
+      uint32_t next = g->next_scene >= 0 ? (uint32_t)g->next_scene : g->scene_index;
+      g->next_scene = -1;
+      if (!bk_game_load_scene(g, next, &err)) {
+        fprintf(stderr, "breakables play: %s\n", err.message);
+        status = 1;
+        break;
+      }
+    }
+    while (wo.autofire && fired < wo.autofire && wo.frames &&
+           frame >= (uint64_t)(fired + 1) * wo.frames / (wo.autofire + 1)) {
+      bk_projectile_desc shot = bk_scene_shot(g->scene.scene, fired++, g->projectile_speed);
+      bk_world_fire(g->scene.world, &shot);
+    }
+    if (!g->paused) g->accumulator += dt * g->time_scale;
+    if (g->step_once) {
+      g->accumulator += fixed;
+      g->step_once = false;
+    }
+    int steps = 0;
+    while (g->accumulator >= fixed && steps < 4) {
+      step_world(g);
+      g->accumulator -= fixed;
+      steps++;
+    }
+    if (steps == 4) g->accumulator = 0.0; // far behind: drop time rather than spiral
+    double alpha = g->accumulator / fixed;
+    uint32_t particles = bk_particles_update(&g->particles, g->paused ? 0.0 : dt * g->time_scale);
+
+    int width = 0, height = 0;
+    glfwGetFramebufferSize(g->window, &width, &height);
+    bk_camera camera = {.eye = g->eye, .target = bk_v3_add(g->eye, bk_game_forward(g))};
+    bk_renderer_begin_frame(g->renderer, &camera, width, height);
+    draw_world(g, alpha);
+    bk_renderer_draw_particles(g->renderer, g->particles.instances, particles);
+    unsigned error = bk_renderer_end_frame(g->renderer);
+    if (error && !gl_error) gl_error = error;
+    if (g->ui) {
+      bk_ui_begin_frame();
+      if (g->show_panel) bk_game_panel(g);
+      bk_ui_end_frame();
+    }
+    bool last_frame = wo.frames && frame + 1 == wo.frames;
+    if (last_frame && wo.screenshot &&
+        !bk_renderer_screenshot(g->renderer, width, height, wo.screenshot, &err)) {
+      fprintf(stderr, "breakables play: %s\n", err.message);
+      status = 1;
+    }
+    glfwSwapBuffers(g->window);
+    double frame_ms = (glfwGetTime() - now) * 1e3;
+    frame_ms_sum += frame_ms;
+    record_history(g, frame_ms);
+    frame++;
+  }
+  bk_world_stats s = bk_world_get_stats(g->scene.world);
+  if (wo.frames)
+    printf("frames %u, bodies %u (from %u), fragments free %u, mean frame ms %.2f, shots %u, gl errors %s\n",
+           frame, s.bodies, bodies_start, s.fragments_free, frame ? frame_ms_sum / frame : 0.0,
+           fired + g->shots, gl_error ? "yes" : "none");
+  if (gl_error) {
+    fprintf(stderr, "breakables play: OpenGL error 0x%x while rendering\n", gl_error);
+    status = 1;
+  }
+  bk_game_panel_shutdown();
+  bk_game_unload_scene(g);
+  bk_particles_free(&g->particles);
+  if (g->ui) bk_ui_destroy();
+  bk_window_close(window, g->renderer);
+  free(g);
+  return status;
+}

@@ -1,0 +1,49 @@
+// Internal to the executable: the game's state, shared by the loop and the panel.
+#pragma once
+
+#include <GLFW/glfw3.h>
+
+#include "game.h"
+
+enum { BK_HISTORY = 180 };
+
+typedef struct bk_game {
+  GLFWwindow* window;
+  bk_renderer* renderer;
+  bool ui;
+  bk_loaded_scene scene;
+  bk_scene_options options;
+  bk_render_tree render_trees[8];
+  int looks[8];
+  double frailty[8], density[8]; ///< live values per object (panel)
+  uint32_t scene_index;
+  int next_scene; ///< -1: reload the same one
+  bool reload;
+  // Camera.
+  bk_vec3 eye;
+  double yaw, pitch, mouse_x, mouse_y;
+  // Time.
+  double accumulator, time_scale;
+  bool paused, step_once;
+  // Projectiles.
+  double projectile_speed, projectile_radius, projectile_mass;
+  uint32_t shots;
+  // Overlays and panel.
+  bool show_bonds, show_nodes, show_hulls, show_panel;
+  bk_particles particles;
+  double physics_ms, break_ms;
+  float frame_history[BK_HISTORY], physics_history[BK_HISTORY], break_history[BK_HISTORY];
+  int history_at;
+} bk_game;
+
+/// Loads scene `index` (replacing the current one) and points the camera at it.
+bool bk_game_load_scene(bk_game* game, uint32_t index, bk_error* err);
+void bk_game_unload_scene(bk_game* game);
+/// Fires a projectile with the current projectile settings.
+void bk_game_fire(bk_game* game, bk_vec3 from, bk_vec3 direction);
+/// The camera's view direction.
+bk_vec3 bk_game_forward(const bk_game* game);
+/// Draws the tuning panel (between bk_ui_begin_frame and bk_ui_end_frame).
+void bk_game_panel(bk_game* game);
+/// Waits for a running re-fracture and frees what it made.
+void bk_game_panel_shutdown(void);

@@ -1,0 +1,210 @@
+// The live tuning panel. Frailty and density change the objects in the world
+// at once; pieces, seed and texture scale re-fracture on a worker thread (the
+// game keeps running, a progress bar shows how far it got) and the result is
+// cached so the next start is instant.
+#include <pthread.h>
+#include <stdatomic.h>
+#include <string.h>
+
+#include "bk_ui.h"
+#include "game_state.h"
+
+typedef struct refracture_job {
+  pthread_t thread;
+  bool running;
+  atomic_bool done;
+  atomic_uint leaves, target;
+  bk_scene_options options;
+  const bk_scene* scene;
+  bk_loaded_scene result;
+  bool ok;
+  bk_error err;
+} refracture_job;
+
+static refracture_job job;
+static int pieces_setting = 0, seed_setting = 3000, material_preset = -1;
+static double texture_scale_setting = 0.1, bond_strength_setting = 0.0;
+static char status_line[600];
+
+static bool report_progress(void* user, uint32_t leaves, uint32_t target) {
+  (void)user;
+  atomic_store(&job.leaves, leaves);
+  atomic_store(&job.target, target);
+  return true;
+}
+
+static void* refracture(void* unused) {
+  (void)unused;
+  job.ok = bk_loaded_scene_create(job.scene, &job.options, &job.result, &job.err);
+  atomic_store(&job.done, true);
+  return NULL;
+}
+
+static void start_refracture(bk_game* g) {
+  if (job.running) return;
+  memset(&job.result, 0, sizeof job.result);
+  job.options = g->options;
+  job.options.pieces = (uint32_t)pieces_setting;
+  job.options.seed = (uint64_t)seed_setting;
+  job.options.texture_scale = texture_scale_setting;
+  job.options.progress = report_progress;
+  job.scene = g->scene.scene;
+  atomic_store(&job.done, false);
+  atomic_store(&job.leaves, 0);
+  atomic_store(&job.target, job.options.pieces ? job.options.pieces : job.scene->pieces);
+  job.running = pthread_create(&job.thread, NULL, refracture, NULL) == 0;
+  if (!job.running) snprintf(status_line, sizeof status_line, "cannot start the fracture thread");
+}
+
+// Swaps in a finished re-fracture: the new trees and world replace the old.
+static void finish_refracture(bk_game* g) {
+  if (!job.running || !atomic_load(&job.done)) return;
+  pthread_join(job.thread, NULL);
+  job.running = false;
+  if (!job.ok) {
+    snprintf(status_line, sizeof status_line, "re-fracture failed: %s", job.err.message);
+    return;
+  }
+  uint32_t index = g->scene_index;
+  g->options.pieces = job.options.pieces;
+  g->options.seed = job.options.seed;
+  g->options.texture_scale = job.options.texture_scale;
+  bk_vec3 eye = g->eye;
+  double yaw = g->yaw, pitch = g->pitch;
+  bk_game_unload_scene(g);
+  bk_error err = {0};
+  // The trees are cached now, so loading the scene again is instant.
+  bk_loaded_scene_destroy(&job.result);
+  if (!bk_game_load_scene(g, index, &err))
+    snprintf(status_line, sizeof status_line, "%s", err.message);
+  else
+    snprintf(status_line, sizeof status_line, "re-fractured into %u pieces", g->scene.trees[0].leaf_count);
+  g->eye = eye, g->yaw = yaw, g->pitch = pitch;
+}
+
+static void apply_live(bk_game* g) {
+  for (uint32_t i = 0; i < g->scene.tree_count; ++i) {
+    bk_world_set_frailty(g->scene.world, g->scene.ids[i], g->frailty[i]);
+    bk_world_set_density(g->scene.world, g->scene.ids[i], g->density[i]);
+  }
+}
+
+static void material_section(bk_game* g) {
+  const char* names[16];
+  int count = (int)bk_material_count();
+  for (int i = 0; i < count && i < 16; ++i)
+    names[i] = bk_material_at((uint32_t)i)->name;
+  if (bk_ui_combo("preset", &material_preset, names, count) && material_preset >= 0) {
+    const bk_material* m = bk_material_at((uint32_t)material_preset);
+    for (uint32_t i = 0; i < g->scene.tree_count; ++i)
+      g->frailty[i] = m->frailty, g->density[i] = m->density;
+    g->options.bond_strength = bond_strength_setting = m->bond_strength;
+    g->options.accumulate = m->accumulate ? 1 : 0;
+    apply_live(g);
+    g->reload = true; // bond strength and bond kind are set when bodies are made
+  }
+  bool changed = false;
+  changed |= bk_ui_slider_double("frailty", &g->frailty[0], 0.01, 50.0, "%.2f", true);
+  bk_ui_tooltip("damage = frailty x impulse / distance^3 (applies now)");
+  changed |= bk_ui_slider_double("density kg/m3", &g->density[0], 50.0, 20000.0, "%.0f", true);
+  bk_ui_tooltip("masses and inertia are recomputed now");
+  if (changed) {
+    for (uint32_t i = 1; i < g->scene.tree_count; ++i)
+      g->frailty[i] = g->frailty[0], g->density[i] = g->density[0];
+    apply_live(g);
+  }
+  if (bk_ui_slider_double("bond strength", &bond_strength_setting, 1e4, 1e8, "%.3g", true)) {
+    g->options.bond_strength = bond_strength_setting;
+  }
+  bk_ui_tooltip("hit points per m^2 of contact (applies on reset)");
+  int kind = g->options.accumulate < 0 ? 0 : g->options.accumulate;
+  bool kind_changed = bk_ui_radio("discrete", &kind, 0);
+  bk_ui_same_line();
+  kind_changed |= bk_ui_radio("accumulating", &kind, 1);
+  if (kind_changed) g->options.accumulate = kind;
+  bool convex = g->options.convex_colliders, naive = g->options.naive;
+  if (bk_ui_checkbox("convex colliders", &convex)) g->options.convex_colliders = convex;
+  bk_ui_same_line();
+  if (bk_ui_checkbox("plain BCRB", &naive)) g->options.naive = naive;
+  if (bk_ui_button("reset with these settings (R)")) g->reload = true;
+}
+
+static void fracture_section(bk_game* g) {
+  if (pieces_setting == 0)
+    pieces_setting = (int)(g->options.pieces ? g->options.pieces : g->scene.scene->pieces);
+  bk_ui_slider_int("pieces", &pieces_setting, 2, 4096);
+  bk_ui_slider_int("seed", &seed_setting, 0, 100000);
+  bk_ui_slider_double("texture scale", &texture_scale_setting, 0.01, 2.0, "%.2f", true);
+  if (job.running) {
+    uint32_t leaves = atomic_load(&job.leaves), target = atomic_load(&job.target);
+    char overlay[64];
+    snprintf(overlay, sizeof overlay, "%u / %u pieces", leaves, target);
+    bk_ui_progress(target ? (float)leaves / (float)target : 0.0f, overlay);
+  } else if (bk_ui_button("re-fracture")) {
+    start_refracture(g);
+  }
+  if (status_line[0]) bk_ui_text("%s", status_line);
+}
+
+static void stats_section(bk_game* g) {
+  bk_world_stats s = bk_world_get_stats(g->scene.world);
+  int latest = (g->history_at + BK_HISTORY - 1) % BK_HISTORY;
+  float frame_ms = g->frame_history[latest];
+  bk_ui_text("%.0f fps   frame %.2f ms", frame_ms > 0.0f ? 1000.0f / frame_ms : 0.0f, frame_ms);
+  bk_ui_text("physics %.2f ms   breaking %.2f ms", g->physics_ms, g->break_ms);
+  bk_ui_text("bodies %u (%u moving)   fragments free %u", s.bodies, s.dynamic_bodies, s.fragments_free);
+  bk_ui_text("colliders %u   plain BCRB would use %u", s.colliders, s.colliders_naive);
+  bk_ui_text("bonds broken %u   splits %u   projectiles %u", s.bonds_broken, s.break_events, s.projectiles);
+  int offset = g->history_at % BK_HISTORY;
+  bk_ui_plot("frame ms", g->frame_history, BK_HISTORY, offset, 0.0f, 40.0f, 40.0f, NULL);
+  bk_ui_plot("physics ms", g->physics_history, BK_HISTORY, offset, 0.0f, 20.0f, 40.0f, NULL);
+  bk_ui_plot("break ms", g->break_history, BK_HISTORY, offset, 0.0f, 5.0f, 40.0f, NULL);
+}
+
+void bk_game_panel(bk_game* g) {
+  finish_refracture(g);
+  if (!bk_ui_begin_window("Breakables", 10.0f, 10.0f, 360.0f, 0.0f, &g->show_panel)) {
+    bk_ui_end_window();
+    return;
+  }
+  const char* scenes[16];
+  int count = (int)bk_scene_count(), current = (int)g->scene_index;
+  for (int i = 0; i < count && i < 16; ++i)
+    scenes[i] = bk_scene_at((uint32_t)i)->name;
+  if (bk_ui_combo("scene", &current, scenes, count) && current != (int)g->scene_index) {
+    g->next_scene = current;
+    g->reload = true;
+    pieces_setting = 0;
+  }
+  if (bk_ui_collapsing_header("Material", true)) material_section(g);
+  if (bk_ui_collapsing_header("Fracture", false)) fracture_section(g);
+  if (bk_ui_collapsing_header("Projectile", false)) {
+    bk_ui_slider_double("speed m/s", &g->projectile_speed, 1.0, 200.0, "%.0f", false);
+    bk_ui_slider_double("radius m", &g->projectile_radius, 0.01, 0.5, "%.2f", false);
+    bk_ui_slider_double("mass kg", &g->projectile_mass, 0.05, 200.0, "%.2f", true);
+  }
+  if (bk_ui_collapsing_header("World", false)) {
+    bk_physics* physics = bk_world_physics(g->scene.world);
+    double gravity = -bk_physics_gravity(physics).y;
+    if (bk_ui_slider_double("gravity m/s2", &gravity, 0.0, 30.0, "%.2f", false))
+      bk_physics_set_gravity(physics, bk_v3(0, -gravity, 0));
+    bk_ui_slider_double("time scale", &g->time_scale, 0.05, 2.0, "%.2f", true);
+    bk_ui_checkbox("paused (P)", &g->paused);
+    bk_ui_same_line();
+    if (bk_ui_button("step (N)")) g->step_once = true;
+  }
+  if (bk_ui_collapsing_header("Overlays", false)) {
+    bk_ui_checkbox("bonds by hit points (B)", &g->show_bonds);
+    bk_ui_checkbox("mesh-tree nodes per body (G)", &g->show_nodes);
+    bk_ui_checkbox("collider hulls (H)", &g->show_hulls);
+  }
+  if (bk_ui_collapsing_header("Statistics", true)) stats_section(g);
+  bk_ui_end_window();
+}
+
+void bk_game_panel_shutdown(void) {
+  if (!job.running) return;
+  pthread_join(job.thread, NULL);
+  job.running = false;
+  if (job.ok) bk_loaded_scene_destroy(&job.result);
+}

@@ -1,0 +1,119 @@
+// The window, its GL context and the renderer, and the options that scripted
+// runs share.
+#define _GNU_SOURCE // dl_iterate_phdr, RTLD_NODELETE
+#include <GLFW/glfw3.h>
+#include <dlfcn.h>
+#include <link.h>
+#include <stdio.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "game.h"
+
+const char* bk_app_shader_dir(void) {
+  // Beside the assets the executable found, else the source tree.
+  static char dir[4200];
+  snprintf(dir, sizeof dir, "%s/../shaders", bk_app_asset_dir());
+  char probe[4300];
+  snprintf(probe, sizeof probe, "%s/mesh.vert", dir);
+  if (access(probe, R_OK) == 0) return dir;
+  return BK_SHADER_DIR;
+}
+
+int bk_parse_window_option(const char* command, int argc, char** argv, int* i, bk_window_options* o) {
+  const char* arg = argv[*i];
+  const char* names[] = {"--width", "--height", "--frames", "--autofire", "--screenshot"};
+  int which = -1;
+  for (int k = 0; k < 5; ++k)
+    if (strcmp(arg, names[k]) == 0) which = k;
+  if (which < 0) return 1;
+  if (*i + 1 >= argc) {
+    fprintf(stderr, "breakables %s: %s needs a value (see 'breakables %s --help')\n", command, arg, command);
+    return 2;
+  }
+  const char* value = argv[++*i];
+  uint64_t number = 0;
+  switch (which) {
+  case 0:
+  case 1:
+    if (!bk_parse_u64(value, 64, 8192, &number)) {
+      fprintf(stderr, "breakables %s: %s must be a whole number from 64 to 8192\n", command, arg);
+      return 2;
+    }
+    *(which == 0 ? &o->width : &o->height) = (int)number;
+    return 0;
+  case 2:
+    if (!bk_parse_u64(value, 1, 10000000, &number)) {
+      fprintf(stderr, "breakables %s: --frames must be a whole number from 1 to 10000000\n", command);
+      return 2;
+    }
+    o->frames = (uint32_t)number;
+    return 0;
+  case 3:
+    if (!bk_parse_u64(value, 0, 10000, &number)) {
+      fprintf(stderr, "breakables %s: --autofire must be a whole number from 0 to 10000\n", command);
+      return 2;
+    }
+    o->autofire = (uint32_t)number;
+    return 0;
+  default:
+    o->screenshot = value;
+    return 0;
+  }
+}
+
+static void glfw_error(int code, const char* message) {
+  fprintf(stderr, "breakables: GLFW error %d: %s\n", code, message);
+}
+
+bool bk_window_open(const char* title, const bk_window_options* o, void** window_out,
+                    bk_renderer** renderer_out, bk_error* err) {
+  glfwSetErrorCallback(glfw_error);
+  if (!glfwInit()) return bk_error_set(err, "cannot start GLFW (is there a display? try xvfb-run)");
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
+  glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+  glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+  glfwWindowHint(GLFW_SAMPLES, 0); // software GL pays for every sample
+  glfwWindowHint(GLFW_SRGB_CAPABLE, GLFW_TRUE);
+  GLFWwindow* window = glfwCreateWindow(o->width, o->height, title, NULL, NULL);
+  if (!window) {
+    glfwTerminate();
+    return bk_error_set(err, "cannot open a %dx%d window with an OpenGL 3.3 core context", o->width,
+                        o->height);
+  }
+  glfwMakeContextCurrent(window);
+  glfwSwapInterval(o->frames ? 0 : 1); // scripted runs go as fast as they can
+  char textures[4200];
+  snprintf(textures, sizeof textures, "%s/textures", bk_app_asset_dir());
+  bk_renderer_desc desc = {
+      .get_proc_address = glfwGetProcAddress, .shader_dir = bk_app_shader_dir(), .texture_dir = textures};
+  bk_renderer* renderer = bk_renderer_create(&desc, err);
+  if (!renderer) {
+    glfwDestroyWindow(window);
+    glfwTerminate();
+    return false;
+  }
+  *window_out = window;
+  *renderer_out = renderer;
+  return true;
+}
+
+// Mesa's DRI driver keeps a few allocations until exit, and glfwTerminate
+// unloads it, after which a leak checker can no longer name the library they
+// came from (so no suppression can match them). Pinning the loaded driver
+// keeps it mapped until the process ends; it is about to anyway.
+static int pin_gl_driver(struct dl_phdr_info* info, size_t size, void* unused) {
+  (void)size;
+  (void)unused;
+  if (info->dlpi_name && strstr(info->dlpi_name, "_dri.so"))
+    dlopen(info->dlpi_name, RTLD_NOW | RTLD_NOLOAD | RTLD_NODELETE);
+  return 0;
+}
+
+void bk_window_close(void* window, bk_renderer* renderer) {
+  bk_renderer_destroy(renderer);
+  glfwDestroyWindow((GLFWwindow*)window);
+  dl_iterate_phdr(pin_gl_driver, NULL);
+  glfwTerminate();
+}

@@ -1,0 +1,14 @@
+// Internal to render/: shader and texture loading shared by the renderer.
+#pragma once
+
+#include <glad/gl.h>
+
+#include "bk_render.h"
+
+/// Compiles and links `<dir>/<name>.vert` + `.frag`; 0 with err holding the
+/// file name and the GL info log on failure.
+GLuint bk_shader_load(const char* dir, const char* name, bk_error* err);
+/// Loads a PNG into a mipmapped, repeating texture (sRGB for colour maps).
+GLuint bk_texture_load(const char* path, bool srgb, bk_error* err);
+/// A 1x1 texture of one colour (stands in for an optional map).
+GLuint bk_texture_solid(const unsigned char rgb[3]);

@@ -1,0 +1,80 @@
+// Shader programs from files, with the GL info log in the error on failure.
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "render_internal.h"
+
+static char* read_text(const char* path) {
+  FILE* f = fopen(path, "rb");
+  if (!f) return NULL;
+  fseek(f, 0, SEEK_END);
+  long size = ftell(f);
+  fseek(f, 0, SEEK_SET);
+  char* text = size >= 0 ? malloc((size_t)size + 1) : NULL;
+  size_t got = text ? fread(text, 1, (size_t)size, f) : 0;
+  fclose(f);
+  if (!text || got != (size_t)size) {
+    free(text);
+    return NULL;
+  }
+  text[size] = 0;
+  return text;
+}
+
+// One line of the info log is enough to name the problem.
+static void first_line(char* log) {
+  char* newline = strchr(log, '\n');
+  if (newline) *newline = 0;
+}
+
+static GLuint compile(const char* path, GLenum type, bk_error* err) {
+  char* source = read_text(path);
+  if (!source) return bk_error_set(err, "%s: cannot read shader", path), 0;
+  GLuint shader = glCreateShader(type);
+  const char* sources[1] = {source};
+  glShaderSource(shader, 1, sources, NULL);
+  glCompileShader(shader);
+  free(source);
+  GLint ok = 0;
+  glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    char log[1024] = {0};
+    glGetShaderInfoLog(shader, sizeof log, NULL, log);
+    first_line(log);
+    bk_error_set(err, "%s: shader does not compile: %s", path, log);
+    glDeleteShader(shader);
+    return 0;
+  }
+  return shader;
+}
+
+GLuint bk_shader_load(const char* dir, const char* name, bk_error* err) {
+  char path[1024];
+  snprintf(path, sizeof path, "%s/%s.vert", dir, name);
+  GLuint vertex = compile(path, GL_VERTEX_SHADER, err);
+  if (!vertex) return 0;
+  snprintf(path, sizeof path, "%s/%s.frag", dir, name);
+  GLuint fragment = compile(path, GL_FRAGMENT_SHADER, err);
+  if (!fragment) {
+    glDeleteShader(vertex);
+    return 0;
+  }
+  GLuint program = glCreateProgram();
+  glAttachShader(program, vertex);
+  glAttachShader(program, fragment);
+  glLinkProgram(program);
+  glDeleteShader(vertex);
+  glDeleteShader(fragment);
+  GLint ok = 0;
+  glGetProgramiv(program, GL_LINK_STATUS, &ok);
+  if (!ok) {
+    char log[1024] = {0};
+    glGetProgramInfoLog(program, sizeof log, NULL, log);
+    first_line(log);
+    bk_error_set(err, "%s/%s: shaders do not link: %s", dir, name, log);
+    glDeleteProgram(program);
+    return 0;
+  }
+  return program;
+}

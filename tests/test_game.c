@@ -1,0 +1,138 @@
+// The game and the editor, run as a user would under a virtual display
+// (xvfb-run, Mesa's software OpenGL): every scene starts, runs scripted
+// frames with autofire and saves a screenshot. The picture must show sky and
+// objects, the shots must break something, and no GL error may occur.
+#include <stb_image.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+
+#include "ensure.h"
+
+static char output[4096];
+
+static int run(const char* args) {
+  char command[2048];
+  snprintf(command, sizeof command, "xvfb-run -a -s '-screen 0 1280x720x24' '%s' %s 2>'%s/game_stderr.txt'",
+           BK_BREAKABLES_EXE, args, BK_TEST_TMP);
+  FILE* pipe = popen(command, "r");
+  ENSURE(pipe != NULL);
+  size_t n = fread(output, 1, sizeof output - 1, pipe);
+  output[n] = 0;
+  int status = pclose(pipe);
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+    char path[512], err[4096] = {0};
+    snprintf(path, sizeof path, "%s/game_stderr.txt", BK_TEST_TMP);
+    FILE* f = fopen(path, "rb");
+    if (f) {
+      size_t got = fread(err, 1, sizeof err - 1, f);
+      err[got] = 0;
+      fclose(f);
+    }
+    fprintf(stderr, "'%s' failed:\n%s\n%s\n", args, output, err);
+  }
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+typedef struct picture_stats {
+  double sky_blue;      // mean (b - r) of the top rows: the sky is blue
+  double center_spread; // colour spread in the middle: objects, not a flat fill
+  double center_sky_difference;
+} picture_stats;
+
+static picture_stats measure(const char* path) {
+  int w = 0, h = 0, channels = 0;
+  unsigned char* pixels = stbi_load(path, &w, &h, &channels, 3);
+  ENSURE_MSG(pixels != NULL, "cannot read %s", path);
+  picture_stats s = {0};
+  double top[3] = {0}, centre[3] = {0}, centre_sq[3] = {0};
+  int top_count = 0, centre_count = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const unsigned char* p = &pixels[3 * (y * w + x)];
+      if (y < h / 10 && x > w / 2) { // top right: away from the panel
+        for (int k = 0; k < 3; ++k)
+          top[k] += p[k];
+        top_count++;
+      }
+      if (y > h / 3 && y < 2 * h / 3 && x > w / 3 && x < 2 * w / 3) {
+        for (int k = 0; k < 3; ++k)
+          centre[k] += p[k], centre_sq[k] += (double)p[k] * p[k];
+        centre_count++;
+      }
+    }
+  for (int k = 0; k < 3; ++k) {
+    top[k] /= top_count;
+    centre[k] /= centre_count;
+    s.center_spread += sqrt(fmax(0.0, centre_sq[k] / centre_count - centre[k] * centre[k]));
+  }
+  s.sky_blue = top[2] - top[0];
+  s.center_sky_difference = fabs(centre[0] - top[0]) + fabs(centre[1] - top[1]) + fabs(centre[2] - top[2]);
+  stbi_image_free(pixels);
+  return s;
+}
+
+static void test_scene(const char* scene) {
+  char args[1024], shot[512];
+  snprintf(shot, sizeof shot, "%s/%s.png", BK_TEST_TMP, scene);
+  remove(shot);
+  snprintf(args, sizeof args,
+           "play --scene %s --frames 120 --autofire 3 --screenshot '%s' --width 640 --height 360", scene,
+           shot);
+  ENSURE_MSG(run(args) == 0, "scene %s", scene);
+  // "frames 120, bodies B (from B0), fragments free F, mean frame ms M, shots 3, gl errors none"
+  unsigned frames = 0, bodies = 0, from = 0;
+  ENSURE_MSG(sscanf(output, "frames %u, bodies %u (from %u)", &frames, &bodies, &from) == 3, "summary: %s",
+             output);
+  ENSURE(frames == 120);
+  ENSURE_MSG(bodies > from, "%s: the shots broke nothing (%u bodies, from %u)", scene, bodies, from);
+  ENSURE_MSG(strstr(output, "gl errors none") != NULL, "%s", output);
+  picture_stats s = measure(shot);
+  ENSURE_MSG(s.sky_blue > 20.0, "%s: no blue sky at the top (b - r = %.1f)", scene, s.sky_blue);
+  ENSURE_MSG(s.center_spread > 15.0 && s.center_sky_difference > 40.0,
+             "%s: the middle of the picture looks empty (spread %.1f, difference from sky %.1f)", scene,
+             s.center_spread, s.center_sky_difference);
+  fprintf(stderr, "    %s: bodies %u -> %u, sky b-r %.0f, centre spread %.0f\n", scene, from, bodies,
+          s.sky_blue, s.center_spread);
+}
+
+static void test_scenes(void) {
+  const char* scenes[] = {"wall", "eggshell", "pillar", "slab", "bunny", "torus", "showcase"};
+  for (size_t i = 0; i < sizeof scenes / sizeof *scenes; ++i)
+    test_scene(scenes[i]);
+}
+
+static void test_editor(void) {
+  char args[1024], shot[512];
+  snprintf(shot, sizeof shot, "%s/editor.png", BK_TEST_TMP);
+  snprintf(
+      args, sizeof args,
+      "editor --mesh torus --pieces 32 --explode 0.6 --frames 10 --screenshot '%s' --width 640 --height 360",
+      shot);
+  ENSURE(run(args) == 0);
+  unsigned frames = 0, fragments = 0;
+  ENSURE_MSG(sscanf(output, "frames %u, fragments %u", &frames, &fragments) == 2, "summary: %s", output);
+  ENSURE(frames == 10 && fragments >= 32);
+  ENSURE(strstr(output, "gl errors none") != NULL);
+  picture_stats s = measure(shot);
+  ENSURE(s.sky_blue > 20.0 && s.center_spread > 15.0);
+}
+
+static void test_bad_options(void) {
+  ENSURE(run("play --scene castle --frames 1") == 2);
+  ENSURE(run("play --frames 0") == 2);
+  ENSURE(run("editor --pieces 0 --frames 1") == 2);
+}
+
+int main(void) {
+  setenv("BREAKABLES_CACHE_DIR", BK_TEST_TMP "/cache", 1);
+  if (system("command -v xvfb-run >/dev/null 2>&1") != 0) {
+    fprintf(stderr, "xvfb-run is missing: scripts/setup.sh installs it\n");
+    return 1;
+  }
+  RUN(test_bad_options);
+  RUN(test_editor);
+  RUN(test_scenes);
+  return 0;
+}
