@@ -206,8 +206,11 @@ int bk_cmd_editor(int argc, char** argv) {
     bk_vec3 offset = bk_v3(cos(e->pitch) * sin(e->yaw), sin(e->pitch), cos(e->pitch) * cos(e->yaw));
     // The preview stands on the ground: lift the mesh so its lowest point is at y = 0.
     bk_vec3 lift = bk_v3(0, -e->tree.nodes[0].bounds.min.y + 0.02, 0);
-    bk_camera camera = {.eye = bk_v3_add(bk_v3_add(e->target, lift), bk_v3_scale(offset, e->distance)),
-                        .target = bk_v3_add(e->target, lift)};
+    // Aim a little left of the object so it sits clear of the panel.
+    bk_vec3 right = bk_v3_normalize(bk_v3_cross(bk_v3_scale(offset, -1.0), bk_v3(0, 1, 0)));
+    bk_vec3 focus =
+        bk_v3_sub(bk_v3_add(e->target, lift), bk_v3_scale(right, e->show_panel ? 0.22 * e->distance : 0.0));
+    bk_camera camera = {.eye = bk_v3_add(focus, bk_v3_scale(offset, e->distance)), .target = focus};
     bk_renderer_begin_frame(e->renderer, &camera, width, height);
     for (uint32_t l = 0; l < e->tree.leaf_count; ++l) {
       uint32_t node = e->tree.leaf_nodes[l];

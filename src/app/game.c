@@ -10,7 +10,7 @@
 
 static const char* const play_usage =
     "usage: breakables [play] [--scene NAME] [--pieces N] [--seed S] [--frames N] [--autofire K]\n"
-    "                  [--screenshot FILE.png] [--width W] [--height H] [--hide-panel]\n"
+    "                  [--screenshot FILE.png] [--width W] [--height H] [--hide-panel] [--overlay NAME]\n"
     "\n"
     "The demo game: shoot projectiles at breakable objects and tune them live.\n"
     "\n"
@@ -23,6 +23,7 @@ static const char* const play_usage =
     "  --screenshot FILE.png save the last frame\n"
     "  --width W --height H  window size (default: 1280x720)\n"
     "  --hide-panel          start with the tuning panel hidden (F1 shows it)\n"
+    "  --overlay NAME        start with a debug overlay on: bonds, nodes or hulls (repeatable)\n"
     "  -h, --help            show this help\n"
     "\n"
     "controls: right mouse drag = look, W A S D Q E = move (Shift = fast), left click or\n"
@@ -260,6 +261,18 @@ int bk_cmd_play(int argc, char** argv) {
       return free(g), 0;
     } else if (strcmp(arg, "--hide-panel") == 0) {
       hide_panel = true;
+    } else if (strcmp(arg, "--overlay") == 0 && i + 1 < argc) {
+      const char* name = argv[++i];
+      if (strcmp(name, "bonds") == 0)
+        g->show_bonds = true;
+      else if (strcmp(name, "nodes") == 0)
+        g->show_nodes = true;
+      else if (strcmp(name, "hulls") == 0)
+        g->show_hulls = true;
+      else {
+        fprintf(stderr, "breakables play: --overlay must be bonds, nodes or hulls (got '%s')\n", name);
+        return free(g), 2;
+      }
     } else if (strcmp(arg, "--scene") == 0 && i + 1 < argc) {
       scene_name = argv[++i];
     } else if (strcmp(arg, "--pieces") == 0 && i + 1 < argc) {

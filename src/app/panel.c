@@ -161,8 +161,23 @@ static void stats_section(bk_game* g) {
   bk_ui_plot("break ms", g->break_history, BK_HISTORY, offset, 0.0f, 5.0f, 40.0f, NULL);
 }
 
+// The panel starts from the material of the scene's first object.
+static void sync_with_scene(bk_game* g) {
+  static const bk_scene* synced = NULL;
+  static uint32_t synced_trees = 0;
+  if (synced == g->scene.scene && synced_trees == g->scene.tree_count) return;
+  synced = g->scene.scene;
+  synced_trees = g->scene.tree_count;
+  const char* name = g->scene.scene->objects[0].material;
+  for (uint32_t i = 0; i < bk_material_count(); ++i)
+    if (strcmp(bk_material_at(i)->name, name) == 0) material_preset = (int)i;
+  const bk_material* m = bk_material_find(name);
+  if (m && g->options.bond_strength <= 0.0) bond_strength_setting = m->bond_strength;
+}
+
 void bk_game_panel(bk_game* g) {
   finish_refracture(g);
+  sync_with_scene(g);
   if (!bk_ui_begin_window("Breakables", 10.0f, 10.0f, 360.0f, 0.0f, &g->show_panel)) {
     bk_ui_end_window();
     return;

@@ -68,7 +68,7 @@ typedef struct bk_node_draw {
 void bk_renderer_draw_nodes(bk_renderer* renderer, const bk_node_draw* draw);
 /// A projectile or marker.
 void bk_renderer_draw_sphere(bk_renderer* renderer, bk_vec3 center, double radius, const float rgb[3]);
-/// A debug line (always on top of nothing: depth-tested against the scene).
+/// A debug line, drawn on top of the scene (overlays show what is inside solids).
 void bk_renderer_draw_line(bk_renderer* renderer, bk_vec3 a, bk_vec3 b, const float rgba[4]);
 
 /// One particle: a dust puff (kind 0, soft) or a debris chip (kind 1).

@@ -637,7 +637,9 @@ unsigned bk_renderer_end_frame(bk_renderer* r) {
     glBufferSubData(GL_ARRAY_BUFFER, 0, (GLsizeiptr)(sizeof(line_vertex) * r->line_count), r->lines);
     glEnable(GL_BLEND);
     glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+    glDisable(GL_DEPTH_TEST); // overlays show what is inside the solids (bonds, hulls)
     glDrawArrays(GL_LINES, 0, (GLsizei)r->line_count);
+    glEnable(GL_DEPTH_TEST);
     r->stats.lines = r->line_count / 2;
   }
   if (r->particle_count) {
