@@ -22,6 +22,7 @@ uniform vec3 u_tint;
 uniform vec4 u_highlight; // rgb, strength
 uniform float u_interior_scale;
 uniform float u_gloss;
+uniform int u_detail; // 0: the ground, lit cheaply (it covers most of the screen)
 
 out vec4 out_color;
 
@@ -37,6 +38,14 @@ float shadow_factor(vec3 n) {
 
 void main() {
   vec3 n = normalize(v_normal);
+  if (u_detail == 0) {
+    vec3 ground = texture(u_albedo, v_uv).rgb * u_tint;
+    float lit = max(dot(n, u_sun_direction), 0.0) * shadow_factor(n);
+    vec3 sky_light = mix(u_ground_color, u_sky_color, n.y * 0.5 + 0.5) * 0.55;
+    float fog = 1.0 - exp(-0.012 * length(u_eye - v_position));
+    out_color = vec4(mix(ground * (sky_light + u_sun_color * lit), u_sky_color * 0.9, fog), 1.0);
+    return;
+  }
   vec3 albedo;
   if (v_interior > 0.5) {
     albedo = texture(u_interior, v_uv * u_interior_scale).rgb;

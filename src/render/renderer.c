@@ -586,6 +586,7 @@ unsigned bk_renderer_end_frame(bk_renderer* r) {
   glUniform1i(uniform(p, "u_normal_map"), 1);
   glUniform1i(uniform(p, "u_interior"), 2);
   glUniform1i(uniform(p, "u_shadow_map"), 3);
+  glUniform1i(uniform(p, "u_detail"), 1);
   glActiveTexture(GL_TEXTURE3);
   glBindTexture(GL_TEXTURE_2D, r->shadow_texture);
   // Objects before the ground and the sky: on a software renderer every
@@ -605,8 +606,10 @@ unsigned bk_renderer_end_frame(bk_renderer* r) {
   glUniform1f(uniform(p, "u_uv_scale"), r->ground.uv_scale);
   glUniform1f(uniform(p, "u_interior_scale"), 1.0f);
   glUniform4f(uniform(p, "u_highlight"), 0, 0, 0, 0);
+  glUniform1i(uniform(p, "u_detail"), 0);
   glBindVertexArray(r->ground_vao);
   glDrawArrays(GL_TRIANGLES, 0, 6);
+  glUniform1i(uniform(p, "u_detail"), 1);
 
   // Sky last, only where nothing was drawn (depth still at the far plane).
   glDepthMask(GL_FALSE);
