@@ -10,8 +10,12 @@ void main() {
   vec4 near_point = u_inverse_view_projection * vec4(v_ndc, -1.0, 1.0);
   vec3 ray = normalize(far_point.xyz / far_point.w - near_point.xyz / near_point.w);
   float up = clamp(ray.y, -0.2, 1.0);
-  vec3 color = mix(u_horizon_color, u_sky_color, pow(max(up, 0.0), 0.6));
+  vec3 color = mix(u_horizon_color, u_sky_color, sqrt(max(up, 0.0)));
+  // Sun disc and glow without pow(): it costs on software renderers.
   float sun = max(dot(ray, u_sun_direction), 0.0);
-  color += vec3(1.0, 0.9, 0.7) * (pow(sun, 800.0) * 4.0 + pow(sun, 12.0) * 0.25);
+  float s4 = sun * sun;
+  s4 *= s4;
+  float glow = s4 * s4 * s4; // sun^12
+  color += vec3(1.0, 0.9, 0.7) * (smoothstep(0.9990, 0.9996, sun) * 4.0 + glow * 0.25);
   out_color = vec4(color, 1.0); // the framebuffer encodes sRGB
 }
