@@ -244,8 +244,6 @@ FILE* bk_file_begin_atomic(const char* path, const bk_atomic_messages* messages,
 /// syncs, closes and renames over `path`. Always consumes f; on any failure
 /// the temporary is removed and the target left as it was.
 bool bk_file_commit_atomic(FILE* f, const char* path, const bk_atomic_messages* messages, bk_error* err);
-/// Abandons a write begun by bk_file_begin_atomic: closes f and removes the temporary.
-void bk_file_abort_atomic(FILE* f, const char* path);
 
 #ifdef __cplusplus
 }

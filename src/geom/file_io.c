@@ -93,10 +93,3 @@ bool bk_file_commit_atomic(FILE* f, const char* path, const bk_atomic_messages* 
   free(tmp);
   return true;
 }
-
-void bk_file_abort_atomic(FILE* f, const char* path) {
-  fclose(f);
-  char* tmp = tmp_path(path);
-  remove(tmp);
-  free(tmp);
-}
