@@ -319,6 +319,33 @@ static void test_split_budget(void) {
   bk_mesh_tree_free(&tree);
 }
 
+// Small loose fragments retire after their time; their mass is accounted for.
+static void test_retirement(void) {
+  bk_mesh_tree tree = make_tree(BK_SHAPE_CUBE, 32, 12);
+  bk_world_desc wd = bk_default_world_desc();
+  wd.retire_volume = 1.0; // every single fragment qualifies
+  wd.retire_after = 0.5;
+  bk_world* world = bk_world_create(&wd, NULL);
+  bk_breakable_desc desc = bk_default_breakable_desc();
+  desc.transform.position = bk_v3(0, 0.5, 0);
+  add(world, &tree, desc);
+  double mass = bk_world_get_stats(world).total_mass;
+  bk_world_impact(world, bk_v3(0, 0.5, 0), 1e12);
+  bk_world_step(world);
+  ENSURE(bk_world_get_stats(world).bodies == 32 && bk_world_get_stats(world).fragments_retired == 0);
+  for (int i = 0; i < 25; ++i)
+    bk_world_step(world); // 0.42 s: not yet
+  ENSURE(bk_world_get_stats(world).fragments_retired == 0);
+  for (int i = 0; i < 10; ++i)
+    bk_world_step(world);
+  bk_world_stats s = bk_world_get_stats(world);
+  ENSURE_MSG(s.fragments_retired == 32 && s.bodies == 0, "%u retired, %u bodies", s.fragments_retired,
+             s.bodies);
+  ENSURE_REL(s.total_mass + s.retired_mass, mass, 1e-9);
+  bk_world_destroy(world);
+  bk_mesh_tree_free(&tree);
+}
+
 static void test_bad_input(void) {
   bk_mesh_tree tree = make_tree(BK_SHAPE_CUBE, 4, 10);
   bk_world* world = make_world();
@@ -383,6 +410,7 @@ int main(void) {
   RUN(test_naive_same_clusters);
   RUN(test_split_keeps_motion);
   RUN(test_split_budget);
+  RUN(test_retirement);
   RUN(test_bad_input);
   RUN(test_many_breaks);
   RUN(test_wall_breaks);

@@ -248,6 +248,7 @@ int bk_cmd_play(int argc, char** argv) {
   bk_window_options wo = {.width = 1280, .height = 720};
   bk_game* g = bk_calloc(1, sizeof *g);
   g->options = bk_default_scene_options();
+  g->options.retire_volume = 2e-5; // chips under 20 cm^3 leave after 10 s: a long session stays bounded
   const char* scene_name = "showcase";
   bool hide_panel = false;
   for (int i = 1; i < argc; ++i) {

@@ -155,6 +155,7 @@ static void stats_section(bk_game* g) {
   bk_ui_text("bodies %u (%u moving)   fragments free %u", s.bodies, s.dynamic_bodies, s.fragments_free);
   bk_ui_text("colliders %u   plain BCRB would use %u", s.colliders, s.colliders_naive);
   bk_ui_text("bonds broken %u   splits %u   projectiles %u", s.bonds_broken, s.break_events, s.projectiles);
+  bk_ui_text("small fragments retired %u", s.fragments_retired);
   int offset = g->history_at % BK_HISTORY;
   bk_ui_plot("frame ms", g->frame_history, BK_HISTORY, offset, 0.0f, 40.0f, 40.0f, NULL);
   bk_ui_plot("physics ms", g->physics_history, BK_HISTORY, offset, 0.0f, 20.0f, 40.0f, NULL);

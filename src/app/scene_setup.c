@@ -14,6 +14,7 @@ bool bk_loaded_scene_create(const bk_scene* scene, const bk_scene_options* optio
   memset(out, 0, sizeof *out);
   out->scene = scene;
   bk_world_desc wd = bk_default_world_desc();
+  wd.retire_volume = options->retire_volume;
   out->world = bk_world_create(&wd, err);
   if (!out->world) return false;
   for (uint32_t i = 0; i < scene->object_count; ++i) {

@@ -56,6 +56,10 @@ typedef struct bk_world_desc {
   double damage_min_distance;       ///< s_min of the damage formula (m); default 0.05
   uint32_t max_new_bodies_per_step; ///< split budget (at least 2); default 48
   double projectile_lifetime;       ///< seconds before a projectile is removed; default 8
+  /// Loose single fragments smaller than this volume (m^3) are removed after
+  /// retire_after seconds, to keep long sessions bounded; 0 = never (default).
+  double retire_volume;
+  double retire_after; ///< seconds a small fragment lives once free; default 10
 } bk_world_desc;
 
 bk_world_desc bk_default_world_desc(void);
@@ -132,14 +136,16 @@ typedef struct bk_world_stats {
   uint32_t colliders_naive; ///< what one-collider-per-fragment would use for the same clusters
   uint32_t fragments_free;  ///< fragments in clusters of one fragment
   uint32_t projectiles;
-  uint32_t bonds_broken;   ///< since creation
-  uint32_t break_events;   ///< bodies split since creation
-  uint32_t pending_splits; ///< clusters waiting for the budget
-  double total_mass;       ///< kg over all breakable bodies
-  double step_ms;          ///< last step, all of it
-  double physics_ms;       ///< last step, the physics engine alone
-  double break_ms;         ///< last step: damage, components, minimal sets, body rebuild
-  bool nan;                ///< a body has a non-finite transform or velocity
+  uint32_t bonds_broken;      ///< since creation
+  uint32_t break_events;      ///< bodies split since creation
+  uint32_t pending_splits;    ///< clusters waiting for the budget
+  uint32_t fragments_retired; ///< small fragments removed (retire_volume)
+  double total_mass;          ///< kg over all breakable bodies
+  double retired_mass;        ///< kg removed with retired fragments (total_mass + retired_mass is conserved)
+  double step_ms;             ///< last step, all of it
+  double physics_ms;          ///< last step, the physics engine alone
+  double break_ms;            ///< last step: damage, components, minimal sets, body rebuild
+  bool nan;                   ///< a body has a non-finite transform or velocity
 } bk_world_stats;
 
 bk_world_stats bk_world_get_stats(const bk_world* world);

@@ -181,6 +181,7 @@ bool bk_cluster_build(bk_world* w, uint32_t slot, bk_transform tree_to_world, bk
   desc.restitution = b->restitution;
   desc.user_data = BK_USER_CLUSTER | slot;
   c->previous = tree_to_world;
+  c->born = w->step_count;
   c->body = bk_physics_create_body(w->physics, &desc, err);
   return !bk_body_is_null(c->body);
 }

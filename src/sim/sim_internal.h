@@ -39,6 +39,7 @@ typedef struct cluster {
   uint32_t collider_count;
   bk_transform principal; // body frame in the tree frame
   bk_transform previous;  // tree frame at the start of the last step (for interpolated drawing)
+  uint64_t born;          // step the body was made
   double mass;
 } cluster;
 
@@ -68,7 +69,8 @@ struct bk_world {
   uint32_t contact_capacity;
   bk_break_event* events;
   uint32_t event_count, event_capacity;
-  uint32_t bonds_broken, break_events;
+  uint32_t bonds_broken, break_events, fragments_retired;
+  double retired_mass;
   double step_ms, physics_ms, break_ms;
   // Scratch for splitting.
   uint32_t* scratch_leaves;

@@ -19,7 +19,8 @@ bk_world_desc bk_default_world_desc(void) {
                          .impulse_threshold = 0.5,
                          .damage_min_distance = 0.05,
                          .max_new_bodies_per_step = 48,
-                         .projectile_lifetime = 8.0};
+                         .projectile_lifetime = 8.0,
+                         .retire_after = 10.0};
 }
 
 bk_world* bk_world_create(const bk_world_desc* desc_in, bk_error* err) {
@@ -31,6 +32,10 @@ bk_world* bk_world_create(const bk_world_desc* desc_in, bk_error* err) {
   if (d.damage_min_distance == 0.0) d.damage_min_distance = def.damage_min_distance;
   if (d.max_new_bodies_per_step == 0) d.max_new_bodies_per_step = def.max_new_bodies_per_step;
   if (d.projectile_lifetime == 0.0) d.projectile_lifetime = def.projectile_lifetime;
+  if (d.retire_after == 0.0) d.retire_after = def.retire_after;
+  if (!(d.retire_volume >= 0.0) || !isfinite(d.retire_volume) || !(d.retire_after > 0.0) ||
+      !isfinite(d.retire_after))
+    return bk_error_set(err, "world: retire_volume must be >= 0 and retire_after positive"), NULL;
   if (!(d.projectile_lifetime > 0.0) || !isfinite(d.projectile_lifetime))
     return bk_error_set(err, "world: projectile_lifetime must be positive (got %g)", d.projectile_lifetime),
            NULL;
@@ -321,6 +326,24 @@ static void retire_projectiles(bk_world* w) {
   w->projectile_count = kept;
 }
 
+// Small loose fragments leave after a while: each was a body the solver kept
+// paying for. Their leaves stay unowned; their mass is accounted for.
+static void retire_fragments(bk_world* w) {
+  if (w->desc.retire_volume <= 0.0) return;
+  uint64_t max_age = (uint64_t)(w->desc.retire_after / w->desc.fixed_dt);
+  for (uint32_t i = 0; i < w->live_count; ++i) {
+    uint32_t slot = w->live[i];
+    cluster* c = &w->clusters[slot];
+    if (c->leaf_count != 1 || c->is_static || c->queued || w->step_count - c->born <= max_age) continue;
+    breakable* b = &w->breakables[c->breakable];
+    if (bk_mesh_tree_leaf(b->tree, c->leaves[0])->moments.v >= w->desc.retire_volume) continue;
+    b->leaf_cluster[c->leaves[0]] = UINT32_MAX;
+    w->retired_mass += c->mass;
+    w->fragments_retired++;
+    bk_cluster_release(w, slot);
+  }
+}
+
 void bk_world_step(bk_world* w) {
   double start = now_ms();
   w->event_count = 0;
@@ -335,6 +358,8 @@ void bk_world_step(bk_world* w) {
   uint32_t contacts = bk_physics_contacts(w->physics, w->contacts, w->contact_capacity);
   bk_world_apply_damage(w, contacts);
   bk_world_split(w);
+  bk_world_refresh_live(w);
+  retire_fragments(w);
   bk_world_refresh_live(w);
   double end = now_ms();
   w->physics_ms = after_physics - start;
@@ -374,6 +399,8 @@ bk_world_stats bk_world_get_stats(const bk_world* w) {
   s.bonds_broken = w->bonds_broken;
   s.break_events = w->break_events;
   s.pending_splits = w->split_queue_count;
+  s.fragments_retired = w->fragments_retired;
+  s.retired_mass = w->retired_mass;
   s.step_ms = w->step_ms;
   s.physics_ms = w->physics_ms;
   s.break_ms = w->break_ms;
