@@ -72,6 +72,8 @@ struct bk_renderer {
   uint32_t* nodes;
   float* node_colors;
   uint32_t node_count, node_capacity;
+  GLsizei* multi_counts; // per node of one item, for glMultiDrawElements
+  const void** multi_offsets;
   float (*spheres)[7]; // center, radius, rgb
   uint32_t sphere_count, sphere_capacity;
   line_vertex* lines;
@@ -299,6 +301,8 @@ void bk_renderer_destroy(bk_renderer* r) {
   free(r->items);
   free(r->nodes);
   free(r->node_colors);
+  free(r->multi_counts);
+  free(r->multi_offsets);
   free(r->spheres);
   free(r->lines);
   free(r);
@@ -426,6 +430,8 @@ void bk_renderer_draw_nodes(bk_renderer* r, const bk_node_draw* d) {
     r->node_capacity = bk_grow_capacity(r->node_capacity, r->node_count + d->node_count);
     r->nodes = bk_realloc(r->nodes, sizeof(uint32_t) * r->node_capacity);
     r->node_colors = bk_realloc(r->node_colors, sizeof(float) * 4u * r->node_capacity);
+    r->multi_counts = bk_realloc(r->multi_counts, sizeof(GLsizei) * r->node_capacity);
+    r->multi_offsets = bk_realloc(r->multi_offsets, sizeof(void*) * r->node_capacity);
   }
   draw_item* item = &r->items[r->item_count++];
   item->tree = d->tree;
@@ -494,15 +500,31 @@ static void draw_scene(bk_renderer* r, GLuint program, bool shadow) {
       glUniform4f(highlight, 0, 0, 0, 0);
     }
     glBindVertexArray(t->vao);
-    for (uint32_t n = 0; n < item->node_count; ++n) {
-      uint32_t node = r->nodes[item->first_node + n];
-      if (node >= t->node_count) continue;
-      if (!shadow && item->colored) glUniform4fv(highlight, 1, &r->node_colors[4 * (item->first_node + n)]);
-      glDrawElements(GL_TRIANGLES, (GLsizei)t->index_count[node], GL_UNSIGNED_INT,
-                     (void*)(uintptr_t)(sizeof(uint32_t) * t->first_index[node]));
-      r->stats.draw_calls++;
-      r->stats.triangles += t->index_count[node] / 3;
+    if (!shadow && item->colored) {
+      // Overlay colours differ per node: one call each.
+      for (uint32_t n = 0; n < item->node_count; ++n) {
+        uint32_t node = r->nodes[item->first_node + n];
+        if (node >= t->node_count) continue;
+        glUniform4fv(highlight, 1, &r->node_colors[4 * (item->first_node + n)]);
+        glDrawElements(GL_TRIANGLES, (GLsizei)t->index_count[node], GL_UNSIGNED_INT,
+                       (void*)(uintptr_t)(sizeof(uint32_t) * t->first_index[node]));
+        r->stats.draw_calls++;
+        r->stats.triangles += t->index_count[node] / 3;
+      }
+      continue;
     }
+    // All of a body's nodes share its matrix and material: one call.
+    GLsizei n = 0;
+    for (uint32_t k = 0; k < item->node_count; ++k) {
+      uint32_t node = r->nodes[item->first_node + k];
+      if (node >= t->node_count) continue;
+      r->multi_counts[n] = (GLsizei)t->index_count[node];
+      r->multi_offsets[n] = (const void*)(uintptr_t)(sizeof(uint32_t) * t->first_index[node]);
+      r->stats.triangles += t->index_count[node] / 3;
+      n++;
+    }
+    glMultiDrawElements(GL_TRIANGLES, r->multi_counts, GL_UNSIGNED_INT, r->multi_offsets, n);
+    r->stats.draw_calls++;
   }
   glBindVertexArray(r->sphere_vao);
   for (uint32_t i = 0; i < r->sphere_count; ++i) {
