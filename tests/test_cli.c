@@ -215,6 +215,191 @@ static void test_sim(void) {
   expect_error("sim --explode", 2, "unknown option '--explode'");
 }
 
+// ---------------------------------------------------------------- bench
+
+typedef struct csv_table {
+  char header[1024];
+  char rows[32][1024];
+  uint32_t row_count;
+} csv_table;
+
+static csv_table csv_data;
+
+// Reads BK_TEST_TMP/bench/<name>.csv, checking its header and row count.
+static const csv_table* read_csv(const char* name, const char* header, uint32_t rows) {
+  char path[512];
+  snprintf(path, sizeof path, "%s/bench/%s.csv", BK_TEST_TMP, name);
+  FILE* f = fopen(path, "rb");
+  ENSURE_MSG(f != NULL, "missing %s", path);
+  memset(&csv_data, 0, sizeof csv_data);
+  ENSURE(fgets(csv_data.header, sizeof csv_data.header, f) != NULL);
+  csv_data.header[strcspn(csv_data.header, "\n")] = 0;
+  ENSURE_MSG(strcmp(csv_data.header, header) == 0, "%s: header '%s', expected '%s'", name, csv_data.header,
+             header);
+  char line[1024];
+  while (fgets(line, sizeof line, f)) {
+    ENSURE(csv_data.row_count < 32);
+    line[strcspn(line, "\n")] = 0;
+    snprintf(csv_data.rows[csv_data.row_count++], sizeof line, "%s", line);
+  }
+  fclose(f);
+  ENSURE_MSG(csv_data.row_count == rows, "%s: %u rows, expected %u", name, csv_data.row_count, rows);
+  return &csv_data;
+}
+
+// The field of a row under a header key, as text.
+static const char* csv_field(const csv_table* t, uint32_t row, const char* key) {
+  static char field[128];
+  uint32_t column = 0;
+  const char* h = t->header;
+  size_t key_length = strlen(key);
+  while (!(strncmp(h, key, key_length) == 0 && (h[key_length] == ',' || h[key_length] == 0))) {
+    h = strchr(h, ',');
+    ENSURE_MSG(h != NULL, "no column %s in %s", key, t->header);
+    ++h;
+    ++column;
+  }
+  const char* f = t->rows[row];
+  for (uint32_t c = 0; c < column; ++c) {
+    f = strchr(f, ',');
+    ENSURE_MSG(f != NULL, "row %u is short: %s", row, t->rows[row]);
+    ++f;
+  }
+  snprintf(field, sizeof field, "%.*s", (int)strcspn(f, ","), f);
+  return field;
+}
+
+static double csv_number(const csv_table* t, uint32_t row, const char* key) {
+  const char* text = csv_field(t, row, key);
+  char* end = NULL;
+  double value = strtod(text, &end);
+  ENSURE_MSG(end != text && *end == 0, "%s of row %u is not a number: '%s'", key, row, text);
+  return value;
+}
+
+// Every row's value of each key is finite and > 0.
+static void ensure_positive(const csv_table* t, const char* const* keys, size_t count) {
+  for (uint32_t r = 0; r < t->row_count; ++r)
+    for (size_t k = 0; k < count; ++k) {
+      double value = csv_number(t, r, keys[k]);
+      ENSURE_MSG(isfinite(value) && value > 0.0, "%s of row %u is %g", keys[k], r, value);
+    }
+}
+
+static bool bench_file_exists(const char* name) {
+  char path[512];
+  snprintf(path, sizeof path, "%s/bench/%s", BK_TEST_TMP, name);
+  FILE* f = fopen(path, "rb");
+  if (f) fclose(f);
+  return f != NULL;
+}
+
+static void test_bench_quick(void) {
+  setenv("BREAKABLES_CACHE_DIR", BK_TEST_TMP "/cache", 1);
+  run_result* r = run("bench --quick --out '" BK_TEST_TMP "/bench'");
+  ENSURE_MSG(r->status == 0, "%s", r->err);
+  const char* sections[] = {"1. Fracture speed", "2. Meshes", "3. Maximum fragments", "4. Runtime",
+                            "5. Scaling"};
+  for (size_t i = 0; i < sizeof sections / sizeof *sections; ++i)
+    ENSURE_MSG(strstr(r->out, sections[i]) != NULL, "stdout lacks %s", sections[i]);
+
+  // The report: command, machine, every section, and the plots (or why they are missing).
+  static char report[1 << 17];
+  FILE* f = fopen(BK_TEST_TMP "/bench/report.md", "rb");
+  ENSURE(f != NULL);
+  report[fread(report, 1, sizeof report - 1, f)] = 0;
+  fclose(f);
+  const char* report_parts[] = {"bench --quick --out", "| processor |", "| memory |",
+                                "| build |",           "| date |",      "## 1. Fracture speed",
+                                "## 5. Scaling",       "| ---: |"};
+  for (size_t i = 0; i < sizeof report_parts / sizeof *report_parts; ++i)
+    ENSURE_MSG(strstr(report, report_parts[i]) != NULL, "report lacks %s", report_parts[i]);
+  bool gnuplot = system("command -v gnuplot >/dev/null 2>&1") == 0;
+  const char* plots[] = {"fracture_speed.png", "runtime.png", "colliders.png"};
+  for (size_t i = 0; i < sizeof plots / sizeof *plots; ++i) {
+    char embedded[64];
+    snprintf(embedded, sizeof embedded, "](%s)", plots[i]);
+    if (gnuplot) {
+      ENSURE_MSG(bench_file_exists(plots[i]), "missing %s", plots[i]);
+      ENSURE_MSG(strstr(report, embedded) != NULL, "report does not embed %s", plots[i]);
+    } else {
+      ENSURE(strstr(report, "gnuplot is not on PATH") != NULL);
+    }
+  }
+
+  // 1. Fracture speed: 2 .. 1024 fragments.
+  const csv_table* t = read_csv(
+      "fracture_speed", "fragments,leaves,nodes,leaf_triangles,runs,ms_median,ms_min,us_per_fragment", 10);
+  const char* speed_keys[] = {"ms_median", "ms_min", "us_per_fragment", "leaf_triangles"};
+  ensure_positive(t, speed_keys, 4);
+  for (uint32_t i = 0; i < t->row_count; ++i) {
+    ENSURE(csv_number(t, i, "fragments") == (double)(2u << i));
+    ENSURE(csv_number(t, i, "leaves") >= csv_number(t, i, "fragments"));
+    ENSURE(csv_number(t, i, "nodes") == 2.0 * csv_number(t, i, "leaves") - 1.0);
+  }
+  // 2. Meshes: four, all watertight.
+  t = read_csv(
+      "meshes",
+      "mesh,source_triangles,leaves,runs,ms_median,leaf_triangles,volume_spread,tiny_leaves,watertight", 4);
+  const char* mesh_keys[] = {"ms_median", "leaf_triangles", "volume_spread"};
+  ensure_positive(t, mesh_keys, 3);
+  for (uint32_t i = 0; i < t->row_count; ++i) {
+    ENSURE(strcmp(csv_field(t, i, "watertight"), "true") == 0);
+    ENSURE(csv_number(t, i, "volume_spread") >= 1.0 && csv_number(t, i, "leaves") >= 256);
+  }
+  ENSURE(strcmp(csv_field(t, 3, "mesh"), "bunny") == 0);
+  // 3. Maximum fragments: 2 .. 2048, every level watertight with exact volumes.
+  t = read_csv("max_fragments",
+               "fragments,leaves,nodes,ms,watertight,open_nodes,volume_rel_error,child_volume_rel_error", 11);
+  const char* max_keys[] = {"ms", "leaves", "nodes"};
+  ensure_positive(t, max_keys, 3);
+  for (uint32_t i = 0; i < t->row_count; ++i) {
+    ENSURE_MSG(strcmp(csv_field(t, i, "watertight"), "true") == 0, "level %u is not watertight", i);
+    ENSURE(csv_number(t, i, "open_nodes") == 0.0);
+    ENSURE(csv_number(t, i, "volume_rel_error") < 1e-9 && csv_number(t, i, "child_volume_rel_error") < 1e-9);
+  }
+  ENSURE(strstr(r->out, "first failure: none up to 2048") != NULL);
+  // 4. Runtime: wall and cube, 2 .. 256 fragments each.
+  t = read_csv(
+      "runtime",
+      "object,fragments,bodies,colliders,naive_colliders,collider_ratio,before_ms,naive_before_ms,"
+      "before_ratio,hit_physics_ms,hit_break_ms,naive_hit_physics_ms,naive_hit_break_ms,hit_median_ms,"
+      "naive_hit_median_ms,step_ratio,after_ms,naive_after_ms",
+      16);
+  const char* runtime_keys[] = {"before_ms",      "naive_before_ms",      "hit_physics_ms",
+                                "hit_break_ms",   "naive_hit_physics_ms", "naive_hit_break_ms",
+                                "hit_median_ms",  "naive_hit_median_ms",  "after_ms",
+                                "naive_after_ms", "step_ratio",           "before_ratio",
+                                "colliders"};
+  ensure_positive(t, runtime_keys, sizeof runtime_keys / sizeof *runtime_keys);
+  for (uint32_t i = 0; i < t->row_count; ++i) {
+    ENSURE(strcmp(csv_field(t, i, "object"), i < 8 ? "wall" : "cube") == 0);
+    ENSURE(csv_number(t, i, "collider_ratio") >= 1.0);
+    ENSURE(csv_number(t, i, "naive_colliders") == csv_number(t, i, "fragments"));
+    ENSURE(csv_number(t, i, "colliders") <= csv_number(t, i, "naive_colliders"));
+  }
+  // The largest wall breaks into several bodies.
+  ENSURE(csv_number(t, 7, "bodies") > 1.0);
+  // 5. Scaling: 1 and 4 walls.
+  t = read_csv(
+      "scaling",
+      "walls,fragments,bodies,colliders,step_ms_median,step_ms_max,break_ms_max,start_rss_mb,peak_rss_mb", 2);
+  const char* scaling_keys[] = {"step_ms_median", "step_ms_max", "break_ms_max", "peak_rss_mb"};
+  ensure_positive(t, scaling_keys, 4);
+  ENSURE(csv_number(t, 0, "walls") == 1.0 && csv_number(t, 1, "walls") == 4.0);
+  ENSURE(csv_number(t, 1, "step_ms_max") >= csv_number(t, 1, "step_ms_median"));
+
+  r = run("bench --help");
+  const char* options[] = {"--quick", "--out", "--seed"};
+  for (size_t i = 0; i < sizeof options / sizeof *options; ++i)
+    ENSURE_MSG(strstr(r->out, options[i]) != NULL, "bench help does not describe %s", options[i]);
+  write_file("not_a_dir", "x");
+  expect_error("bench --quick --out '" BK_TEST_TMP "/not_a_dir/bench'", 1, "cannot create directory");
+  expect_error("bench --seed x", 2, "--seed must be a whole number");
+  expect_error("bench --out", 2, "--out needs a value");
+  expect_error("bench --slow", 2, "unknown option '--slow'");
+}
+
 int main(void) {
   RUN(test_help);
   RUN(test_json);
@@ -223,5 +408,6 @@ int main(void) {
   RUN(test_errors);
   RUN(test_repairs_simple_hole);
   RUN(test_sim);
+  RUN(test_bench_quick);
   return 0;
 }

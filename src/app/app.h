@@ -12,6 +12,7 @@ int bk_cmd_fracture(int argc, char** argv);
 int bk_cmd_sim(int argc, char** argv);
 int bk_cmd_play(int argc, char** argv);
 int bk_cmd_editor(int argc, char** argv);
+int bk_cmd_bench(int argc, char** argv);
 
 /// Resolves --mesh: a built-in shape name, "bunny" (the bundled asset, scaled
 /// to 1 unit tall standing on y = 0) or a path to an .obj file. Open meshes
