@@ -67,3 +67,40 @@ bool bk_loaded_scene_create(const bk_scene* scene, const bk_scene_options* optio
 void bk_loaded_scene_destroy(bk_loaded_scene* scene);
 /// The i-th shot of a volley from the scene's eye towards (around) its target.
 bk_projectile_desc bk_scene_shot(const bk_scene* scene, uint32_t shot, double speed);
+
+/// Median of values (sorted in place); 0 for none.
+double bk_median(double* values, uint32_t count);
+
+enum {
+  BK_IMPACT_STEADY_STEPS = 30, ///< steps before the shot, and the last steps, for steady-state medians
+};
+/// Metres between the centres of copies side by side.
+#define BK_IMPACT_SPACING 2.5
+
+/// One simulated impact: `copies` of a scene's first object side by side
+/// (BK_IMPACT_SPACING apart along x), one shot at each after BK_IMPACT_STEADY_STEPS steps.
+typedef struct bk_impact {
+  const bk_scene* scene;
+  const bk_mesh_tree* tree;
+  uint32_t copies;
+  bool naive;
+  uint32_t steps_after; ///< steps from the shot on (at least BK_IMPACT_STEADY_STEPS)
+} bk_impact;
+
+typedef struct bk_impact_result {
+  double before_ms;                 ///< median step over the steady steps before the shot
+  double after_ms;                  ///< median step over the last steady steps
+  double hit_median_ms;             ///< median step from the shot on
+  double hit_step_ms;               ///< worst step from the shot on
+  double hit_physics_ms;            ///< worst physics part of a step from the shot on
+  double hit_break_ms;              ///< worst break handling of a step from the shot on
+  uint32_t bodies, colliders;       ///< breakable bodies and their colliders at the end
+  double start_rss_mb, peak_rss_mb; ///< set when run in a separate process
+  bool nan;
+} bk_impact_result;
+
+/// The mesh tree of a scene's first object at this fragment count (cached).
+bool bk_app_load_scene_tree(uint64_t seed, const bk_scene* scene, uint32_t pieces, bk_mesh_tree* tree,
+                            bk_error* err);
+/// Runs an impact in a fresh world.
+bool bk_impact_run(const bk_impact* setup, bk_impact_result* out, bk_error* err);

@@ -64,3 +64,14 @@ const char* bk_app_asset_dir(void) {
   }
   return BK_ASSET_DIR;
 }
+
+static int compare_double(const void* a, const void* b) {
+  double x = *(const double*)a, y = *(const double*)b;
+  return x < y ? -1 : x > y;
+}
+
+double bk_median(double* values, uint32_t count) {
+  if (count == 0) return 0.0;
+  qsort(values, count, sizeof(double), compare_double);
+  return count % 2 ? values[count / 2] : 0.5 * (values[count / 2 - 1] + values[count / 2]);
+}

@@ -46,7 +46,6 @@ static const char* const bench_usage =
     "Mesh trees of sections 4 and 5 are cached like those of 'breakables sim'.\n";
 
 enum {
-  STEADY_STEPS = 30,       ///< steps before the shot, and the last steps, for steady-state medians
   MAX_RUNS = 5,            ///< timed builds per fracture measurement
   CELL_SIZE = 48,          ///< characters per table cell
   SCALING_PIECES = 256,    ///< fragments per wall in section 5
@@ -54,7 +53,6 @@ enum {
 };
 
 static const double frame_budget_ms = 1000.0 / 60.0;
-static const double wall_spacing = 2.5; ///< metres between the centres of walls side by side
 
 /// A free unit cube resting on the ground, shot at like the wall scene.
 static const bk_scene cube_scene = {
@@ -310,17 +308,7 @@ static bool plot(const bench* b, const char* name, const char* caption, int widt
 
 // ---------------------------------------------------------------- small statistics
 
-static int compare_double(const void* a, const void* b) {
-  double x = *(const double*)a, y = *(const double*)b;
-  return x < y ? -1 : x > y;
-}
-
 /// Median of the values (sorts them in place).
-static double median(double* values, uint32_t count) {
-  if (count == 0) return 0.0;
-  qsort(values, count, sizeof(double), compare_double);
-  return count % 2 ? values[count / 2] : 0.5 * (values[count / 2 - 1] + values[count / 2]);
-}
 
 /// Slope of log(y) over log(x) by least squares: the exponent of y ~ x^k.
 static double log_log_slope(const double* x, const double* y, uint32_t count) {
@@ -358,7 +346,7 @@ static bool timed_build(const bk_mesh* source, uint32_t pieces, uint64_t seed, u
   *min_ms = times[0];
   for (uint32_t r = 1; r < count; ++r)
     *min_ms = fmin(*min_ms, times[r]);
-  *median_ms = median(times, count);
+  *median_ms = bk_median(times, count);
   return true;
 }
 
@@ -640,114 +628,13 @@ static bool section_max_fragments(const bench* b) {
 
 // ---------------------------------------------------------------- impacts (sections 4 and 5)
 
-/// One simulated impact: `copies` of a scene's first object side by side
-/// (wall_spacing apart along x), one shot at each after STEADY_STEPS steps.
-typedef struct impact {
-  const bk_scene* scene;
-  const bk_mesh_tree* tree;
-  uint32_t copies;
-  bool naive;
-  uint32_t steps_after; ///< steps from the shot on (at least STEADY_STEPS)
-} impact;
-
-typedef struct impact_result {
-  double before_ms;                 ///< median step over the STEADY_STEPS steps before the shot
-  double after_ms;                  ///< median step over the last STEADY_STEPS steps
-  double hit_median_ms;             ///< median step from the shot on
-  double hit_step_ms;               ///< worst step from the shot on
-  double hit_physics_ms;            ///< worst physics part of a step from the shot on
-  double hit_break_ms;              ///< worst break handling of a step from the shot on
-  uint32_t bodies, colliders;       ///< breakable bodies and their colliders at the end
-  double start_rss_mb, peak_rss_mb; ///< set by run_isolated
-  bool nan;
-} impact_result;
-
-static double copy_offset(uint32_t copy, uint32_t copies) {
-  return ((double)copy - 0.5 * (copies - 1)) * wall_spacing;
-}
-
-/// The scene object's mesh tree at this fragment count (from the cache when it is there).
-static bool load_scene_tree(const bench* b, const bk_scene* scene, uint32_t pieces, bk_mesh_tree* tree,
-                            bk_error* err) {
-  bk_fracture_desc desc = bk_default_fracture_desc();
-  desc.pieces = pieces;
-  desc.seed = b->seed;
-  desc.aspect_bias = scene->aspect_bias;
-  bool cached = false;
-  return bk_app_load_tree(scene->objects[0].mesh, scene->objects[0].scale, &desc, tree, &cached, err);
-}
-
-/// Adds the object as a breakable with its material, moved along x.
-static bool add_object(bk_world* world, const bk_scene_object* object, const bk_mesh_tree* tree, double x,
-                       bool naive, bk_error* err) {
-  bk_breakable_desc desc = bk_default_breakable_desc();
-  desc.tree = tree;
-  desc.transform.position = bk_v3_add(object->position, bk_v3(x, 0.0, 0.0));
-  desc.transform.rotation = bk_v3_length(object->axis) > 0.0
-                                ? bk_quat_axis_angle(bk_v3_normalize(object->axis), object->angle)
-                                : bk_quat_identity();
-  const bk_material* material = bk_material_find(object->material);
-  if (material) {
-    desc.density = material->density;
-    desc.frailty = material->frailty;
-    desc.bond_strength = material->bond_strength;
-    desc.accumulate = material->accumulate;
-    desc.friction = material->friction;
-    desc.restitution = material->restitution;
-  }
-  desc.anchored = object->anchored;
-  desc.naive = naive;
-  return bk_world_add_breakable(world, &desc, err).generation != 0;
-}
-
-static bool run_impact(const impact* setup, impact_result* out, bk_error* err) {
-  memset(out, 0, sizeof *out);
-  bk_world_desc world_desc = bk_default_world_desc();
-  bk_world* world = bk_world_create(&world_desc, err);
-  if (!world) return false;
-  for (uint32_t i = 0; i < setup->copies; ++i) {
-    if (!add_object(world, &setup->scene->objects[0], setup->tree, copy_offset(i, setup->copies),
-                    setup->naive, err)) {
-      bk_world_destroy(world);
-      return false;
-    }
-  }
-  uint32_t after = setup->steps_after > STEADY_STEPS ? setup->steps_after : STEADY_STEPS;
-  uint32_t total = STEADY_STEPS + after;
-  double* step_ms = bk_alloc(sizeof(double) * total);
-  for (uint32_t s = 0; s < total; ++s) {
-    for (uint32_t i = 0; s == STEADY_STEPS && i < setup->copies; ++i) {
-      bk_projectile_desc shot = bk_scene_shot(setup->scene, 0, 0.0);
-      shot.position.x += copy_offset(i, setup->copies);
-      bk_world_fire(world, &shot);
-    }
-    bk_world_step(world);
-    bk_world_stats st = bk_world_get_stats(world);
-    step_ms[s] = st.step_ms;
-    out->nan = out->nan || st.nan;
-    if (s < STEADY_STEPS) continue;
-    out->hit_step_ms = fmax(out->hit_step_ms, st.step_ms);
-    out->hit_physics_ms = fmax(out->hit_physics_ms, st.physics_ms);
-    out->hit_break_ms = fmax(out->hit_break_ms, st.break_ms);
-  }
-  bk_world_stats end = bk_world_get_stats(world);
-  out->bodies = end.bodies;
-  out->colliders = end.colliders;
-  // Each median sorts its range: the last steps first, then everything from the shot on.
-  out->after_ms = median(step_ms + total - STEADY_STEPS, STEADY_STEPS);
-  out->hit_median_ms = median(step_ms + STEADY_STEPS, after);
-  out->before_ms = median(step_ms, STEADY_STEPS);
-  free(step_ms);
-  bk_world_destroy(world);
-  return true;
-}
-
 /// Loads the tree and runs the impact in a child process, so that the peak
 /// resident memory reported is this run's, not that of earlier sections.
-static bool run_isolated(const bench* b, impact setup, uint32_t pieces, impact_result* out, bk_error* err) {
+static bool run_isolated(const bench* b, bk_impact setup, uint32_t pieces, bk_impact_result* out,
+                         bk_error* err) {
   typedef struct message {
     bool ok;
-    impact_result result;
+    bk_impact_result result;
     bk_error err;
   } message;
   int fds[2] = {-1, -1};
@@ -766,7 +653,8 @@ static bool run_isolated(const bench* b, impact setup, uint32_t pieces, impact_r
     double start_rss = bk_peak_rss_mb();
     bk_mesh_tree tree = {0};
     setup.tree = &tree;
-    m.ok = load_scene_tree(b, setup.scene, pieces, &tree, &m.err) && run_impact(&setup, &m.result, &m.err);
+    m.ok = bk_app_load_scene_tree(b->seed, setup.scene, pieces, &tree, &m.err) &&
+           bk_impact_run(&setup, &m.result, &m.err);
     m.result.start_rss_mb = start_rss;
     m.result.peak_rss_mb = bk_peak_rss_mb();
     ssize_t written = write(fds[1], &m, sizeof m);
@@ -799,7 +687,7 @@ static uint32_t impact_steps(const bench* b) { return b->quick ? 150 : 240; }
 
 typedef struct runtime_row {
   uint32_t pieces;
-  impact_result tree, naive;
+  bk_impact_result tree, naive;
 } runtime_row;
 
 static double before_ratio(const runtime_row* row) { return row->naive.before_ms / row->tree.before_ms; }
@@ -973,10 +861,11 @@ static bool section_runtime(const bench* b) {
       bk_error err = {0};
       runtime_row* row = &rows[s][levels++];
       row->pieces = pieces;
-      impact setup = {.scene = scenes[s], .tree = &tree, .copies = 1, .steps_after = impact_steps(b)};
-      ok = load_scene_tree(b, scenes[s], pieces, &tree, &err) && run_impact(&setup, &row->tree, &err);
+      bk_impact setup = {.scene = scenes[s], .tree = &tree, .copies = 1, .steps_after = impact_steps(b)};
+      ok = bk_app_load_scene_tree(b->seed, scenes[s], pieces, &tree, &err) &&
+           bk_impact_run(&setup, &row->tree, &err);
       setup.naive = true;
-      ok = ok && run_impact(&setup, &row->naive, &err);
+      ok = ok && bk_impact_run(&setup, &row->naive, &err);
       bk_mesh_tree_free(&tree);
       if (!ok) {
         fprintf(stderr, "breakables bench: %s with %u fragments: %s\n", scenes[s]->name, pieces, err.message);
@@ -1016,17 +905,17 @@ static bool section_scaling(const bench* b) {
           "is its resident memory when it begins, inherited from the benchmark).");
   const bk_scene* wall = bk_scene_find("wall");
   table t = table_make("scaling", columns, sizeof columns / sizeof *columns);
-  impact_result results[3] = {0};
+  bk_impact_result results[3] = {0};
   bool ok = wall != NULL;
   for (uint32_t i = 0; ok && i < configurations; ++i) {
     bk_error err = {0};
-    impact setup = {.scene = wall, .copies = wall_counts[i], .steps_after = impact_steps(b)};
+    bk_impact setup = {.scene = wall, .copies = wall_counts[i], .steps_after = impact_steps(b)};
     ok = run_isolated(b, setup, SCALING_PIECES, &results[i], &err);
     if (!ok) {
       fprintf(stderr, "breakables bench: %u walls: %s\n", wall_counts[i], err.message);
       break;
     }
-    const impact_result* r = &results[i];
+    const bk_impact_result* r = &results[i];
     table_cell(&t, "%u", wall_counts[i]);
     table_cell(&t, "%u", wall_counts[i] * SCALING_PIECES);
     table_cell(&t, "%u", r->bodies);
@@ -1045,7 +934,7 @@ static bool section_scaling(const bench* b) {
     say(b, "%s %u wall%s: median step %.3g ms, worst %.3g ms, peak memory %.0f MB", i ? ";" : "",
         wall_counts[i], wall_counts[i] == 1 ? "" : "s", results[i].hit_median_ms, results[i].hit_step_ms,
         results[i].peak_rss_mb);
-  const impact_result* last = &results[configurations - 1];
+  const bk_impact_result* last = &results[configurations - 1];
   say(b,
       ". With %u times the walls, the median step costs %.3gx and the worst step %.3gx as much, and the "
       "process needs %.0f MB more at its peak.\n",

@@ -39,17 +39,6 @@ static int usage_error(const char* option, const char* what) {
   return 2;
 }
 
-static int compare_double(const void* a, const void* b) {
-  double x = *(const double*)a, y = *(const double*)b;
-  return x < y ? -1 : x > y;
-}
-
-static double median(double* values, uint32_t count) {
-  if (count == 0) return 0.0;
-  qsort(values, count, sizeof(double), compare_double);
-  return count % 2 ? values[count / 2] : 0.5 * (values[count / 2 - 1] + values[count / 2]);
-}
-
 static double maximum(const double* values, uint32_t count) {
   double m = 0.0;
   for (uint32_t i = 0; i < count; ++i)
@@ -152,7 +141,7 @@ int bk_cmd_sim(int argc, char** argv) {
   bk_world_stats final = bk_world_get_stats(loaded.world);
   double mass_error = fabs(final.total_mass - initial.total_mass) / initial.total_mass;
   double step_max = maximum(step_ms, (uint32_t)steps), break_max = maximum(break_ms, break_steps);
-  double step_median = median(step_ms, (uint32_t)steps), break_median = median(break_ms, break_steps);
+  double step_median = bk_median(step_ms, (uint32_t)steps), break_median = bk_median(break_ms, break_steps);
   uint32_t pieces = 0;
   for (uint32_t i = 0; i < loaded.tree_count; ++i)
     pieces += loaded.trees[i].leaf_count;

@@ -11,6 +11,7 @@
 static const char* const play_usage =
     "usage: breakables [play] [--scene NAME] [--pieces N] [--seed S] [--frames N] [--autofire K]\n"
     "                  [--screenshot FILE.png] [--width W] [--height H] [--hide-panel] [--overlay NAME]\n"
+    "                  [--benchmark]\n"
     "\n"
     "The demo game: shoot projectiles at breakable objects and tune them live.\n"
     "\n"
@@ -24,6 +25,8 @@ static const char* const play_usage =
     "  --width W --height H  window size (default: 1280x720)\n"
     "  --hide-panel          start with the tuning panel hidden (F1 shows it)\n"
     "  --overlay NAME        start with a debug overlay on: bonds, nodes or hulls (repeatable)\n"
+    "  --benchmark           start the panel's runtime sweep (16..512 fragments, mesh tree against\n"
+    "                        plain BCRB); a scripted run waits for it before its last frame\n"
     "  -h, --help            show this help\n"
     "\n"
     "controls: right mouse drag = look, W A S D Q E = move (Shift = fast), left click or\n"
@@ -262,6 +265,8 @@ int bk_cmd_play(int argc, char** argv) {
       return free(g), 0;
     } else if (strcmp(arg, "--hide-panel") == 0) {
       hide_panel = true;
+    } else if (strcmp(arg, "--benchmark") == 0) {
+      g->start_benchmark = true;
     } else if (strcmp(arg, "--overlay") == 0 && i + 1 < argc) {
       const char* name = argv[++i];
       if (strcmp(name, "bonds") == 0)
@@ -381,6 +386,10 @@ int bk_cmd_play(int argc, char** argv) {
       bk_ui_end_frame();
     }
     bool last_frame = wo.frames && frame + 1 == wo.frames;
+    if (last_frame && bk_game_panel_busy()) { // a scripted benchmark run shows the sweep's result
+      glfwSwapBuffers(g->window);
+      continue;
+    }
     if (last_frame && wo.screenshot &&
         !bk_renderer_screenshot(g->renderer, width, height, wo.screenshot, &err)) {
       fprintf(stderr, "breakables play: %s\n", err.message);

@@ -30,6 +30,7 @@ typedef struct bk_game {
   uint32_t shots;
   // Overlays and panel.
   bool show_bonds, show_nodes, show_hulls, show_panel;
+  bool start_benchmark; ///< run the panel's runtime sweep at start (--benchmark)
   bk_particles particles;
   double physics_ms, break_ms;
   float frame_history[BK_HISTORY], physics_history[BK_HISTORY], break_history[BK_HISTORY];
@@ -45,5 +46,7 @@ void bk_game_fire(bk_game* game, bk_vec3 from, bk_vec3 direction);
 bk_vec3 bk_game_forward(const bk_game* game);
 /// Draws the tuning panel (between bk_ui_begin_frame and bk_ui_end_frame).
 void bk_game_panel(bk_game* game);
+/// True while the panel's benchmark sweep runs.
+bool bk_game_panel_busy(void);
 /// Waits for a running re-fracture and frees what it made.
 void bk_game_panel_shutdown(void);

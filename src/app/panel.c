@@ -22,6 +22,90 @@ typedef struct refracture_job {
 } refracture_job;
 
 static refracture_job job;
+
+// The runtime sweep of `breakables bench`, on the current scene, in the panel.
+enum { SWEEP_POINTS = 6 };
+typedef struct sweep_job {
+  pthread_t thread;
+  bool running, finished, ok, show;
+  atomic_bool done;
+  atomic_uint progress; // points measured
+  const bk_scene* scene;
+  uint64_t seed;
+  uint32_t pieces[SWEEP_POINTS], colliders[2][SWEEP_POINTS];
+  float worst_ms[2][SWEEP_POINTS]; // [mesh tree, plain BCRB]
+  bk_error err;
+} sweep_job;
+
+static sweep_job sweep;
+
+static void* run_sweep(void* unused) {
+  (void)unused;
+  sweep.ok = true;
+  for (uint32_t i = 0; i < SWEEP_POINTS && sweep.ok; ++i) {
+    sweep.pieces[i] = 16u << i;
+    bk_mesh_tree tree = {0};
+    sweep.ok = bk_app_load_scene_tree(sweep.seed, sweep.scene, sweep.pieces[i], &tree, &sweep.err);
+    for (int naive = 0; naive < 2 && sweep.ok; ++naive) {
+      bk_impact setup = {
+          .scene = sweep.scene, .tree = &tree, .copies = 1, .naive = naive == 1, .steps_after = 120};
+      bk_impact_result result = {0};
+      sweep.ok = bk_impact_run(&setup, &result, &sweep.err);
+      sweep.worst_ms[naive][i] = (float)result.hit_step_ms;
+      sweep.colliders[naive][i] = result.colliders;
+    }
+    bk_mesh_tree_free(&tree);
+    atomic_store(&sweep.progress, i + 1);
+  }
+  atomic_store(&sweep.done, true);
+  return NULL;
+}
+
+// Joins a finished sweep; true while it still runs.
+static bool sweep_running(void) {
+  if (sweep.running && atomic_load(&sweep.done)) {
+    pthread_join(sweep.thread, NULL);
+    sweep.running = false;
+    sweep.finished = true;
+  }
+  return sweep.running;
+}
+
+static void start_sweep(bk_game* g) {
+  if (sweep.running) return;
+  memset(&sweep, 0, sizeof sweep);
+  sweep.scene = g->scene.scene;
+  sweep.seed = g->options.seed;
+  sweep.running = pthread_create(&sweep.thread, NULL, run_sweep, NULL) == 0;
+  sweep.show = true;
+}
+
+// The sweep's own window: progress while it runs, then plots and a table.
+static void sweep_window(void) {
+  bool running = sweep_running();
+  if (!sweep.show || !bk_ui_begin_window("Runtime sweep", 380.0f, 10.0f, 470.0f, 340.0f, &sweep.show)) return;
+  bk_ui_text("%s: one shot at 16..512 fragments,", sweep.scene->name);
+  bk_ui_text("mesh tree against plain BCRB (one collider per fragment)");
+  if (running) {
+    char overlay[64];
+    snprintf(overlay, sizeof overlay, "%u / %d fragment counts", atomic_load(&sweep.progress), SWEEP_POINTS);
+    bk_ui_progress((float)atomic_load(&sweep.progress) / SWEEP_POINTS, overlay);
+  } else if (!sweep.ok) {
+    bk_ui_text("sweep failed: %s", sweep.err.message);
+  } else {
+    float top = 1.0f;
+    for (int m = 0; m < 2; ++m)
+      for (int i = 0; i < SWEEP_POINTS; ++i)
+        top = fmaxf(top, sweep.worst_ms[m][i]);
+    bk_ui_plot("mesh tree", sweep.worst_ms[0], SWEEP_POINTS, 0, 0.0f, top, 60.0f, "worst step ms");
+    bk_ui_plot("plain BCRB", sweep.worst_ms[1], SWEEP_POINTS, 0, 0.0f, top, 60.0f, "worst step ms");
+    bk_ui_text("fragments  worst step  colliders | plain BCRB");
+    for (int i = 0; i < SWEEP_POINTS; ++i)
+      bk_ui_text("%9u  %7.2f ms  %9u | %7.2f ms  %u", sweep.pieces[i], sweep.worst_ms[0][i],
+                 sweep.colliders[0][i], sweep.worst_ms[1][i], sweep.colliders[1][i]);
+  }
+  bk_ui_end_window();
+}
 static int pieces_setting = 0, seed_setting = 3000, material_preset = -1;
 static double texture_scale_setting = 0.1, bond_strength_setting = 0.0;
 static char status_line[600];
@@ -179,6 +263,11 @@ static void sync_with_scene(bk_game* g) {
 void bk_game_panel(bk_game* g) {
   finish_refracture(g);
   sync_with_scene(g);
+  if (g->start_benchmark) {
+    g->start_benchmark = false;
+    start_sweep(g);
+  }
+  sweep_window();
   if (!bk_ui_begin_window("Breakables", 10.0f, 10.0f, 360.0f, 0.0f, &g->show_panel)) {
     bk_ui_end_window();
     return;
@@ -215,10 +304,20 @@ void bk_game_panel(bk_game* g) {
     bk_ui_checkbox("collider hulls (H)", &g->show_hulls);
   }
   if (bk_ui_collapsing_header("Statistics", true)) stats_section(g);
+  if (bk_ui_collapsing_header("Benchmark", false)) {
+    if (bk_ui_button("run the runtime sweep on this scene")) start_sweep(g);
+    bk_ui_tooltip("16 to 512 fragments, one shot each, mesh tree against plain BCRB (as breakables bench)");
+  }
   bk_ui_end_window();
 }
 
+bool bk_game_panel_busy(void) { return sweep_running(); }
+
 void bk_game_panel_shutdown(void) {
+  if (sweep.running) {
+    pthread_join(sweep.thread, NULL);
+    sweep.running = false;
+  }
   if (!job.running) return;
   pthread_join(job.thread, NULL);
   job.running = false;

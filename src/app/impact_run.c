@@ -1,0 +1,86 @@
+// A measured impact: a scene's first object (or several side by side) hit by
+// one projectile each, with step times before, during and after the break.
+// Shared by `breakables bench` and the game panel's benchmark.
+#include <stdlib.h>
+#include <string.h>
+
+#include "app.h"
+
+static double copy_offset(uint32_t copy, uint32_t copies) {
+  return ((double)copy - 0.5 * (copies - 1)) * BK_IMPACT_SPACING;
+}
+
+bool bk_app_load_scene_tree(uint64_t seed, const bk_scene* scene, uint32_t pieces, bk_mesh_tree* tree,
+                            bk_error* err) {
+  bk_fracture_desc desc = bk_default_fracture_desc();
+  desc.pieces = pieces;
+  desc.seed = seed;
+  desc.aspect_bias = scene->aspect_bias;
+  bool cached = false;
+  return bk_app_load_tree(scene->objects[0].mesh, scene->objects[0].scale, &desc, tree, &cached, err);
+}
+
+/// Adds the object as a breakable with its material, moved along x.
+static bool add_object(bk_world* world, const bk_scene_object* object, const bk_mesh_tree* tree, double x,
+                       bool naive, bk_error* err) {
+  bk_breakable_desc desc = bk_default_breakable_desc();
+  desc.tree = tree;
+  desc.transform.position = bk_v3_add(object->position, bk_v3(x, 0.0, 0.0));
+  desc.transform.rotation = bk_v3_length(object->axis) > 0.0
+                                ? bk_quat_axis_angle(bk_v3_normalize(object->axis), object->angle)
+                                : bk_quat_identity();
+  const bk_material* material = bk_material_find(object->material);
+  if (material) {
+    desc.density = material->density;
+    desc.frailty = material->frailty;
+    desc.bond_strength = material->bond_strength;
+    desc.accumulate = material->accumulate;
+    desc.friction = material->friction;
+    desc.restitution = material->restitution;
+  }
+  desc.anchored = object->anchored;
+  desc.naive = naive;
+  return bk_world_add_breakable(world, &desc, err).generation != 0;
+}
+
+bool bk_impact_run(const bk_impact* setup, bk_impact_result* out, bk_error* err) {
+  memset(out, 0, sizeof *out);
+  bk_world_desc world_desc = bk_default_world_desc();
+  bk_world* world = bk_world_create(&world_desc, err);
+  if (!world) return false;
+  for (uint32_t i = 0; i < setup->copies; ++i) {
+    if (!add_object(world, &setup->scene->objects[0], setup->tree, copy_offset(i, setup->copies),
+                    setup->naive, err)) {
+      bk_world_destroy(world);
+      return false;
+    }
+  }
+  uint32_t after = setup->steps_after > BK_IMPACT_STEADY_STEPS ? setup->steps_after : BK_IMPACT_STEADY_STEPS;
+  uint32_t total = BK_IMPACT_STEADY_STEPS + after;
+  double* step_ms = bk_alloc(sizeof(double) * total);
+  for (uint32_t s = 0; s < total; ++s) {
+    for (uint32_t i = 0; s == BK_IMPACT_STEADY_STEPS && i < setup->copies; ++i) {
+      bk_projectile_desc shot = bk_scene_shot(setup->scene, 0, 0.0);
+      shot.position.x += copy_offset(i, setup->copies);
+      bk_world_fire(world, &shot);
+    }
+    bk_world_step(world);
+    bk_world_stats st = bk_world_get_stats(world);
+    step_ms[s] = st.step_ms;
+    out->nan = out->nan || st.nan;
+    if (s < BK_IMPACT_STEADY_STEPS) continue;
+    out->hit_step_ms = fmax(out->hit_step_ms, st.step_ms);
+    out->hit_physics_ms = fmax(out->hit_physics_ms, st.physics_ms);
+    out->hit_break_ms = fmax(out->hit_break_ms, st.break_ms);
+  }
+  bk_world_stats end = bk_world_get_stats(world);
+  out->bodies = end.bodies;
+  out->colliders = end.colliders;
+  // Each median sorts its range: the last steps first, then everything from the shot on.
+  out->after_ms = bk_median(step_ms + total - BK_IMPACT_STEADY_STEPS, BK_IMPACT_STEADY_STEPS);
+  out->hit_median_ms = bk_median(step_ms + BK_IMPACT_STEADY_STEPS, after);
+  out->before_ms = bk_median(step_ms, BK_IMPACT_STEADY_STEPS);
+  free(step_ms);
+  bk_world_destroy(world);
+  return true;
+}
