@@ -62,6 +62,8 @@ typedef struct bk_loaded_scene {
   bool from_cache; ///< a tree came from the cache directory
 } bk_loaded_scene;
 
+/// A scene object's breakable description: its placement and its material's parameters.
+bk_breakable_desc bk_scene_object_desc(const bk_scene_object* object, const bk_mesh_tree* tree);
 bool bk_loaded_scene_create(const bk_scene* scene, const bk_scene_options* options, bk_loaded_scene* out,
                             bk_error* err);
 void bk_loaded_scene_destroy(bk_loaded_scene* scene);

@@ -23,22 +23,8 @@ bool bk_app_load_scene_tree(uint64_t seed, const bk_scene* scene, uint32_t piece
 /// Adds the object as a breakable with its material, moved along x.
 static bool add_object(bk_world* world, const bk_scene_object* object, const bk_mesh_tree* tree, double x,
                        bool naive, bk_error* err) {
-  bk_breakable_desc desc = bk_default_breakable_desc();
-  desc.tree = tree;
-  desc.transform.position = bk_v3_add(object->position, bk_v3(x, 0.0, 0.0));
-  desc.transform.rotation = bk_v3_length(object->axis) > 0.0
-                                ? bk_quat_axis_angle(bk_v3_normalize(object->axis), object->angle)
-                                : bk_quat_identity();
-  const bk_material* material = bk_material_find(object->material);
-  if (material) {
-    desc.density = material->density;
-    desc.frailty = material->frailty;
-    desc.bond_strength = material->bond_strength;
-    desc.accumulate = material->accumulate;
-    desc.friction = material->friction;
-    desc.restitution = material->restitution;
-  }
-  desc.anchored = object->anchored;
+  bk_breakable_desc desc = bk_scene_object_desc(object, tree);
+  desc.transform.position.x += x;
   desc.naive = naive;
   return bk_world_add_breakable(world, &desc, err).generation != 0;
 }

@@ -9,6 +9,25 @@ bk_scene_options bk_default_scene_options(void) {
   return (bk_scene_options){.seed = 3000, .texture_scale = 0.1, .accumulate = -1};
 }
 
+bk_breakable_desc bk_scene_object_desc(const bk_scene_object* object, const bk_mesh_tree* tree) {
+  bk_breakable_desc desc = bk_default_breakable_desc();
+  desc.tree = tree;
+  desc.transform.position = object->position;
+  if (bk_v3_length(object->axis) > 0.0)
+    desc.transform.rotation = bk_quat_axis_angle(bk_v3_normalize(object->axis), object->angle);
+  const bk_material* material = bk_material_find(object->material);
+  if (material) {
+    desc.density = material->density;
+    desc.frailty = material->frailty;
+    desc.bond_strength = material->bond_strength;
+    desc.accumulate = material->accumulate;
+    desc.friction = material->friction;
+    desc.restitution = material->restitution;
+  }
+  desc.anchored = object->anchored;
+  return desc;
+}
+
 bool bk_loaded_scene_create(const bk_scene* scene, const bk_scene_options* options, bk_loaded_scene* out,
                             bk_error* err) {
   memset(out, 0, sizeof *out);
@@ -33,27 +52,13 @@ bool bk_loaded_scene_create(const bk_scene* scene, const bk_scene_options* optio
     }
     out->tree_count = i + 1;
     out->from_cache = out->from_cache || cached;
-    const bk_material* material = bk_material_find(object->material);
-    bk_breakable_desc bd = bk_default_breakable_desc();
-    bd.tree = &out->trees[i];
-    bd.transform.position = object->position;
-    if (bk_v3_length(object->axis) > 0.0)
-      bd.transform.rotation = bk_quat_axis_angle(bk_v3_normalize(object->axis), object->angle);
-    if (material) {
-      bd.density = material->density;
-      bd.frailty = material->frailty;
-      bd.bond_strength = material->bond_strength;
-      bd.accumulate = material->accumulate;
-      bd.friction = material->friction;
-      bd.restitution = material->restitution;
-    }
+    bk_breakable_desc bd = bk_scene_object_desc(object, &out->trees[i]);
     if (options->frailty > 0.0) bd.frailty = options->frailty;
     if (options->density > 0.0) bd.density = options->density;
     if (options->bond_strength > 0.0) bd.bond_strength = options->bond_strength;
     if (options->accumulate >= 0) bd.accumulate = options->accumulate == 1;
     bd.naive = options->naive;
     bd.convex_colliders = options->convex_colliders;
-    bd.anchored = object->anchored;
     out->ids[i] = bk_world_add_breakable(out->world, &bd, err);
     if (out->ids[i].generation == 0) {
       bk_loaded_scene_destroy(out);
