@@ -119,6 +119,22 @@ static void test_editor(void) {
   ENSURE(s.sky_blue > 20.0 && s.center_spread > 15.0);
 }
 
+// Without a display the game says so in one line and exits 1 (no crash).
+static void test_no_display(void) {
+  char command[1024];
+  snprintf(command, sizeof command, "env -u DISPLAY -u WAYLAND_DISPLAY '%s' play --frames 1 2>&1",
+           BK_BREAKABLES_EXE);
+  FILE* pipe = popen(command, "r");
+  ENSURE(pipe != NULL);
+  size_t n = fread(output, 1, sizeof output - 1, pipe);
+  output[n] = 0;
+  int status = pclose(pipe);
+  ENSURE(WIFEXITED(status) && WEXITSTATUS(status) == 1);
+  ENSURE_MSG(strstr(output, "cannot open a window") != NULL, "%s", output);
+  const char* newline = strchr(output, '\n');
+  ENSURE_MSG(newline && newline[1] == 0, "not one line: %s", output);
+}
+
 static void test_bad_options(void) {
   ENSURE(run("play --scene castle --frames 1") == 2);
   ENSURE(run("play --frames 0") == 2);
@@ -131,6 +147,7 @@ int main(void) {
     fprintf(stderr, "xvfb-run is missing: scripts/setup.sh installs it\n");
     return 1;
   }
+  RUN(test_no_display);
   RUN(test_bad_options);
   RUN(test_editor);
   RUN(test_scenes);

@@ -62,14 +62,21 @@ int bk_parse_window_option(const char* command, int argc, char** argv, int* i, b
   }
 }
 
+// GLFW reports why it could not start through this callback: keep the reason
+// for our own one-line error; once a window is open, print what comes.
+static char glfw_reason[256];
+static bool window_is_open;
+
 static void glfw_error(int code, const char* message) {
-  fprintf(stderr, "breakables: GLFW error %d: %s\n", code, message);
+  snprintf(glfw_reason, sizeof glfw_reason, "%s", message);
+  if (window_is_open) fprintf(stderr, "breakables: GLFW error %d: %s\n", code, message);
 }
 
 bool bk_window_open(const char* title, const bk_window_options* o, void** window_out,
                     bk_renderer** renderer_out, bk_error* err) {
   glfwSetErrorCallback(glfw_error);
-  if (!glfwInit()) return bk_error_set(err, "cannot start GLFW (is there a display? try xvfb-run)");
+  if (!glfwInit())
+    return bk_error_set(err, "cannot open a window: %s (is there a display? try xvfb-run)", glfw_reason);
   glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
   glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
   glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
@@ -96,6 +103,7 @@ bool bk_window_open(const char* title, const bk_window_options* o, void** window
   }
   *window_out = window;
   *renderer_out = renderer;
+  window_is_open = true;
   return true;
 }
 
@@ -112,6 +120,7 @@ static int pin_gl_driver(struct dl_phdr_info* info, size_t size, void* unused) {
 }
 
 void bk_window_close(void* window, bk_renderer* renderer) {
+  window_is_open = false;
   bk_renderer_destroy(renderer);
   glfwDestroyWindow((GLFWwindow*)window);
   dl_iterate_phdr(pin_gl_driver, NULL);
