@@ -400,19 +400,28 @@ static void make_stone_interior(Canvas* cv) {
   }
 }
 
+/* Equal rows of equal blocks; odd rows shifted by `stagger` of a block (running bond). */
+static Layout grid_layout(int rows, int columns, float stagger) {
+  Layout l = {.rows = rows};
+  for (int r = 0; r <= rows; r++)
+    l.y[r] = (float)r / (float)rows;
+  for (int r = 0; r < rows; r++) {
+    l.cuts[r] = columns;
+    for (int i = 0; i < columns; i++)
+      l.x[r][i] = ((float)i + stagger * (float)(r & 1)) / (float)columns;
+  }
+  return l;
+}
+
 /* ------------------------------------------------------------------------ */
 /* Brick: running bond, 4 bricks across, 8 courses                           */
 
 static void make_brick(Canvas* cv) {
-  Layout l = {.rows = 8};
-  for (int r = 0; r <= 8; r++)
-    l.y[r] = (float)r / 8.0f;
-  for (int r = 0; r < 8; r++) {
-    l.cuts[r] = 4;
+  Layout l = grid_layout(8, 4, 0.5f);
+  // Hand-laid: joints wander by up to a texel and a half.
+  for (int r = 0; r < 8; r++)
     for (int i = 0; i < 4; i++)
-      l.x[r][i] = ((float)i + 0.5f * (float)(r & 1)) / 4.0f +
-                  (hashf((uint32_t)r, (uint32_t)i, 61u) - 0.5f) * (3.0f / N);
-  }
+      l.x[r][i] += (hashf((uint32_t)r, (uint32_t)i, 61u) - 0.5f) * (3.0f / N);
   layout_sort(&l);
 
   static const float palette[6][3] = {{146, 64, 45}, {158, 76, 52}, {128, 56, 41},
@@ -716,14 +725,7 @@ static void make_wood_interior(Canvas* cv) {
 /* Ground: stone paving slabs (4 x 4) with dirt and moss in the joints       */
 
 static void make_ground(Canvas* cv) {
-  Layout l = {.rows = 4};
-  for (int r = 0; r <= 4; r++)
-    l.y[r] = (float)r / 4.0f;
-  for (int r = 0; r < 4; r++) {
-    l.cuts[r] = 4;
-    for (int i = 0; i < 4; i++)
-      l.x[r][i] = (float)i / 4.0f;
-  }
+  Layout l = grid_layout(4, 4, 0.0f);
   layout_sort(&l);
   static const float palette[5][3] = {
       {150, 144, 132}, {138, 132, 122}, {160, 150, 134}, {128, 124, 118}, {146, 136, 120}};
