@@ -531,6 +531,11 @@ static void test_validation(void) {
   d.transform.position.z = NAN;
   expect_body_error(w, &d, "transform");
   d = good;
+  d.rolling_friction = -0.01;
+  expect_body_error(w, &d, "rolling_friction");
+  d.rolling_friction = NAN;
+  expect_body_error(w, &d, "rolling_friction");
+  d = good;
   d.shape = bk_physics_create_plane(w, bk_v3(0, 1, 0), 0.0);
   expect_body_error(w, &d, "mass"); // planes are static only
   ENSURE(bk_physics_body_count(w) == 0);
@@ -633,6 +638,110 @@ static void test_churn(void) {
   bk_physics_destroy(w);
 }
 
+/// A small box body (half extents h) at p.
+static bk_body_id make_small_box(bk_physics* w, bk_vec3 h, bk_vec3 p, double friction, double rolling) {
+  bk_body_desc d = bk_default_body_desc();
+  d.shape = bk_physics_create_box(w, h);
+  d.mass = 8.0 * h.x * h.y * h.z * 2400.0;
+  d.inertia = box_inertia(d.mass, h);
+  d.transform.position = p;
+  d.friction = friction;
+  d.rolling_friction = rolling;
+  bk_error err = {{0}};
+  bk_body_id body = bk_physics_create_body(w, &d, &err);
+  ENSURE_MSG(!bk_body_is_null(body), "%s", err.message);
+  return body;
+}
+
+// Bodies whose boxes are a few centimetres apart are broadphase pairs (the
+// tree's boxes are fattened) but get no narrowphase work and no manifold.
+static void test_near_pairs_skip_narrowphase(void) {
+  bk_error err = {{0}};
+  bk_physics_desc desc = bk_default_physics_desc();
+  desc.use_zero_gravity = true;
+  bk_physics* w = bk_physics_create(&desc, &err);
+  ENSURE_MSG(w, "%s", err.message);
+  const bk_vec3 h = bk_v3(0.05, 0.05, 0.05);
+  // A row of 10 cm cubes, 3 cm apart: far enough to never touch, close
+  // enough for Bullet's fattened boxes (5 cm margin) to overlap.
+  for (int i = 0; i < 8; ++i)
+    make_small_box(w, h, bk_v3(0.13 * i, 1.0, 0.0), 0.6, 0.0);
+  for (int i = 0; i < 10; ++i)
+    bk_physics_step(w, dt, 1);
+  bk_physics_stats s = bk_physics_get_stats(w);
+  ENSURE(s.bodies == 8);
+  ENSURE_MSG(s.pairs >= 7, "pairs %u", s.pairs);
+  ENSURE_MSG(s.manifolds == 0, "manifolds %u for bodies 3 cm apart", s.manifolds);
+  ENSURE(s.contact_points == 0);
+  // Touching cubes do get manifolds with points.
+  bk_physics_destroy(w);
+  w = make_world();
+  make_ground(w);
+  for (int i = 0; i < 4; ++i)
+    make_small_box(w, h, bk_v3(0.1 * i, 0.05, 0.0), 0.6, 0.0);
+  for (int i = 0; i < 30; ++i)
+    bk_physics_step(w, dt, 1);
+  s = bk_physics_get_stats(w);
+  ENSURE_MSG(s.manifolds >= 4 && s.contact_points >= 16, "manifolds %u points %u", s.manifolds,
+             s.contact_points);
+  bk_physics_destroy(w);
+}
+
+// A heap of small shards comes to rest and sleeps within a few seconds, and
+// it sleeps even while a body elsewhere (not touching it) keeps moving:
+// islands are formed by contacts, not by overlapping boxes.
+static void test_piles_sleep(void) {
+  bk_physics* w = make_world();
+  make_ground(w);
+  bk_rng rng = bk_rng_seed(7, 1);
+  enum { SHARDS = 60 };
+  bk_body_id shards[SHARDS];
+  for (int i = 0; i < SHARDS; ++i) {
+    bk_vec3 h = bk_v3(range(&rng, 0.02, 0.05), range(&rng, 0.01, 0.03), range(&rng, 0.02, 0.05));
+    bk_vec3 p = bk_v3(range(&rng, -0.3, 0.22), 0.05 + 0.06 * (i / 6), range(&rng, -0.3, 0.3));
+    shards[i] = make_small_box(w, h, p, 0.7, 0.1 * cbrt(8.0 * h.x * h.y * h.z));
+  }
+  // A frictionless puck spinning in place forever, a few centimetres from
+  // the heap: near enough for the broadphase to pair it with shards, which
+  // made Bullet's islands (built from those pairs) keep the heap awake.
+  bk_body_desc d = bk_default_body_desc();
+  bk_vec3 ph = bk_v3(0.1, 0.02, 0.1);
+  d.shape = bk_physics_create_box(w, ph);
+  d.mass = 1.0;
+  d.inertia = box_inertia(1.0, ph);
+  d.transform.position = bk_v3(0.47, 0.02, 0.0);
+  d.angular_velocity = bk_v3(0.0, 3.0, 0.0);
+  d.friction = 0.0;
+  d.disable_sleep = true;
+  bk_error err = {{0}};
+  bk_body_id puck = bk_physics_create_body(w, &d, &err);
+  ENSURE_MSG(!bk_body_is_null(puck), "%s", err.message);
+  int slept_at = -1;
+  for (int step = 0; step < 8 * 60 && slept_at < 0; ++step) {
+    bk_physics_step(w, dt, 1);
+    bool any_awake = false;
+    for (int i = 0; i < SHARDS; ++i)
+      any_awake = any_awake || bk_physics_body_awake(w, shards[i]);
+    if (!any_awake) slept_at = step;
+  }
+  ENSURE_MSG(slept_at >= 0, "the heap of %d shards was still awake after 8 s", SHARDS);
+  ENSURE(bk_physics_body_awake(w, puck));
+  bk_physics_stats s = bk_physics_get_stats(w);
+  ENSURE_MSG(s.awake_bodies == 1, "awake %u", s.awake_bodies);
+  ENSURE_MSG(s.pairs > (uint32_t)SHARDS, "pairs %u: the puck should be near the heap", s.pairs);
+  // Sleeping shards still lie on the ground, none fell through.
+  for (int i = 0; i < SHARDS; ++i) {
+    double y = bk_physics_body_transform(w, shards[i]).position.y;
+    ENSURE_MSG(y > 0.0 && y < 0.5, "shard %d at y %g", i, y);
+  }
+  // A hit on the heap wakes it.
+  bk_physics_body_apply_impulse(w, shards[0], bk_v3(0.0, 0.5, 0.0),
+                                bk_physics_body_transform(w, shards[0]).position);
+  bk_physics_step(w, dt, 1);
+  ENSURE(bk_physics_body_awake(w, shards[0]));
+  bk_physics_destroy(w);
+}
+
 int main(void) {
   RUN(test_defaults);
   RUN(test_fall_and_rest);
@@ -646,6 +755,8 @@ int main(void) {
   RUN(test_validation);
   RUN(test_ray_cast);
   RUN(test_churn);
+  RUN(test_near_pairs_skip_narrowphase);
+  RUN(test_piles_sleep);
   fprintf(stderr, "test_physics: all passed\n");
   return 0;
 }

@@ -28,7 +28,8 @@ static const char* const sim_usage =
     "  --json           print one JSON object: scene, pieces, bodies_initial, bodies_final,\n"
     "                   break_events, bonds_broken, colliders_initial, colliders_final,\n"
     "                   colliders_naive_final, step_ms_median, step_ms_max, break_ms_median,\n"
-    "                   break_ms_max, mass_rel_error, nan, fragments_free, from_cache\n"
+    "                   break_ms_max, step_ms_last_second, awake_final, pairs_final,\n"
+    "                   manifolds_final, mass_rel_error, nan, fragments_free, from_cache\n"
     "  -h, --help       show this help\n"
     "\n"
     "Mesh trees are cached in $BREAKABLES_CACHE_DIR (else $XDG_CACHE_HOME/breakables,\n"
@@ -141,6 +142,9 @@ int bk_cmd_sim(int argc, char** argv) {
   bk_world_stats final = bk_world_get_stats(loaded.world);
   double mass_error = fabs(final.total_mass - initial.total_mass) / initial.total_mass;
   double step_max = maximum(step_ms, (uint32_t)steps), break_max = maximum(break_ms, break_steps);
+  // The last second alone: the steady cost of what the shots left behind.
+  uint32_t tail = steps < 60 ? (uint32_t)steps : 60;
+  double last_median = bk_median(step_ms + (steps - tail), tail);
   double step_median = bk_median(step_ms, (uint32_t)steps), break_median = bk_median(break_ms, break_steps);
   uint32_t pieces = 0;
   for (uint32_t i = 0; i < loaded.tree_count; ++i)
@@ -151,10 +155,12 @@ int bk_cmd_sim(int argc, char** argv) {
         "\"bodies_final\": %u, \"break_events\": %u, \"bonds_broken\": %u, \"colliders_initial\": %u, "
         "\"colliders_final\": %u, \"colliders_naive_final\": %u, \"fragments_free\": %u, "
         "\"step_ms_median\": %.4f, \"step_ms_max\": %.4f, \"break_ms_median\": %.4f, \"break_ms_max\": %.4f, "
+        "\"step_ms_last_second\": %.4f, \"awake_final\": %u, \"pairs_final\": %u, \"manifolds_final\": %u, "
         "\"mass_rel_error\": %.3e, \"nan\": %s, \"from_cache\": %s}\n",
         scene->name, pieces, fired, (unsigned long long)steps, initial.bodies, final.bodies,
         final.break_events, final.bonds_broken, initial.colliders, final.colliders, final.colliders_naive,
-        final.fragments_free, step_median, step_max, break_median, break_max, mass_error,
+        final.fragments_free, step_median, step_max, break_median, break_max, last_median,
+        final.physics.awake_bodies, final.physics.pairs, final.physics.manifolds, mass_error,
         final.nan ? "true" : "false", loaded.from_cache ? "true" : "false");
   } else {
     printf("%s: %u fragments, %u shots over %llu steps (%.1f s)\n", scene->name, pieces, fired,
@@ -165,6 +171,9 @@ int bk_cmd_sim(int argc, char** argv) {
            final.colliders_naive);
     printf("  step ms median %.3f max %.3f; break handling ms median %.3f max %.3f\n", step_median, step_max,
            break_median, break_max);
+    printf("  last second: step ms median %.3f, %u bodies awake, %u pairs, %u manifolds, %u contact points\n",
+           last_median, final.physics.awake_bodies, final.physics.pairs, final.physics.manifolds,
+           final.physics.contact_points);
     printf("  mass error %.2e%s\n", mass_error, final.nan ? ", NaN detected" : "");
   }
   free(step_ms);

@@ -50,6 +50,16 @@ bk_physics* bk_physics_create(const bk_physics_desc* desc, bk_error* err);
 void bk_physics_destroy(bk_physics* world);
 void bk_physics_set_gravity(bk_physics* world, bk_vec3 gravity);
 bk_vec3 bk_physics_gravity(const bk_physics* world);
+/// What the last step worked on (for statistics and tuning).
+typedef struct bk_physics_stats {
+  uint32_t bodies;         ///< rigid bodies in the world
+  uint32_t awake_bodies;   ///< dynamic bodies that were simulated (not asleep)
+  uint32_t pairs;          ///< broadphase pairs (bounding boxes overlapping)
+  uint32_t manifolds;      ///< narrowphase pairs with a contact manifold
+  uint32_t contact_points; ///< points in those manifolds
+} bk_physics_stats;
+
+bk_physics_stats bk_physics_get_stats(const bk_physics* world);
 /// Advances by dt in fixed substeps (at most max_substeps); returns the
 /// substeps taken. Contacts of every substep are collected for bk_physics_contacts.
 int bk_physics_step(bk_physics* world, double dt, int max_substeps);
@@ -94,6 +104,10 @@ typedef struct bk_body_desc {
   bk_vec3 linear_velocity, angular_velocity;
   double friction;    ///< default 0.6
   double restitution; ///< default 0.1
+  /// Resistance to rolling and spinning on a contact (torque per normal
+  /// force, in metres); 0 = none. Debris needs it to come to rest: a rounded
+  /// shard otherwise rolls on for seconds and keeps its whole pile awake.
+  double rolling_friction;
   double linear_damping, angular_damping;
   bool ccd;          ///< continuous collision detection, for fast small bodies
   double ccd_radius; ///< swept sphere radius for CCD (default: from the shape's bounds)

@@ -7,12 +7,14 @@
 // as a plain array until the next step.
 #include "bk_physics.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
 #include <new>
 #include <vector>
 
+#include <BulletCollision/CollisionDispatch/btSimulationIslandManager.h>
 #include <LinearMath/btConvexHull.h>
 #include <LinearMath/btConvexHullComputer.h>
 #include <btBulletDynamicsCommon.h>
@@ -23,6 +25,12 @@ const double default_gravity_y = -9.81;
 const double default_fixed_dt = 1.0 / 60.0;
 const uint32_t default_contact_capacity = 65536;
 const double default_margin = 0.004;
+// Sleeping: Bullet's speeds, a shorter calm time (2 s by default), and an
+// angular threshold that follows the body's size (see bk_physics_create_body).
+const double sleep_time = 0.5;
+const double sleep_linear_speed = 0.8;
+const double sleep_angular_speed = 1.0;
+const double sleep_edge_speed = 0.25;
 const double default_friction = 0.6;
 const double default_restitution = 0.1;
 const uint32_t max_hull_vertices = 64;
@@ -199,12 +207,57 @@ std::vector<btVector3> simplify_hull(const std::vector<btVector3>& points, uint3
 
 } // namespace
 
+namespace {
+
+// Bullet forms simulation islands from broadphase pairs, that is from
+// overlapping fattened boxes: a field of debris becomes one island, and one
+// shard still rocking anywhere keeps every other shard awake. Here islands
+// are formed by manifolds that hold contact points, so each pile sleeps on
+// its own. Waking is unchanged: a body that touches a sleeping one makes a
+// contact, which joins the two islands, and an island with an awake member
+// wakes as a whole.
+class ContactIslandManager : public btSimulationIslandManager {
+public:
+  void updateActivationState(btCollisionWorld* world, btDispatcher* dispatcher) override {
+    btCollisionObjectArray& objects = world->getCollisionObjectArray();
+    int index = 0;
+    for (int i = 0; i < objects.size(); ++i) {
+      btCollisionObject* object = objects[i];
+      if (!object->isStaticOrKinematicObject()) object->setIslandTag(index++);
+      object->setCompanionId(-1);
+      object->setHitFraction(btScalar(1));
+    }
+    initUnionFind(index);
+    for (int m = 0; m < dispatcher->getNumManifolds(); ++m) {
+      const btPersistentManifold* manifold = dispatcher->getManifoldByIndexInternal(m);
+      const btCollisionObject* a = manifold->getBody0();
+      const btCollisionObject* b = manifold->getBody1();
+      if (manifold->getNumContacts() > 0 && a->mergesSimulationIslands() && b->mergesSimulationIslands())
+        getUnionFind().unite(a->getIslandTag(), b->getIslandTag());
+    }
+  }
+};
+
+class World : public btDiscreteDynamicsWorld {
+public:
+  World(btDispatcher* dispatcher, btBroadphaseInterface* broadphase, btConstraintSolver* solver,
+        btCollisionConfiguration* configuration)
+      : btDiscreteDynamicsWorld(dispatcher, broadphase, solver, configuration) {
+    // Replaced the way the base class made it, so that its destructor frees it.
+    m_islandManager->~btSimulationIslandManager();
+    btAlignedFree(m_islandManager);
+    m_islandManager = new (btAlignedAlloc(sizeof(ContactIslandManager), 16)) ContactIslandManager();
+  }
+};
+
+} // namespace
+
 struct bk_physics {
   btDefaultCollisionConfiguration configuration;
   btCollisionDispatcher dispatcher{&configuration};
   btDbvtBroadphase broadphase;
   btSequentialImpulseConstraintSolver solver;
-  btDiscreteDynamicsWorld world{&dispatcher, &broadphase, &solver, &configuration};
+  World world{&dispatcher, &broadphase, &solver, &configuration};
 
   SlotTable<ShapeSlot> shapes;
   SlotTable<BodySlot> bodies;
@@ -347,6 +400,36 @@ void post_tick(btDynamicsWorld* world, btScalar) {
   static_cast<bk_physics*>(world->getWorldUserInfo())->collect_contacts();
 }
 
+// The dynamic AABB tree pairs proxies by their fattened volumes (5 cm of
+// margin plus predicted motion, so the tree is rebuilt less often). A pile of
+// 10 cm fragments then has ~35 pairs per body, most of them several
+// centimetres apart, and each would pay for a GJK query every substep. The
+// exact boxes (shape bounds grown by the contact threshold) are kept on the
+// proxies: pairs whose exact boxes are apart skip the narrowphase, and an
+// algorithm left from an earlier touch is freed with its manifold (its points
+// are further apart than any contact threshold), so that the solver, the
+// island builder and the contact report walk only pairs that can touch.
+const btScalar pair_gap = btScalar(0.005);
+
+void near_callback(btBroadphasePair& pair, btCollisionDispatcher& dispatcher, const btDispatcherInfo& info) {
+  const btBroadphaseProxy* a = pair.m_pProxy0;
+  const btBroadphaseProxy* b = pair.m_pProxy1;
+  // Bullet grows every box by gContactBreakingThreshold (2 cm); 5 mm of that
+  // is kept: contact points of resting fragments are born within ~2 mm, and
+  // fast bodies' boxes already cover their motion over the substep.
+  const btScalar shrink = btMax(gContactBreakingThreshold - pair_gap, btScalar(0));
+  const btVector3 s(shrink, shrink, shrink);
+  if (!TestAabbAgainstAabb2(a->m_aabbMin + s, a->m_aabbMax - s, b->m_aabbMin + s, b->m_aabbMax - s)) {
+    if (pair.m_algorithm) {
+      pair.m_algorithm->~btCollisionAlgorithm();
+      dispatcher.freeCollisionAlgorithm(pair.m_algorithm);
+      pair.m_algorithm = nullptr;
+    }
+    return;
+  }
+  btCollisionDispatcher::defaultNearCallback(pair, dispatcher, info);
+}
+
 } // namespace
 
 // ---------------------------------------------------------------- world
@@ -404,6 +487,9 @@ bk_physics* bk_physics_create(const bk_physics_desc* desc, bk_error* err) {
   // ~10 ms to ~100 ms a step), and persistent manifolds fill up within a few
   // steps anyway.
   w->configuration.setPlaneConvexMultipointIterations();
+  // Bullet keeps this one setting in a global; every world here uses the same value.
+  gDeactivationTime = (btScalar)sleep_time;
+  w->dispatcher.setNearCallback(near_callback);
   w->world.setInternalTickCallback(pre_tick, w, true);
   w->world.setInternalTickCallback(post_tick, w, false);
   return w;
@@ -448,6 +534,22 @@ int bk_physics_step(bk_physics* w, double dt, int max_substeps) {
   for (int i = 0; i < substeps; ++i)
     w->world.stepSimulation(h, 1, h);
   return substeps;
+}
+
+bk_physics_stats bk_physics_get_stats(const bk_physics* w) {
+  bk_physics_stats s = {};
+  if (!w) return s;
+  const btCollisionObjectArray& objects = w->world.getCollisionObjectArray();
+  s.bodies = (uint32_t)objects.size();
+  for (int i = 0; i < objects.size(); ++i)
+    s.awake_bodies += !objects[i]->isStaticOrKinematicObject() && objects[i]->isActive();
+  // Bullet's getters are not const; nothing is changed here.
+  bk_physics* m = const_cast<bk_physics*>(w);
+  s.pairs = (uint32_t)m->broadphase.getOverlappingPairCache()->getNumOverlappingPairs();
+  s.manifolds = (uint32_t)m->dispatcher.getNumManifolds();
+  for (int i = 0; i < m->dispatcher.getNumManifolds(); ++i)
+    s.contact_points += (uint32_t)m->dispatcher.getManifoldByIndexInternal(i)->getNumContacts();
+  return s;
 }
 
 // ---------------------------------------------------------------- shapes
@@ -643,6 +745,7 @@ bool validate_body(const bk_physics* w, const bk_body_desc* d, bk_error* err) {
   if (!check_finite(d->linear_velocity, "linear_velocity", err) ||
       !check_finite(d->angular_velocity, "angular_velocity", err) ||
       !check_finite(d->friction, "friction", err) || !check_finite(d->restitution, "restitution", err) ||
+      !check_finite(d->rolling_friction, "rolling_friction", err) ||
       !check_finite(d->linear_damping, "linear_damping", err) ||
       !check_finite(d->angular_damping, "angular_damping", err) ||
       !check_finite(d->ccd_radius, "ccd_radius", err))
@@ -650,6 +753,8 @@ bool validate_body(const bk_physics* w, const bk_body_desc* d, bk_error* err) {
   if (d->friction < 0.0) return bk_error_set(err, "body: friction must be >= 0 (got %g)", d->friction);
   if (d->restitution < 0.0)
     return bk_error_set(err, "body: restitution must be >= 0 (got %g)", d->restitution);
+  if (d->rolling_friction < 0.0)
+    return bk_error_set(err, "body: rolling_friction must be >= 0 (got %g)", d->rolling_friction);
   if (!(d->linear_damping >= 0.0 && d->linear_damping <= 1.0))
     return bk_error_set(err, "body: linear_damping must be in [0, 1] (got %g)", d->linear_damping);
   if (!(d->angular_damping >= 0.0 && d->angular_damping <= 1.0))
@@ -690,6 +795,22 @@ bk_body_id bk_physics_create_body(bk_physics* w, const bk_body_desc* desc, bk_er
   info.m_restitution = (btScalar)(d.restitution == 0.0 ? default_restitution : d.restitution);
   info.m_linearDamping = (btScalar)d.linear_damping;
   info.m_angularDamping = (btScalar)d.angular_damping;
+  info.m_rollingFriction = (btScalar)d.rolling_friction;
+  info.m_spinningFriction = (btScalar)d.rolling_friction;
+  if (dynamic) {
+    // A body sleeps after sleep_time below both thresholds. Bullet's angular
+    // threshold (1 rad/s) is fixed whatever the size, but a pile of 5 cm
+    // shards buzzes at 1-3 rad/s (up to 0.2 m/s at their bounding spheres) and never
+    // sleeps. The angular threshold here is the same edge speed for every
+    // size, never below Bullet's: shards settle, a toppling slab does not
+    // freeze mid-fall.
+    btVector3 center;
+    btScalar radius = 0;
+    shape.shape->getBoundingSphere(center, radius);
+    info.m_linearSleepingThreshold = (btScalar)sleep_linear_speed;
+    info.m_angularSleepingThreshold =
+        (btScalar)std::max(sleep_angular_speed, sleep_edge_speed / std::max((double)radius, 1e-3));
+  }
   btRigidBody* body = new btRigidBody(info);
   body->setUserIndex((int)index);
   if (dynamic) {

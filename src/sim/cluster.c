@@ -179,6 +179,9 @@ bool bk_cluster_build(bk_world* w, uint32_t slot, bk_transform tree_to_world, bk
   }
   desc.friction = b->friction;
   desc.restitution = b->restitution;
+  // A tenth of the body's size: shards stop rolling within a second, while
+  // a wall section still topples as it should.
+  desc.rolling_friction = 0.1 * cbrt(c->mass / b->density);
   desc.user_data = BK_USER_CLUSTER | slot;
   c->previous = tree_to_world;
   c->born = w->step_count;
