@@ -78,11 +78,16 @@ void bk_loaded_scene_destroy(bk_loaded_scene* s) {
 bk_projectile_desc bk_scene_shot(const bk_scene* scene, uint32_t shot, double speed) {
   // Later shots land around the target on a golden-angle spiral, so a volley
   // spreads its damage instead of hitting one hole.
-  bk_vec3 forward = bk_v3_normalize(bk_v3_sub(scene->target, scene->eye)), right, up;
+  // With several aim points the shots take them in turn, each one keeping
+  // its own spiral.
+  uint32_t targets = 1 + scene->extra_target_count;
+  bk_vec3 target = shot % targets == 0 ? scene->target : scene->extra_targets[shot % targets - 1];
+  uint32_t round = shot / targets;
+  bk_vec3 forward = bk_v3_normalize(bk_v3_sub(target, scene->eye)), right, up;
   bk_plane_basis(forward, &right, &up);
-  double radius = 0.12 * sqrt((double)shot), angle = 2.39996322972865332 * shot;
-  bk_vec3 aim = bk_v3_add(scene->target, bk_v3_add(bk_v3_scale(right, radius * cos(angle)),
-                                                   bk_v3_scale(up, radius * sin(angle))));
+  double radius = 0.12 * sqrt((double)round), angle = 2.39996322972865332 * round;
+  bk_vec3 aim = bk_v3_add(
+      target, bk_v3_add(bk_v3_scale(right, radius * cos(angle)), bk_v3_scale(up, radius * sin(angle))));
   bk_vec3 direction = bk_v3_normalize(bk_v3_sub(aim, scene->eye));
   return (bk_projectile_desc){.position = scene->eye,
                               .velocity =

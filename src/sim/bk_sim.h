@@ -202,6 +202,9 @@ typedef struct bk_scene {
   bk_scene_object objects[8];
   uint32_t object_count;
   bk_vec3 eye, target; ///< camera and the point projectiles aim at
+  /// More aim points (optional): a volley goes round target, then these, in turn.
+  bk_vec3 extra_targets[7];
+  uint32_t extra_target_count;
   double projectile_speed, projectile_radius, projectile_mass;
 } bk_scene;
 

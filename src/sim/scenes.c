@@ -88,6 +88,9 @@ static const bk_scene scenes[] = {
      .object_count = 5,
      .eye = {0.0, 1.6, 5.5},
      .target = {0.0, 0.7, -0.6},
+     // Volleys go round the objects: the wall, the pillar, the bunny, the egg, the slab.
+     .extra_targets = {{-2.2, 1.1, 0.2}, {1.6, 0.45, 0.5}, {-0.9, 0.35, 1.0}, {2.4, 0.1, 0.9}},
+     .extra_target_count = 4,
      .projectile_speed = 35.0,
      .projectile_radius = 0.09,
      .projectile_mass = 6.0},
