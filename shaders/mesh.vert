@@ -1,13 +1,16 @@
 #version 330 core
-// Fragments and the ground: world-space lighting inputs plus the light-space
-// position for the shadow lookup.
+// Fragments, projectiles and the ground: world-space lighting inputs plus the
+// light-space position for the shadow lookup. Each vertex names its row in a
+// node table (per node: the three rows of its body's model matrix and an
+// overlay colour), so every body of a tree draws in one call.
 layout(location = 0) in vec3 in_position;
 layout(location = 1) in vec3 in_normal;
 layout(location = 2) in vec2 in_uv;
 layout(location = 3) in vec4 in_tangent;
 layout(location = 4) in float in_interior;
+layout(location = 5) in uint in_node;
 
-uniform mat4 u_model;
+uniform samplerBuffer u_nodes;
 uniform mat4 u_view_projection;
 uniform mat4 u_light_view_projection;
 uniform float u_uv_scale;
@@ -18,15 +21,20 @@ out vec4 v_tangent;
 out vec2 v_uv;
 out float v_interior;
 out vec4 v_light_position;
+flat out vec4 v_highlight; // overlay rgb, strength; one per node, so no interpolation
 
 void main() {
-  vec4 world = u_model * vec4(in_position, 1.0);
-  mat3 rotation = mat3(u_model);
+  int row = int(in_node) * 4;
+  mat4 model = transpose(mat4(texelFetch(u_nodes, row), texelFetch(u_nodes, row + 1),
+                              texelFetch(u_nodes, row + 2), vec4(0.0, 0.0, 0.0, 1.0)));
+  vec4 world = model * vec4(in_position, 1.0);
+  mat3 rotation = mat3(model);
   v_position = world.xyz;
   v_normal = rotation * in_normal;
   v_tangent = vec4(rotation * in_tangent.xyz, in_tangent.w);
   v_uv = in_uv * u_uv_scale;
   v_interior = in_interior;
+  v_highlight = texelFetch(u_nodes, row + 3);
   v_light_position = u_light_view_projection * world;
   gl_Position = u_view_projection * world;
 }

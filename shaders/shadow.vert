@@ -1,5 +1,12 @@
 #version 330 core
+// Depth only; vertices are placed through the node table as in mesh.vert.
 layout(location = 0) in vec3 in_position;
-uniform mat4 u_model;
+layout(location = 5) in uint in_node;
+uniform samplerBuffer u_nodes;
 uniform mat4 u_light_view_projection;
-void main() { gl_Position = u_light_view_projection * u_model * vec4(in_position, 1.0); }
+void main() {
+  int row = int(in_node) * 4;
+  mat4 model = transpose(mat4(texelFetch(u_nodes, row), texelFetch(u_nodes, row + 1),
+                              texelFetch(u_nodes, row + 2), vec4(0.0, 0.0, 0.0, 1.0)));
+  gl_Position = u_light_view_projection * model * vec4(in_position, 1.0);
+}

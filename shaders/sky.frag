@@ -1,14 +1,11 @@
 #version 330 core
-in vec2 v_ndc;
-uniform mat4 u_inverse_view_projection;
+in vec3 v_ray;
 uniform vec3 u_sun_direction;
 uniform vec3 u_sky_color;
 uniform vec3 u_horizon_color;
 out vec4 out_color;
 void main() {
-  vec4 far_point = u_inverse_view_projection * vec4(v_ndc, 1.0, 1.0);
-  vec4 near_point = u_inverse_view_projection * vec4(v_ndc, -1.0, 1.0);
-  vec3 ray = normalize(far_point.xyz / far_point.w - near_point.xyz / near_point.w);
+  vec3 ray = normalize(v_ray);
   float up = clamp(ray.y, -0.2, 1.0);
   vec3 color = mix(u_horizon_color, u_sky_color, sqrt(max(up, 0.0)));
   // Sun disc and glow without pow(): it costs on software renderers.

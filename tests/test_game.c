@@ -81,7 +81,8 @@ static void test_scene(const char* scene) {
            "play --scene %s --frames 120 --autofire 3 --screenshot '%s' --width 640 --height 360", scene,
            shot);
   ENSURE_MSG(run(args) == 0, "scene %s", scene);
-  // "frames 120, bodies B (from B0), fragments free F, mean frame ms M, shots 3, gl errors none"
+  // "frames 120, bodies B (from B0), fragments free F, mean frame ms M (last second L, physics P),
+  // shots 3, gl errors none"
   unsigned frames = 0, bodies = 0, from = 0;
   ENSURE_MSG(sscanf(output, "frames %u, bodies %u (from %u)", &frames, &bodies, &from) == 3, "summary: %s",
              output);

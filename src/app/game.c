@@ -330,7 +330,7 @@ int bk_cmd_play(int argc, char** argv) {
   }
   uint32_t bodies_start = bk_world_body_count(g->scene.world);
   const double fixed = 1.0 / 60.0;
-  double last = glfwGetTime(), frame_ms_sum = 0.0;
+  double last = glfwGetTime(), frame_ms_sum = 0.0, physics_ms_sum = 0.0, last_ms_sum = 0.0;
   unsigned gl_error = 0;
   uint32_t frame = 0, fired = 0;
   int status = 0;
@@ -357,6 +357,7 @@ int bk_cmd_play(int argc, char** argv) {
       bk_projectile_desc shot = bk_scene_shot(g->scene.scene, fired++, g->projectile_speed);
       bk_world_fire(g->scene.world, &shot);
     }
+    double physics_start = glfwGetTime();
     if (!g->paused) g->accumulator += dt * g->time_scale;
     if (g->step_once) {
       g->accumulator += fixed;
@@ -369,6 +370,7 @@ int bk_cmd_play(int argc, char** argv) {
       steps++;
     }
     if (steps == 4) g->accumulator = 0.0; // far behind: drop time rather than spiral
+    double physics_ms = (glfwGetTime() - physics_start) * 1e3;
     double alpha = g->accumulator / fixed;
     uint32_t particles = bk_particles_update(&g->particles, g->paused ? 0.0 : dt * g->time_scale);
 
@@ -398,13 +400,17 @@ int bk_cmd_play(int argc, char** argv) {
     glfwSwapBuffers(g->window);
     double frame_ms = (glfwGetTime() - now) * 1e3;
     frame_ms_sum += frame_ms;
+    physics_ms_sum += physics_ms;
+    if (wo.frames && frame + 60 >= wo.frames) last_ms_sum += frame_ms; // the last second
     record_history(g, frame_ms);
     frame++;
   }
   bk_world_stats s = bk_world_get_stats(g->scene.world);
   if (wo.frames)
-    printf("frames %u, bodies %u (from %u), fragments free %u, mean frame ms %.2f, shots %u, gl errors %s\n",
+    printf("frames %u, bodies %u (from %u), fragments free %u, mean frame ms %.2f (last second %.2f, "
+           "physics %.2f), shots %u, gl errors %s\n",
            frame, s.bodies, bodies_start, s.fragments_free, frame ? frame_ms_sum / frame : 0.0,
+           frame ? last_ms_sum / (frame < 60 ? frame : 60) : 0.0, frame ? physics_ms_sum / frame : 0.0,
            fired + g->shots, gl_error ? "yes" : "none");
   if (gl_error) {
     fprintf(stderr, "breakables play: OpenGL error 0x%x while rendering\n", gl_error);

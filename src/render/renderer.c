@@ -1,5 +1,12 @@
 // The renderer: uploaded trees, materials, the per-frame draw list, and the
 // passes that play it (shadow, lit, sky, particles, lines).
+//
+// Draw calls cost far more than triangles on a software GL, and a break can
+// leave a thousand bodies. So a body is not a draw call: every vertex carries
+// the index of its mesh-tree node, and a per-tree node table (a texture
+// buffer) holds each drawn node's model matrix and overlay colour. The items
+// of a frame are grouped by (tree, material, interior scale) and each group
+// is one glMultiDrawElements per pass, whatever the number of bodies in it.
 #include <cglm/cglm.h>
 #include <stb_image_write.h>
 #include <stdlib.h>
@@ -13,7 +20,17 @@ typedef struct vertex {
   float uv[2];
   float tangent[4];
   float interior;
+  uint32_t node; // row in the node table (spheres and the ground read a constant instead)
 } vertex;
+
+enum {
+  NODE_ATTRIBUTE = 5, // vertex attribute holding the node index
+  TABLE_UNIT = 4,     // texture unit of the node table
+  // Per node: the three rows of its model matrix, then its overlay colour
+  // (rgb, strength) as a fourth texel.
+  TABLE_TEXELS = 4,
+  TABLE_FLOATS = 4 * TABLE_TEXELS,
+};
 
 typedef struct tree_buffers {
   uint32_t generation; // last generation handed out for this slot
@@ -22,6 +39,13 @@ typedef struct tree_buffers {
   uint32_t* first_index; // per node
   uint32_t* index_count; // per node
   uint32_t node_count;
+  GLuint table_buffer, table_texture;              // the node table on the GPU
+  float* table;                                    // its CPU side: rows of nodes drawn this frame are current
+  uint32_t* node_frame;                            // frame that last drew each node
+  uint32_t* node_batch;                            // the batch that drew it then
+  uint32_t frame;                                  // last frame that drew from this tree
+  uint32_t lowest, highest;                        // span of nodes drawn that frame: what gets uploaded
+  uint32_t first_shadow_range, shadow_range_count; // the shadow pass draws the whole tree at once
 } tree_buffers;
 
 typedef struct material {
@@ -36,11 +60,42 @@ typedef struct material {
 typedef struct draw_item {
   bk_render_tree tree;
   uint32_t first_node, node_count; // range in the frame's node array
-  mat4 model;
+  float rows[12];                  // model matrix rows, as the node table holds them
   int material;
   float interior_scale;
   bool colored; // node colours follow the nodes in the frame's colour array
 } draw_item;
+
+// Items that share everything but their matrices: one call per pass.
+typedef struct draw_batch {
+  uint32_t tree; // slot
+  int material;
+  float interior_scale;
+  uint32_t node_count;               // nodes it draws (bounds its ranges)
+  uint32_t first_range, range_count; // in the frame's range arrays
+} draw_batch;
+
+// A node drawn a second time in a frame (its table row is taken by the first
+// body): drawn alone, with a row of the loose table.
+typedef struct spill_draw {
+  uint32_t tree, node, entry;
+  int material;
+  float interior_scale;
+} spill_draw;
+
+// Uniform locations, looked up once: a lookup is a string search in the driver.
+typedef struct mesh_uniforms {
+  GLint view_projection, light_view_projection, sun_direction, sun_color, sky_color, ground_color, eye;
+  GLint tint, gloss, uv_scale, interior_scale, detail;
+} mesh_uniforms;
+
+typedef struct sky_uniforms {
+  GLint inverse_view_projection, sun_direction, sky_color, horizon_color;
+} sky_uniforms;
+
+typedef struct particle_uniforms {
+  GLint view_projection, camera_right, camera_up;
+} particle_uniforms;
 
 typedef struct line_vertex {
   float position[3];
@@ -49,6 +104,10 @@ typedef struct line_vertex {
 
 struct bk_renderer {
   GLuint mesh_program, shadow_program, sky_program, particle_program, line_program;
+  mesh_uniforms mesh_u;
+  GLint shadow_light_view_projection, line_view_projection;
+  sky_uniforms sky_u;
+  particle_uniforms particle_u;
   GLuint shadow_fbo, shadow_texture;
   int shadow_size;
   tree_buffers* trees;
@@ -64,6 +123,12 @@ struct bk_renderer {
   GLuint line_vao, line_vbo;
   uint32_t line_capacity;
   GLuint empty_vao; // the sky draws from gl_VertexID only
+  // Node table of what is not a tree node: the ground (row 0), the spheres,
+  // then spilled nodes. Their VAOs leave the node attribute off, so a draw
+  // picks its row by setting the attribute's constant value.
+  GLuint loose_buffer, loose_texture;
+  float* loose;
+  uint32_t loose_count, loose_capacity, loose_gpu_capacity;
   // This frame.
   bk_camera camera;
   int width, height;
@@ -72,8 +137,17 @@ struct bk_renderer {
   uint32_t* nodes;
   float* node_colors;
   uint32_t node_count, node_capacity;
-  GLsizei* multi_counts; // per node of one item, for glMultiDrawElements
+  // Index ranges for glMultiDrawElements: the lit pass's per batch, then the
+  // shadow pass's per tree; each at most one per drawn node.
+  GLsizei* multi_counts;
   const void** multi_offsets;
+  uint32_t frame; // stamps the node tables' rows (never 0 once drawing)
+  draw_batch* batches;
+  uint32_t batch_count, batch_capacity;
+  uint32_t* drawn_trees; // slots of trees with nodes this frame, in first-drawn order
+  uint32_t drawn_tree_capacity, drawn_tree_count;
+  spill_draw* spills;
+  uint32_t spill_count, spill_capacity;
   float (*spheres)[7]; // center, radius, rgb
   uint32_t sphere_count, sphere_capacity;
   line_vertex* lines;
@@ -118,10 +192,10 @@ static bool load_material(const char* dir, material* m, bool has_interior, bk_er
 static void make_ground(bk_renderer* r) {
   // A large quad; uvs in metres so the paving keeps its size.
   const float s = 60.0f;
-  vertex quad[4] = {{{-s, 0, -s}, {0, 1, 0}, {-s, -s}, {1, 0, 0, 1}, 0},
-                    {{-s, 0, s}, {0, 1, 0}, {-s, s}, {1, 0, 0, 1}, 0},
-                    {{s, 0, s}, {0, 1, 0}, {s, s}, {1, 0, 0, 1}, 0},
-                    {{s, 0, -s}, {0, 1, 0}, {s, -s}, {1, 0, 0, 1}, 0}};
+  vertex quad[4] = {{{-s, 0, -s}, {0, 1, 0}, {-s, -s}, {1, 0, 0, 1}, 0, 0},
+                    {{-s, 0, s}, {0, 1, 0}, {-s, s}, {1, 0, 0, 1}, 0, 0},
+                    {{s, 0, s}, {0, 1, 0}, {s, s}, {1, 0, 0, 1}, 0, 0},
+                    {{s, 0, -s}, {0, 1, 0}, {s, -s}, {1, 0, 0, 1}, 0, 0}};
   vertex tris[6] = {quad[0], quad[1], quad[2], quad[0], quad[2], quad[3]};
   glGenVertexArrays(1, &r->ground_vao);
   glGenBuffers(1, &r->ground_vbo);
@@ -141,6 +215,21 @@ static void vertex_layout(void) {
   glVertexAttribPointer(3, 4, GL_FLOAT, GL_FALSE, sizeof(vertex), (void*)offsetof(vertex, tangent));
   glEnableVertexAttribArray(4);
   glVertexAttribPointer(4, 1, GL_FLOAT, GL_FALSE, sizeof(vertex), (void*)offsetof(vertex, interior));
+  // The node attribute stays off here: the ground and the spheres read its
+  // constant value (glVertexAttribI4ui), which names their row of the loose table.
+}
+
+// A node table: a float buffer read in the vertex shaders through a texture.
+static void make_table(GLuint* buffer, GLuint* texture, uint32_t rows) {
+  glGenBuffers(1, buffer);
+  glBindBuffer(GL_TEXTURE_BUFFER, *buffer);
+  glBufferData(GL_TEXTURE_BUFFER, (GLsizeiptr)(sizeof(float) * TABLE_FLOATS * (rows ? rows : 1)), NULL,
+               GL_DYNAMIC_DRAW);
+  glGenTextures(1, texture);
+  glBindTexture(GL_TEXTURE_BUFFER, *texture);
+  glTexBuffer(GL_TEXTURE_BUFFER, GL_RGBA32F, *buffer);
+  glBindTexture(GL_TEXTURE_BUFFER, 0);
+  glBindBuffer(GL_TEXTURE_BUFFER, 0);
 }
 
 static void make_sphere(bk_renderer* r) {
@@ -156,6 +245,7 @@ static void make_sphere(bk_renderer* r) {
                                {n[0], n[1], n[2]},
                                {(float)seg / SEGMENTS * 2, (float)ring / RINGS},
                                {-sinf(phi), 0, cosf(phi), 1},
+                               0,
                                0};
     }
   for (int ring = 0; ring < RINGS; ++ring)
@@ -226,6 +316,8 @@ static bool make_shadow_map(bk_renderer* r, bk_error* err) {
   return true;
 }
 
+static GLint uniform(GLuint program, const char* name) { return glGetUniformLocation(program, name); }
+
 bk_renderer* bk_renderer_create(const bk_renderer_desc* desc, bk_error* err) {
   if (!desc->shader_dir || !desc->texture_dir)
     return bk_error_set(err, "renderer: shader_dir and texture_dir are required"), NULL;
@@ -242,6 +334,40 @@ bk_renderer* bk_renderer_create(const bk_renderer_desc* desc, bk_error* err) {
       bk_renderer_destroy(r);
       return NULL;
     }
+  GLuint p = r->mesh_program;
+  r->mesh_u = (mesh_uniforms){.view_projection = uniform(p, "u_view_projection"),
+                              .light_view_projection = uniform(p, "u_light_view_projection"),
+                              .sun_direction = uniform(p, "u_sun_direction"),
+                              .sun_color = uniform(p, "u_sun_color"),
+                              .sky_color = uniform(p, "u_sky_color"),
+                              .ground_color = uniform(p, "u_ground_color"),
+                              .eye = uniform(p, "u_eye"),
+                              .tint = uniform(p, "u_tint"),
+                              .gloss = uniform(p, "u_gloss"),
+                              .uv_scale = uniform(p, "u_uv_scale"),
+                              .interior_scale = uniform(p, "u_interior_scale"),
+                              .detail = uniform(p, "u_detail")};
+  // Texture units never change: set once, the program keeps them.
+  glUseProgram(p);
+  glUniform1i(uniform(p, "u_albedo"), 0);
+  glUniform1i(uniform(p, "u_normal_map"), 1);
+  glUniform1i(uniform(p, "u_interior"), 2);
+  glUniform1i(uniform(p, "u_shadow_map"), 3);
+  glUniform1i(uniform(p, "u_nodes"), TABLE_UNIT);
+  glUseProgram(r->shadow_program);
+  glUniform1i(uniform(r->shadow_program, "u_nodes"), TABLE_UNIT);
+  glUseProgram(0);
+  r->shadow_light_view_projection = uniform(r->shadow_program, "u_light_view_projection");
+  r->line_view_projection = uniform(r->line_program, "u_view_projection");
+  p = r->sky_program;
+  r->sky_u = (sky_uniforms){.inverse_view_projection = uniform(p, "u_inverse_view_projection"),
+                            .sun_direction = uniform(p, "u_sun_direction"),
+                            .sky_color = uniform(p, "u_sky_color"),
+                            .horizon_color = uniform(p, "u_horizon_color")};
+  p = r->particle_program;
+  r->particle_u = (particle_uniforms){.view_projection = uniform(p, "u_view_projection"),
+                                      .camera_right = uniform(p, "u_camera_right"),
+                                      .camera_up = uniform(p, "u_camera_up")};
   r->material_count = (int)(sizeof material_table / sizeof *material_table);
   for (int i = 0; i < r->material_count; ++i) {
     r->materials[i] = material_table[i];
@@ -271,6 +397,8 @@ bk_renderer* bk_renderer_create(const bk_renderer_desc* desc, bk_error* err) {
   glVertexAttribPointer(1, 4, GL_FLOAT, GL_FALSE, sizeof(line_vertex), (void*)offsetof(line_vertex, color));
   glGenVertexArrays(1, &r->empty_vao);
   glBindVertexArray(0);
+  make_table(&r->loose_buffer, &r->loose_texture, 0);
+  r->loose_gpu_capacity = 1;
   return r;
 }
 
@@ -292,17 +420,22 @@ void bk_renderer_destroy(bk_renderer* r) {
   glDeleteTextures(2, ground_textures);
   glDeleteTextures(1, &r->shadow_texture);
   glDeleteFramebuffers(1, &r->shadow_fbo);
+  glDeleteTextures(1, &r->loose_texture);
   GLuint vaos[5] = {r->ground_vao, r->sphere_vao, r->particle_vao, r->line_vao, r->empty_vao};
   glDeleteVertexArrays(5, vaos);
-  GLuint buffers[6] = {
-      r->ground_vbo, r->sphere_vbo, r->sphere_ibo, r->particle_quad_vbo, r->particle_instance_vbo,
-      r->line_vbo};
-  glDeleteBuffers(6, buffers);
+  GLuint buffers[7] = {
+      r->ground_vbo, r->sphere_vbo,  r->sphere_ibo, r->particle_quad_vbo, r->particle_instance_vbo,
+      r->line_vbo,   r->loose_buffer};
+  glDeleteBuffers(7, buffers);
   free(r->items);
   free(r->nodes);
   free(r->node_colors);
   free(r->multi_counts);
   free(r->multi_offsets);
+  free(r->batches);
+  free(r->drawn_trees);
+  free(r->spills);
+  free(r->loose);
   free(r->spheres);
   free(r->lines);
   free(r);
@@ -352,7 +485,8 @@ bk_render_tree bk_renderer_upload_tree(bk_renderer* r, const bk_mesh_tree* tree)
                       {corner->normal[0], corner->normal[1], corner->normal[2]},
                       {corner->uv[0], corner->uv[1]},
                       {corner->tangent[0], corner->tangent[1], corner->tangent[2], corner->tangent[3]},
-                      0.0f};
+                      0.0f,
+                      i};
     }
     t->first_index[i] = k;
     for (uint32_t tri = 0; tri < m->triangle_count; ++tri) {
@@ -375,9 +509,15 @@ bk_render_tree bk_renderer_upload_tree(bk_renderer* r, const bk_mesh_tree* tree)
   glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, t->ibo);
   glBufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)(sizeof(uint32_t) * k), index_data, GL_STATIC_DRAW);
   vertex_layout();
+  glEnableVertexAttribArray(NODE_ATTRIBUTE);
+  glVertexAttribIPointer(NODE_ATTRIBUTE, 1, GL_UNSIGNED_INT, sizeof(vertex), (void*)offsetof(vertex, node));
   glBindVertexArray(0);
   free(vertices);
   free(index_data);
+  make_table(&t->table_buffer, &t->table_texture, t->node_count);
+  t->table = bk_calloc((size_t)t->node_count + 1, sizeof(float) * TABLE_FLOATS);
+  t->node_frame = bk_calloc((size_t)t->node_count + 1, sizeof(uint32_t));
+  t->node_batch = bk_calloc((size_t)t->node_count + 1, sizeof(uint32_t));
   return (bk_render_tree){slot, t->generation};
 }
 
@@ -385,10 +525,14 @@ void bk_renderer_release_tree(bk_renderer* r, bk_render_tree id) {
   tree_buffers* t = find_tree(r, id);
   if (!t) return;
   glDeleteVertexArrays(1, &t->vao);
-  GLuint buffers[2] = {t->vbo, t->ibo};
-  glDeleteBuffers(2, buffers);
+  glDeleteTextures(1, &t->table_texture);
+  GLuint buffers[3] = {t->vbo, t->ibo, t->table_buffer};
+  glDeleteBuffers(3, buffers);
   free(t->first_index);
   free(t->index_count);
+  free(t->table);
+  free(t->node_frame);
+  free(t->node_batch);
   uint32_t generation = t->generation;
   memset(t, 0, sizeof *t);
   t->generation = generation; // the next upload here gets a new id
@@ -412,12 +556,17 @@ void bk_renderer_begin_frame(bk_renderer* r, const bk_camera* camera, int width,
   memset(&r->stats, 0, sizeof r->stats);
 }
 
-static void model_matrix(bk_transform t, mat4 out) {
+// The node table stores the top three rows of the matrix (the last is 0 0 0 1).
+static void model_rows(bk_transform t, float rows[12]) {
   versor q = {(float)t.rotation.x, (float)t.rotation.y, (float)t.rotation.z, (float)t.rotation.w};
-  glm_quat_mat4(q, out);
-  out[3][0] = (float)t.position.x;
-  out[3][1] = (float)t.position.y;
-  out[3][2] = (float)t.position.z;
+  mat4 m = GLM_MAT4_IDENTITY_INIT;
+  glm_quat_mat4(q, m);
+  m[3][0] = (float)t.position.x;
+  m[3][1] = (float)t.position.y;
+  m[3][2] = (float)t.position.z;
+  for (int row = 0; row < 3; ++row)
+    for (int column = 0; column < 4; ++column)
+      rows[4 * row + column] = m[column][row];
 }
 
 void bk_renderer_draw_nodes(bk_renderer* r, const bk_node_draw* d) {
@@ -430,14 +579,14 @@ void bk_renderer_draw_nodes(bk_renderer* r, const bk_node_draw* d) {
     r->node_capacity = bk_grow_capacity(r->node_capacity, r->node_count + d->node_count);
     r->nodes = bk_realloc(r->nodes, sizeof(uint32_t) * r->node_capacity);
     r->node_colors = bk_realloc(r->node_colors, sizeof(float) * 4u * r->node_capacity);
-    r->multi_counts = bk_realloc(r->multi_counts, sizeof(GLsizei) * r->node_capacity);
-    r->multi_offsets = bk_realloc(r->multi_offsets, sizeof(void*) * r->node_capacity);
+    r->multi_counts = bk_realloc(r->multi_counts, sizeof(GLsizei) * 2u * r->node_capacity);
+    r->multi_offsets = bk_realloc(r->multi_offsets, sizeof(void*) * 2u * r->node_capacity);
   }
   draw_item* item = &r->items[r->item_count++];
   item->tree = d->tree;
   item->first_node = r->node_count;
   item->node_count = d->node_count;
-  model_matrix(d->model, item->model);
+  model_rows(d->model, item->rows);
   item->material = d->material >= 0 && d->material < r->material_count ? d->material : 0;
   item->interior_scale = d->interior_scale > 0.0 ? (float)d->interior_scale : 1.0f;
   item->colored = d->node_colors != NULL;
@@ -473,77 +622,228 @@ void bk_renderer_draw_particles(bk_renderer* r, const bk_particle_instance* part
   r->particle_count = count < r->max_particles ? count : r->max_particles;
 }
 
-static GLint uniform(GLuint program, const char* name) { return glGetUniformLocation(program, name); }
+static uint32_t find_batch(bk_renderer* r, const draw_item* item) {
+  // Few batches (about one per breakable), and a body's neighbours in the
+  // list mostly share its batch: search from the newest.
+  for (uint32_t b = r->batch_count; b-- > 0;) {
+    const draw_batch* batch = &r->batches[b];
+    if (batch->tree == item->tree.index && batch->material == item->material &&
+        batch->interior_scale == item->interior_scale)
+      return b;
+  }
+  if (r->batch_count == r->batch_capacity) {
+    r->batch_capacity = bk_grow_capacity(r->batch_capacity, r->batch_count + 1);
+    r->batches = bk_realloc(r->batches, sizeof(draw_batch) * r->batch_capacity);
+  }
+  r->batches[r->batch_count] = (draw_batch){
+      .tree = item->tree.index, .material = item->material, .interior_scale = item->interior_scale};
+  return r->batch_count++;
+}
 
-// Everything that casts a shadow or is lit: trees, spheres (and the ground,
-// which only receives). `shadow` selects the depth-only program.
-static void draw_scene(bk_renderer* r, GLuint program, bool shadow) {
-  GLint model_location = uniform(program, "u_model");
-  GLint highlight = shadow ? -1 : uniform(program, "u_highlight");
+static void write_row(float* row, const float model[12], const float color[4]) {
+  memcpy(row, model, sizeof(float) * 12);
+  memcpy(row + 12, color, sizeof(float) * 4);
+}
+
+static float* loose_row(bk_renderer* r) {
+  if (r->loose_count == r->loose_capacity) {
+    r->loose_capacity = bk_grow_capacity(r->loose_capacity, r->loose_count + 1);
+    r->loose = bk_realloc(r->loose, sizeof(float) * TABLE_FLOATS * r->loose_capacity);
+  }
+  return &r->loose[TABLE_FLOATS * r->loose_count++];
+}
+
+// Appends an index range, merged into the previous one when the two are
+// adjacent in the index buffer (neighbouring nodes drawn together).
+static void append_range(bk_renderer* r, uint32_t first, uint32_t* count, uint32_t indices, uint32_t start) {
+  GLsizei* counts = &r->multi_counts[first];
+  const void** offsets = &r->multi_offsets[first];
+  uintptr_t offset = sizeof(uint32_t) * (uintptr_t)start;
+  if (*count > 0 &&
+      (uintptr_t)offsets[*count - 1] + sizeof(uint32_t) * (uintptr_t)counts[*count - 1] == offset) {
+    counts[*count - 1] += (GLsizei)indices;
+    return;
+  }
+  counts[*count] = (GLsizei)indices;
+  offsets[*count] = (const void*)offset;
+  (*count)++;
+}
+
+// Turns the frame's items into node table rows and batches, and uploads the
+// tables (one buffer update per tree, one for the loose table). Both passes
+// then draw from the same index ranges.
+static void prepare_batches(bk_renderer* r) {
+  if (++r->frame == 0) {
+    // Wrapped: stamps from 2^32 frames ago would pass for this frame's.
+    for (uint32_t i = 0; i < r->tree_count; ++i)
+      if (r->trees[i].used) {
+        memset(r->trees[i].node_frame, 0, sizeof(uint32_t) * r->trees[i].node_count);
+        r->trees[i].frame = 0;
+      }
+    r->frame = 1;
+  }
+  if (r->drawn_tree_capacity < r->tree_count) {
+    r->drawn_tree_capacity = r->tree_capacity;
+    r->drawn_trees = bk_realloc(r->drawn_trees, sizeof(uint32_t) * r->drawn_tree_capacity);
+  }
+  r->batch_count = r->drawn_tree_count = r->spill_count = r->loose_count = 0;
+  static const float no_color[4] = {0, 0, 0, 0};
+  // The ground, then the spheres.
+  write_row(loose_row(r), (const float[12]){1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0}, no_color);
+  for (uint32_t i = 0; i < r->sphere_count; ++i) {
+    const float* s = r->spheres[i];
+    const float rows[12] = {s[3], 0, 0, s[0], 0, s[3], 0, s[1], 0, 0, s[3], s[2]};
+    write_row(loose_row(r), rows, no_color);
+  }
   for (uint32_t i = 0; i < r->item_count; ++i) {
     const draw_item* item = &r->items[i];
     tree_buffers* t = find_tree(r, item->tree);
     if (!t) continue;
-    glUniformMatrix4fv(model_location, 1, GL_FALSE, (const float*)item->model);
-    if (!shadow) {
-      const material* m = &r->materials[item->material];
-      glActiveTexture(GL_TEXTURE0);
-      glBindTexture(GL_TEXTURE_2D, m->albedo);
-      glActiveTexture(GL_TEXTURE1);
-      glBindTexture(GL_TEXTURE_2D, m->normal);
-      glActiveTexture(GL_TEXTURE2);
-      glBindTexture(GL_TEXTURE_2D, m->interior);
-      glUniform3fv(uniform(program, "u_tint"), 1, m->tint);
-      glUniform1f(uniform(program, "u_gloss"), m->gloss);
-      glUniform1f(uniform(program, "u_uv_scale"), m->uv_scale);
-      glUniform1f(uniform(program, "u_interior_scale"), item->interior_scale);
-      glUniform4f(highlight, 0, 0, 0, 0);
+    if (t->frame != r->frame) {
+      t->frame = r->frame;
+      t->lowest = UINT32_MAX;
+      t->highest = 0;
+      r->drawn_trees[r->drawn_tree_count++] = item->tree.index;
     }
-    glBindVertexArray(t->vao);
-    if (!shadow && item->colored) {
-      // Overlay colours differ per node: one call each.
-      for (uint32_t n = 0; n < item->node_count; ++n) {
-        uint32_t node = r->nodes[item->first_node + n];
-        if (node >= t->node_count) continue;
-        glUniform4fv(highlight, 1, &r->node_colors[4 * (item->first_node + n)]);
-        glDrawElements(GL_TRIANGLES, (GLsizei)t->index_count[node], GL_UNSIGNED_INT,
-                       (void*)(uintptr_t)(sizeof(uint32_t) * t->first_index[node]));
-        r->stats.draw_calls++;
-        r->stats.triangles += t->index_count[node] / 3;
-      }
-      continue;
-    }
-    // All of a body's nodes share its matrix and material: one call.
-    GLsizei n = 0;
+    uint32_t b = find_batch(r, item);
     for (uint32_t k = 0; k < item->node_count; ++k) {
       uint32_t node = r->nodes[item->first_node + k];
       if (node >= t->node_count) continue;
-      r->multi_counts[n] = (GLsizei)t->index_count[node];
-      r->multi_offsets[n] = (const void*)(uintptr_t)(sizeof(uint32_t) * t->first_index[node]);
-      r->stats.triangles += t->index_count[node] / 3;
-      n++;
+      const float* color = item->colored ? &r->node_colors[4 * (item->first_node + k)] : no_color;
+      if (t->node_frame[node] == r->frame) {
+        // Bodies own disjoint nodes, so this is rare (the API allows it).
+        if (r->spill_count == r->spill_capacity) {
+          r->spill_capacity = bk_grow_capacity(r->spill_capacity, r->spill_count + 1);
+          r->spills = bk_realloc(r->spills, sizeof(spill_draw) * r->spill_capacity);
+        }
+        r->spills[r->spill_count++] = (spill_draw){.tree = item->tree.index,
+                                                   .node = node,
+                                                   .entry = r->loose_count,
+                                                   .material = item->material,
+                                                   .interior_scale = item->interior_scale};
+        write_row(loose_row(r), item->rows, color);
+        r->stats.triangles += 2 * (t->index_count[node] / 3);
+        continue;
+      }
+      t->node_frame[node] = r->frame;
+      t->node_batch[node] = b;
+      write_row(&t->table[TABLE_FLOATS * node], item->rows, color);
+      if (node < t->lowest) t->lowest = node;
+      if (node > t->highest) t->highest = node;
+      r->batches[b].node_count++;
     }
-    glMultiDrawElements(GL_TRIANGLES, r->multi_counts, GL_UNSIGNED_INT, r->multi_offsets, n);
+  }
+  uint32_t next_range = 0;
+  for (uint32_t b = 0; b < r->batch_count; ++b) {
+    r->batches[b].first_range = next_range;
+    next_range += r->batches[b].node_count;
+  }
+  for (uint32_t i = 0; i < r->drawn_tree_count; ++i) {
+    tree_buffers* t = &r->trees[r->drawn_trees[i]];
+    t->first_shadow_range = next_range;
+    t->shadow_range_count = 0;
+    if (t->lowest > t->highest) continue;
+    // In node order, so that neighbouring nodes merge into one range.
+    for (uint32_t node = t->lowest; node <= t->highest; ++node) {
+      if (t->node_frame[node] != r->frame || t->index_count[node] == 0) continue;
+      draw_batch* batch = &r->batches[t->node_batch[node]];
+      append_range(r, batch->first_range, &batch->range_count, t->index_count[node], t->first_index[node]);
+      append_range(r, t->first_shadow_range, &t->shadow_range_count, t->index_count[node],
+                   t->first_index[node]);
+      r->stats.triangles += 2 * (t->index_count[node] / 3); // both passes
+    }
+    next_range += t->shadow_range_count;
+    glBindBuffer(GL_TEXTURE_BUFFER, t->table_buffer);
+    glBufferSubData(GL_TEXTURE_BUFFER, (GLintptr)(sizeof(float) * TABLE_FLOATS * t->lowest),
+                    (GLsizeiptr)(sizeof(float) * TABLE_FLOATS * (t->highest - t->lowest + 1)),
+                    &t->table[TABLE_FLOATS * t->lowest]);
+  }
+  glBindBuffer(GL_TEXTURE_BUFFER, r->loose_buffer);
+  GLsizeiptr loose_size = (GLsizeiptr)(sizeof(float) * TABLE_FLOATS * r->loose_count);
+  if (r->loose_count > r->loose_gpu_capacity) {
+    r->loose_gpu_capacity = r->loose_capacity;
+    glBufferData(GL_TEXTURE_BUFFER, (GLsizeiptr)(sizeof(float) * TABLE_FLOATS * r->loose_gpu_capacity), NULL,
+                 GL_DYNAMIC_DRAW);
+  }
+  glBufferSubData(GL_TEXTURE_BUFFER, 0, loose_size, r->loose);
+  glBindBuffer(GL_TEXTURE_BUFFER, 0);
+}
+
+static void bind_table(GLuint texture) {
+  glActiveTexture(GL_TEXTURE0 + TABLE_UNIT);
+  glBindTexture(GL_TEXTURE_BUFFER, texture);
+}
+
+static void use_material(bk_renderer* r, int index, float interior_scale) {
+  const material* m = &r->materials[index];
+  glActiveTexture(GL_TEXTURE0);
+  glBindTexture(GL_TEXTURE_2D, m->albedo);
+  glActiveTexture(GL_TEXTURE1);
+  glBindTexture(GL_TEXTURE_2D, m->normal);
+  glActiveTexture(GL_TEXTURE2);
+  glBindTexture(GL_TEXTURE_2D, m->interior);
+  glUniform3fv(r->mesh_u.tint, 1, m->tint);
+  glUniform1f(r->mesh_u.gloss, m->gloss);
+  glUniform1f(r->mesh_u.uv_scale, m->uv_scale);
+  glUniform1f(r->mesh_u.interior_scale, interior_scale);
+}
+
+// Everything that casts a shadow or is lit: trees, spheres (and the ground,
+// which only receives). `shadow` selects the depth-only program, which needs
+// no materials: there a tree is one call whatever its batches.
+static void draw_scene(bk_renderer* r, bool shadow) {
+  if (shadow) {
+    for (uint32_t i = 0; i < r->drawn_tree_count; ++i) {
+      const tree_buffers* t = &r->trees[r->drawn_trees[i]];
+      if (t->shadow_range_count == 0) continue;
+      glBindVertexArray(t->vao);
+      bind_table(t->table_texture);
+      glMultiDrawElements(GL_TRIANGLES, &r->multi_counts[t->first_shadow_range], GL_UNSIGNED_INT,
+                          &r->multi_offsets[t->first_shadow_range], (GLsizei)t->shadow_range_count);
+      r->stats.draw_calls++;
+    }
+  } else {
+    for (uint32_t b = 0; b < r->batch_count; ++b) {
+      const draw_batch* batch = &r->batches[b];
+      if (batch->range_count == 0) continue;
+      const tree_buffers* t = &r->trees[batch->tree];
+      glBindVertexArray(t->vao);
+      bind_table(t->table_texture);
+      use_material(r, batch->material, batch->interior_scale);
+      glMultiDrawElements(GL_TRIANGLES, &r->multi_counts[batch->first_range], GL_UNSIGNED_INT,
+                          &r->multi_offsets[batch->first_range], (GLsizei)batch->range_count);
+      r->stats.draw_calls++;
+    }
+  }
+  bind_table(r->loose_texture);
+  for (uint32_t i = 0; i < r->spill_count; ++i) {
+    const spill_draw* s = &r->spills[i];
+    const tree_buffers* t = &r->trees[s->tree];
+    // With the attribute off, every vertex reads the constant: the spill's row.
+    glBindVertexArray(t->vao);
+    glDisableVertexAttribArray(NODE_ATTRIBUTE);
+    glVertexAttribI4ui(NODE_ATTRIBUTE, s->entry, 0, 0, 0);
+    if (!shadow) use_material(r, s->material, s->interior_scale);
+    glDrawElements(GL_TRIANGLES, (GLsizei)t->index_count[s->node], GL_UNSIGNED_INT,
+                   (void*)(uintptr_t)(sizeof(uint32_t) * t->first_index[s->node]));
+    glEnableVertexAttribArray(NODE_ATTRIBUTE);
     r->stats.draw_calls++;
   }
+  if (r->sphere_count == 0) return;
   glBindVertexArray(r->sphere_vao);
+  if (!shadow) {
+    const material* m = &r->materials[0];
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, m->albedo);
+    glActiveTexture(GL_TEXTURE1);
+    glBindTexture(GL_TEXTURE_2D, m->normal);
+    glUniform1f(r->mesh_u.gloss, 0.8f);
+    glUniform1f(r->mesh_u.uv_scale, 1.0f);
+  }
   for (uint32_t i = 0; i < r->sphere_count; ++i) {
     const float* s = r->spheres[i];
-    mat4 model = GLM_MAT4_IDENTITY_INIT;
-    glm_translate(model, (vec3){s[0], s[1], s[2]});
-    glm_scale_uni(model, s[3]);
-    glUniformMatrix4fv(model_location, 1, GL_FALSE, (const float*)model);
-    if (!shadow) {
-      const material* m = &r->materials[0];
-      glActiveTexture(GL_TEXTURE0);
-      glBindTexture(GL_TEXTURE_2D, m->albedo);
-      glActiveTexture(GL_TEXTURE1);
-      glBindTexture(GL_TEXTURE_2D, m->normal);
-      glUniform3f(uniform(program, "u_tint"), s[4], s[5], s[6]);
-      glUniform1f(uniform(program, "u_gloss"), 0.8f);
-      glUniform1f(uniform(program, "u_uv_scale"), 1.0f);
-      glUniform4f(highlight, 0, 0, 0, 0);
-    }
+    glVertexAttribI4ui(NODE_ATTRIBUTE, 1 + i, 0, 0, 0); // rows 1.. of the loose table
+    if (!shadow) glUniform3f(r->mesh_u.tint, s[4], s[5], s[6]);
     glDrawElements(GL_TRIANGLES, (GLsizei)r->sphere_index_count, GL_UNSIGNED_INT, NULL);
     r->stats.draw_calls++;
   }
@@ -571,6 +871,8 @@ unsigned bk_renderer_end_frame(bk_renderer* r) {
   glm_ortho(-9.0f, 9.0f, -9.0f, 9.0f, 1.0f, 70.0f, light_projection);
   glm_mat4_mul(light_projection, light_view, light_view_projection);
 
+  prepare_batches(r);
+
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   glEnable(GL_CULL_FACE);
@@ -582,11 +884,10 @@ unsigned bk_renderer_end_frame(bk_renderer* r) {
   glViewport(0, 0, r->shadow_size, r->shadow_size);
   glClear(GL_DEPTH_BUFFER_BIT);
   glUseProgram(r->shadow_program);
-  glUniformMatrix4fv(uniform(r->shadow_program, "u_light_view_projection"), 1, GL_FALSE,
-                     (const float*)light_view_projection);
+  glUniformMatrix4fv(r->shadow_light_view_projection, 1, GL_FALSE, (const float*)light_view_projection);
   glEnable(GL_POLYGON_OFFSET_FILL);
   glPolygonOffset(1.5f, 2.0f);
-  draw_scene(r, r->shadow_program, true);
+  draw_scene(r, true);
   glDisable(GL_POLYGON_OFFSET_FILL);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
 
@@ -595,53 +896,46 @@ unsigned bk_renderer_end_frame(bk_renderer* r) {
   glEnable(GL_FRAMEBUFFER_SRGB); // shaders write linear colour
 
   // Lit pass.
-  GLuint p = r->mesh_program;
-  glUseProgram(p);
-  glUniformMatrix4fv(uniform(p, "u_view_projection"), 1, GL_FALSE, (const float*)view_projection);
-  glUniformMatrix4fv(uniform(p, "u_light_view_projection"), 1, GL_FALSE, (const float*)light_view_projection);
-  glUniform3fv(uniform(p, "u_sun_direction"), 1, sun);
-  glUniform3fv(uniform(p, "u_sun_color"), 1, sun_color);
-  glUniform3fv(uniform(p, "u_sky_color"), 1, sky_color);
-  glUniform3fv(uniform(p, "u_ground_color"), 1, ground_bounce);
-  glUniform3f(uniform(p, "u_eye"), (float)c->eye.x, (float)c->eye.y, (float)c->eye.z);
-  glUniform1i(uniform(p, "u_albedo"), 0);
-  glUniform1i(uniform(p, "u_normal_map"), 1);
-  glUniform1i(uniform(p, "u_interior"), 2);
-  glUniform1i(uniform(p, "u_shadow_map"), 3);
-  glUniform1i(uniform(p, "u_detail"), 1);
+  const mesh_uniforms* u = &r->mesh_u;
+  glUseProgram(r->mesh_program);
+  glUniformMatrix4fv(u->view_projection, 1, GL_FALSE, (const float*)view_projection);
+  glUniformMatrix4fv(u->light_view_projection, 1, GL_FALSE, (const float*)light_view_projection);
+  glUniform3fv(u->sun_direction, 1, sun);
+  glUniform3fv(u->sun_color, 1, sun_color);
+  glUniform3fv(u->sky_color, 1, sky_color);
+  glUniform3fv(u->ground_color, 1, ground_bounce);
+  glUniform3f(u->eye, (float)c->eye.x, (float)c->eye.y, (float)c->eye.z);
+  glUniform1i(u->detail, 1);
   glActiveTexture(GL_TEXTURE3);
   glBindTexture(GL_TEXTURE_2D, r->shadow_texture);
   // Objects before the ground and the sky: on a software renderer every
   // shaded pixel counts, and early depth tests skip what they hide.
-  draw_scene(r, p, false);
-  // Ground.
-  mat4 identity = GLM_MAT4_IDENTITY_INIT;
-  glUniformMatrix4fv(uniform(p, "u_model"), 1, GL_FALSE, (const float*)identity);
+  draw_scene(r, false);
+  // Ground: row 0 of the loose table.
+  bind_table(r->loose_texture);
+  glVertexAttribI4ui(NODE_ATTRIBUTE, 0, 0, 0, 0);
   glActiveTexture(GL_TEXTURE0);
   glBindTexture(GL_TEXTURE_2D, r->ground.albedo);
   glActiveTexture(GL_TEXTURE1);
   glBindTexture(GL_TEXTURE_2D, r->ground.normal);
   glActiveTexture(GL_TEXTURE2);
   glBindTexture(GL_TEXTURE_2D, r->ground.albedo);
-  glUniform3fv(uniform(p, "u_tint"), 1, r->ground.tint);
-  glUniform1f(uniform(p, "u_gloss"), r->ground.gloss);
-  glUniform1f(uniform(p, "u_uv_scale"), r->ground.uv_scale);
-  glUniform1f(uniform(p, "u_interior_scale"), 1.0f);
-  glUniform4f(uniform(p, "u_highlight"), 0, 0, 0, 0);
-  glUniform1i(uniform(p, "u_detail"), 0);
+  glUniform3fv(u->tint, 1, r->ground.tint);
+  glUniform1f(u->gloss, r->ground.gloss);
+  glUniform1f(u->uv_scale, r->ground.uv_scale);
+  glUniform1f(u->interior_scale, 1.0f);
+  glUniform1i(u->detail, 0);
   glBindVertexArray(r->ground_vao);
   glDrawArrays(GL_TRIANGLES, 0, 6);
-  glUniform1i(uniform(p, "u_detail"), 1);
 
   // Sky last, only where nothing was drawn (depth still at the far plane).
   glDepthMask(GL_FALSE);
   glDepthFunc(GL_LEQUAL);
   glUseProgram(r->sky_program);
-  glUniformMatrix4fv(uniform(r->sky_program, "u_inverse_view_projection"), 1, GL_FALSE,
-                     (const float*)inverse_view_projection);
-  glUniform3fv(uniform(r->sky_program, "u_sun_direction"), 1, sun);
-  glUniform3fv(uniform(r->sky_program, "u_sky_color"), 1, sky_color);
-  glUniform3fv(uniform(r->sky_program, "u_horizon_color"), 1, horizon_color);
+  glUniformMatrix4fv(r->sky_u.inverse_view_projection, 1, GL_FALSE, (const float*)inverse_view_projection);
+  glUniform3fv(r->sky_u.sun_direction, 1, sun);
+  glUniform3fv(r->sky_u.sky_color, 1, sky_color);
+  glUniform3fv(r->sky_u.horizon_color, 1, horizon_color);
   glBindVertexArray(r->empty_vao);
   glDrawArrays(GL_TRIANGLES, 0, 3);
   glDepthFunc(GL_LESS);
@@ -650,8 +944,7 @@ unsigned bk_renderer_end_frame(bk_renderer* r) {
   // Debug lines, then blended particles (no depth writes, so puffs overlap softly).
   if (r->line_count) {
     glUseProgram(r->line_program);
-    glUniformMatrix4fv(uniform(r->line_program, "u_view_projection"), 1, GL_FALSE,
-                       (const float*)view_projection);
+    glUniformMatrix4fv(r->line_view_projection, 1, GL_FALSE, (const float*)view_projection);
     glBindVertexArray(r->line_vao);
     glBindBuffer(GL_ARRAY_BUFFER, r->line_vbo);
     if (r->line_count > r->line_capacity) {
@@ -669,10 +962,9 @@ unsigned bk_renderer_end_frame(bk_renderer* r) {
   }
   if (r->particle_count) {
     glUseProgram(r->particle_program);
-    glUniformMatrix4fv(uniform(r->particle_program, "u_view_projection"), 1, GL_FALSE,
-                       (const float*)view_projection);
-    glUniform3f(uniform(r->particle_program, "u_camera_right"), view[0][0], view[1][0], view[2][0]);
-    glUniform3f(uniform(r->particle_program, "u_camera_up"), view[0][1], view[1][1], view[2][1]);
+    glUniformMatrix4fv(r->particle_u.view_projection, 1, GL_FALSE, (const float*)view_projection);
+    glUniform3f(r->particle_u.camera_right, view[0][0], view[1][0], view[2][0]);
+    glUniform3f(r->particle_u.camera_up, view[0][1], view[1][1], view[2][1]);
     glBindVertexArray(r->particle_vao);
     glBindBuffer(GL_ARRAY_BUFFER, r->particle_instance_vbo);
     glBufferSubData(GL_ARRAY_BUFFER, 0, (GLsizeiptr)(sizeof(bk_particle_instance) * r->particle_count),
