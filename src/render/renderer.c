@@ -774,8 +774,7 @@ static void bind_table(GLuint texture) {
   glBindTexture(GL_TEXTURE_BUFFER, texture);
 }
 
-static void use_material(bk_renderer* r, int index, float interior_scale) {
-  const material* m = &r->materials[index];
+static void use_material(bk_renderer* r, const material* m, float interior_scale) {
   glActiveTexture(GL_TEXTURE0);
   glBindTexture(GL_TEXTURE_2D, m->albedo);
   glActiveTexture(GL_TEXTURE1);
@@ -809,7 +808,7 @@ static void draw_scene(bk_renderer* r, bool shadow) {
       const tree_buffers* t = &r->trees[batch->tree];
       glBindVertexArray(t->vao);
       bind_table(t->table_texture);
-      use_material(r, batch->material, batch->interior_scale);
+      use_material(r, &r->materials[batch->material], batch->interior_scale);
       glMultiDrawElements(GL_TRIANGLES, &r->multi_counts[batch->first_range], GL_UNSIGNED_INT,
                           &r->multi_offsets[batch->first_range], (GLsizei)batch->range_count);
       r->stats.draw_calls++;
@@ -823,7 +822,7 @@ static void draw_scene(bk_renderer* r, bool shadow) {
     glBindVertexArray(t->vao);
     glDisableVertexAttribArray(NODE_ATTRIBUTE);
     glVertexAttribI4ui(NODE_ATTRIBUTE, s->entry, 0, 0, 0);
-    if (!shadow) use_material(r, s->material, s->interior_scale);
+    if (!shadow) use_material(r, &r->materials[s->material], s->interior_scale);
     glDrawElements(GL_TRIANGLES, (GLsizei)t->index_count[s->node], GL_UNSIGNED_INT,
                    (void*)(uintptr_t)(sizeof(uint32_t) * t->first_index[s->node]));
     glEnableVertexAttribArray(NODE_ATTRIBUTE);
@@ -832,13 +831,8 @@ static void draw_scene(bk_renderer* r, bool shadow) {
   if (r->sphere_count == 0) return;
   glBindVertexArray(r->sphere_vao);
   if (!shadow) {
-    const material* m = &r->materials[0];
-    glActiveTexture(GL_TEXTURE0);
-    glBindTexture(GL_TEXTURE_2D, m->albedo);
-    glActiveTexture(GL_TEXTURE1);
-    glBindTexture(GL_TEXTURE_2D, m->normal);
-    glUniform1f(r->mesh_u.gloss, 0.8f);
-    glUniform1f(r->mesh_u.uv_scale, 1.0f);
+    use_material(r, &r->materials[0], 1.0f);
+    glUniform1f(r->mesh_u.gloss, 0.8f); // polished steel; the tint is per sphere
   }
   for (uint32_t i = 0; i < r->sphere_count; ++i) {
     const float* s = r->spheres[i];
@@ -914,16 +908,7 @@ unsigned bk_renderer_end_frame(bk_renderer* r) {
   // Ground: row 0 of the loose table.
   bind_table(r->loose_texture);
   glVertexAttribI4ui(NODE_ATTRIBUTE, 0, 0, 0, 0);
-  glActiveTexture(GL_TEXTURE0);
-  glBindTexture(GL_TEXTURE_2D, r->ground.albedo);
-  glActiveTexture(GL_TEXTURE1);
-  glBindTexture(GL_TEXTURE_2D, r->ground.normal);
-  glActiveTexture(GL_TEXTURE2);
-  glBindTexture(GL_TEXTURE_2D, r->ground.albedo);
-  glUniform3fv(u->tint, 1, r->ground.tint);
-  glUniform1f(u->gloss, r->ground.gloss);
-  glUniform1f(u->uv_scale, r->ground.uv_scale);
-  glUniform1f(u->interior_scale, 1.0f);
+  use_material(r, &r->ground, 1.0f);
   glUniform1i(u->detail, 0);
   glBindVertexArray(r->ground_vao);
   glDrawArrays(GL_TRIANGLES, 0, 6);
