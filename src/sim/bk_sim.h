@@ -146,7 +146,6 @@ typedef struct bk_world_stats {
   double physics_ms;          ///< last step, the physics engine alone
   double break_ms;            ///< last step: damage, components, minimal sets, body rebuild
   bool nan;                   ///< a body has a non-finite transform or velocity
-  bk_physics_stats physics;   ///< what the physics engine worked on (awake bodies, pairs, manifolds)
 } bk_world_stats;
 
 bk_world_stats bk_world_get_stats(const bk_world* world);

@@ -404,7 +404,6 @@ bk_world_stats bk_world_get_stats(const bk_world* w) {
   s.step_ms = w->step_ms;
   s.physics_ms = w->physics_ms;
   s.break_ms = w->break_ms;
-  s.physics = bk_physics_get_stats(w->physics);
   for (uint32_t i = 0; i < w->projectile_count; ++i)
     s.nan = s.nan || body_has_nan(w, w->projectiles[i]);
   return s;
