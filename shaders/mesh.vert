@@ -1,13 +1,13 @@
 #version 330 core
-// Fragments, projectiles and the ground: world-space lighting inputs plus the
-// light-space position for the shadow lookup. Each vertex names its row in a
-// node table (per node: the three rows of its body's model matrix and an
-// overlay colour), so every body of a tree draws in one call.
+// Fragments, projectiles and the ground (every program of mesh.frag):
+// world-space lighting inputs plus the light-space position for the shadow
+// lookup. Each vertex names its row in a node table (per node: the three
+// rows of its body's model matrix and an overlay colour), so every body of a
+// tree draws in one call.
 layout(location = 0) in vec3 in_position;
 layout(location = 1) in vec3 in_normal;
 layout(location = 2) in vec2 in_uv;
 layout(location = 3) in vec4 in_tangent;
-layout(location = 4) in float in_interior;
 layout(location = 5) in uint in_node;
 
 uniform samplerBuffer u_nodes;
@@ -19,7 +19,6 @@ out vec3 v_position;
 out vec3 v_normal;
 out vec4 v_tangent;
 out vec2 v_uv;
-out float v_interior;
 out vec4 v_light_position;
 flat out vec4 v_highlight; // overlay rgb, strength; one per node, so no interpolation
 
@@ -33,7 +32,6 @@ void main() {
   v_normal = rotation * in_normal;
   v_tangent = vec4(rotation * in_tangent.xyz, in_tangent.w);
   v_uv = in_uv * u_uv_scale;
-  v_interior = in_interior;
   v_highlight = texelFetch(u_nodes, row + 3);
   v_light_position = u_light_view_projection * world;
   gl_Position = u_view_projection * world;

@@ -8,5 +8,5 @@ void main() {
   if (r > 1.0) discard;
   // Dust is a soft disc; chips are hard-edged flecks.
   float alpha = v_kind < 0.5 ? v_color.a * (1.0 - r * r) * (1.0 - r) : v_color.a * step(r, 0.8);
-  out_color = vec4(v_color.rgb, alpha); // the framebuffer encodes sRGB
+  out_color = vec4(v_color.rgb, alpha);
 }

@@ -13,7 +13,7 @@ out float v_kind;
 void main() {
   vec3 p = in_center_size.xyz + (u_camera_right * in_corner.x + u_camera_up * in_corner.y) * in_center_size.w;
   v_corner = in_corner;
-  v_color = in_color;
+  v_color = vec4(encode_srgb(in_color.rgb), in_color.a); // one colour per particle: encoded here
   v_kind = in_kind;
   gl_Position = u_view_projection * vec4(p, 1.0);
 }

@@ -14,5 +14,5 @@ void main() {
   s4 *= s4;
   float glow = s4 * s4 * s4; // sun^12
   color += vec3(1.0, 0.9, 0.7) * (smoothstep(0.9990, 0.9996, sun) * 4.0 + glow * 0.25);
-  out_color = vec4(color, 1.0); // the framebuffer encodes sRGB
+  out_color = vec4(encode_srgb(color), 1.0);
 }

@@ -81,8 +81,8 @@ bool bk_window_open(const char* title, const bk_window_options* o, void** window
   glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
   glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
   glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
-  glfwWindowHint(GLFW_SAMPLES, 0); // software GL pays for every sample
-  glfwWindowHint(GLFW_SRGB_CAPABLE, GLFW_TRUE);
+  glfwWindowHint(GLFW_SAMPLES, 0);               // software GL pays for every sample
+  glfwWindowHint(GLFW_SRGB_CAPABLE, GLFW_FALSE); // the shaders encode sRGB (cheaper in software)
   GLFWwindow* window = glfwCreateWindow(o->width, o->height, title, NULL, NULL);
   if (!window) {
     glfwTerminate();

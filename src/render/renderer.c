@@ -7,6 +7,11 @@
 // buffer) holds each drawn node's model matrix and overlay colour. The items
 // of a frame are grouped by (tree, material, interior scale) and each group
 // is one glMultiDrawElements per pass, whatever the number of bodies in it.
+//
+// A software renderer also runs both sides of a shader's branches, so outer
+// surfaces, cut faces and the ground are three programs (variants of
+// mesh.frag). Each tree's index buffer holds every node's outer triangles
+// first, then every node's cut faces, so a batch is one call per program.
 #include <cglm/cglm.h>
 #include <stb_image_write.h>
 #include <stdlib.h>
@@ -19,7 +24,6 @@ typedef struct vertex {
   float normal[3];
   float uv[2];
   float tangent[4];
-  float interior;
   uint32_t node; // row in the node table (spheres and the ground read a constant instead)
 } vertex;
 
@@ -32,12 +36,16 @@ enum {
   TABLE_FLOATS = 4 * TABLE_TEXELS,
 };
 
+// The programs of mesh.frag, and the two sections of a tree's index buffer
+// (outer surface, cut faces) that the first two draw.
+enum { SURFACE, INTERIOR, GROUND, MESH_PROGRAMS, SECTIONS = 2 };
+
 typedef struct tree_buffers {
   uint32_t generation; // last generation handed out for this slot
   bool used;
   GLuint vao, vbo, ibo;
-  uint32_t* first_index; // per node
-  uint32_t* index_count; // per node
+  uint32_t* first_index[SECTIONS]; // per section, per node
+  uint32_t* index_count[SECTIONS];
   uint32_t node_count;
   GLuint table_buffer, table_texture;              // the node table on the GPU
   float* table;                                    // its CPU side: rows of nodes drawn this frame are current
@@ -71,8 +79,8 @@ typedef struct draw_batch {
   uint32_t tree; // slot
   int material;
   float interior_scale;
-  uint32_t node_count;               // nodes it draws (bounds its ranges)
-  uint32_t first_range, range_count; // in the frame's range arrays
+  uint32_t node_count;                                   // nodes it draws (bounds its ranges in each section)
+  uint32_t first_range[SECTIONS], range_count[SECTIONS]; // in the frame's range arrays
 } draw_batch;
 
 // A node drawn a second time in a frame (its table row is taken by the first
@@ -86,7 +94,7 @@ typedef struct spill_draw {
 // Uniform locations, looked up once: a lookup is a string search in the driver.
 typedef struct mesh_uniforms {
   GLint view_projection, light_view_projection, sun_direction, sun_color, sky_color, ground_color, eye;
-  GLint tint, gloss, uv_scale, interior_scale, detail;
+  GLint tint, gloss, uv_scale, interior_scale;
 } mesh_uniforms;
 
 typedef struct sky_uniforms {
@@ -103,8 +111,8 @@ typedef struct line_vertex {
 } line_vertex;
 
 struct bk_renderer {
-  GLuint mesh_program, shadow_program, sky_program, particle_program, line_program;
-  mesh_uniforms mesh_u;
+  GLuint mesh_programs[MESH_PROGRAMS], shadow_program, sky_program, particle_program, line_program;
+  mesh_uniforms mesh_u[MESH_PROGRAMS];
   GLint shadow_light_view_projection, line_view_projection;
   sky_uniforms sky_u;
   particle_uniforms particle_u;
@@ -137,8 +145,9 @@ struct bk_renderer {
   uint32_t* nodes;
   float* node_colors;
   uint32_t node_count, node_capacity;
-  // Index ranges for glMultiDrawElements: the lit pass's per batch, then the
-  // shadow pass's per tree; each at most one per drawn node.
+  // Index ranges for glMultiDrawElements: the lit passes' per batch and
+  // section, then the shadow pass's per tree; each at most one per drawn
+  // node and section.
   GLsizei* multi_counts;
   const void** multi_offsets;
   uint32_t frame; // stamps the node tables' rows (never 0 once drawing)
@@ -192,10 +201,10 @@ static bool load_material(const char* dir, material* m, bool has_interior, bk_er
 static void make_ground(bk_renderer* r) {
   // A large quad; uvs in metres so the paving keeps its size.
   const float s = 60.0f;
-  vertex quad[4] = {{{-s, 0, -s}, {0, 1, 0}, {-s, -s}, {1, 0, 0, 1}, 0, 0},
-                    {{-s, 0, s}, {0, 1, 0}, {-s, s}, {1, 0, 0, 1}, 0, 0},
-                    {{s, 0, s}, {0, 1, 0}, {s, s}, {1, 0, 0, 1}, 0, 0},
-                    {{s, 0, -s}, {0, 1, 0}, {s, -s}, {1, 0, 0, 1}, 0, 0}};
+  vertex quad[4] = {{{-s, 0, -s}, {0, 1, 0}, {-s, -s}, {1, 0, 0, 1}, 0},
+                    {{-s, 0, s}, {0, 1, 0}, {-s, s}, {1, 0, 0, 1}, 0},
+                    {{s, 0, s}, {0, 1, 0}, {s, s}, {1, 0, 0, 1}, 0},
+                    {{s, 0, -s}, {0, 1, 0}, {s, -s}, {1, 0, 0, 1}, 0}};
   vertex tris[6] = {quad[0], quad[1], quad[2], quad[0], quad[2], quad[3]};
   glGenVertexArrays(1, &r->ground_vao);
   glGenBuffers(1, &r->ground_vbo);
@@ -213,8 +222,6 @@ static void vertex_layout(void) {
   glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, sizeof(vertex), (void*)offsetof(vertex, uv));
   glEnableVertexAttribArray(3);
   glVertexAttribPointer(3, 4, GL_FLOAT, GL_FALSE, sizeof(vertex), (void*)offsetof(vertex, tangent));
-  glEnableVertexAttribArray(4);
-  glVertexAttribPointer(4, 1, GL_FLOAT, GL_FALSE, sizeof(vertex), (void*)offsetof(vertex, interior));
   // The node attribute stays off here: the ground and the spheres read its
   // constant value (glVertexAttribI4ui), which names their row of the loose table.
 }
@@ -245,7 +252,6 @@ static void make_sphere(bk_renderer* r) {
                                {n[0], n[1], n[2]},
                                {(float)seg / SEGMENTS * 2, (float)ring / RINGS},
                                {-sinf(phi), 0, cosf(phi), 1},
-                               0,
                                0};
     }
   for (int ring = 0; ring < RINGS; ++ring)
@@ -326,34 +332,41 @@ bk_renderer* bk_renderer_create(const bk_renderer_desc* desc, bk_error* err) {
   bk_renderer* r = bk_calloc(1, sizeof *r);
   r->shadow_size = desc->shadow_size > 0 ? desc->shadow_size : 1024;
   r->max_particles = desc->max_particles ? desc->max_particles : 16384;
-  const char* programs[5] = {"mesh", "shadow", "sky", "particle", "line"};
-  GLuint* slots[5] = {&r->mesh_program, &r->shadow_program, &r->sky_program, &r->particle_program,
+  const char* programs[7] = {"mesh", "mesh", "mesh", "shadow", "sky", "particle", "line"};
+  const char* variants[7] = {"SURFACE", "INTERIOR", "GROUND"};
+  GLuint* slots[7] = {&r->mesh_programs[SURFACE],
+                      &r->mesh_programs[INTERIOR],
+                      &r->mesh_programs[GROUND],
+                      &r->shadow_program,
+                      &r->sky_program,
+                      &r->particle_program,
                       &r->line_program};
-  for (int i = 0; i < 5; ++i)
-    if (!(*slots[i] = bk_shader_load(desc->shader_dir, programs[i], err))) {
+  for (int i = 0; i < 7; ++i)
+    if (!(*slots[i] = bk_shader_load(desc->shader_dir, programs[i], variants[i], err))) {
       bk_renderer_destroy(r);
       return NULL;
     }
-  GLuint p = r->mesh_program;
-  r->mesh_u = (mesh_uniforms){.view_projection = uniform(p, "u_view_projection"),
-                              .light_view_projection = uniform(p, "u_light_view_projection"),
-                              .sun_direction = uniform(p, "u_sun_direction"),
-                              .sun_color = uniform(p, "u_sun_color"),
-                              .sky_color = uniform(p, "u_sky_color"),
-                              .ground_color = uniform(p, "u_ground_color"),
-                              .eye = uniform(p, "u_eye"),
-                              .tint = uniform(p, "u_tint"),
-                              .gloss = uniform(p, "u_gloss"),
-                              .uv_scale = uniform(p, "u_uv_scale"),
-                              .interior_scale = uniform(p, "u_interior_scale"),
-                              .detail = uniform(p, "u_detail")};
-  // Texture units never change: set once, the program keeps them.
-  glUseProgram(p);
-  glUniform1i(uniform(p, "u_albedo"), 0);
-  glUniform1i(uniform(p, "u_normal_map"), 1);
-  glUniform1i(uniform(p, "u_interior"), 2);
-  glUniform1i(uniform(p, "u_shadow_map"), 3);
-  glUniform1i(uniform(p, "u_nodes"), TABLE_UNIT);
+  GLuint p = 0;
+  for (int i = 0; i < MESH_PROGRAMS; ++i) {
+    p = r->mesh_programs[i];
+    r->mesh_u[i] = (mesh_uniforms){.view_projection = uniform(p, "u_view_projection"),
+                                   .light_view_projection = uniform(p, "u_light_view_projection"),
+                                   .sun_direction = uniform(p, "u_sun_direction"),
+                                   .sun_color = uniform(p, "u_sun_color"),
+                                   .sky_color = uniform(p, "u_sky_color"),
+                                   .ground_color = uniform(p, "u_ground_color"),
+                                   .eye = uniform(p, "u_eye"),
+                                   .tint = uniform(p, "u_tint"),
+                                   .gloss = uniform(p, "u_gloss"),
+                                   .uv_scale = uniform(p, "u_uv_scale"),
+                                   .interior_scale = uniform(p, "u_interior_scale")};
+    // Texture units never change: set once, the program keeps them.
+    glUseProgram(p);
+    glUniform1i(uniform(p, "u_albedo"), 0);
+    glUniform1i(uniform(p, "u_normal_map"), 1);
+    glUniform1i(uniform(p, "u_shadow_map"), 3);
+    glUniform1i(uniform(p, "u_nodes"), TABLE_UNIT);
+  }
   glUseProgram(r->shadow_program);
   glUniform1i(uniform(r->shadow_program, "u_nodes"), TABLE_UNIT);
   glUseProgram(0);
@@ -407,9 +420,14 @@ void bk_renderer_destroy(bk_renderer* r) {
   for (uint32_t i = 0; i < r->tree_count; ++i)
     if (r->trees[i].used) bk_renderer_release_tree(r, (bk_render_tree){i, r->trees[i].generation});
   free(r->trees);
-  GLuint programs[5] = {r->mesh_program, r->shadow_program, r->sky_program, r->particle_program,
+  GLuint programs[7] = {r->mesh_programs[SURFACE],
+                        r->mesh_programs[INTERIOR],
+                        r->mesh_programs[GROUND],
+                        r->shadow_program,
+                        r->sky_program,
+                        r->particle_program,
                         r->line_program};
-  for (int i = 0; i < 5; ++i)
+  for (int i = 0; i < 7; ++i)
     if (programs[i]) glDeleteProgram(programs[i]);
   for (int i = 0; i < r->material_count; ++i) {
     material* m = &r->materials[i];
@@ -471,35 +489,37 @@ bk_render_tree bk_renderer_upload_tree(bk_renderer* r, const bk_mesh_tree* tree)
   vertex* vertices = bk_alloc(sizeof(vertex) * (corners + 1));
   uint32_t* index_data = bk_alloc(sizeof(uint32_t) * (indices + 1));
   t->node_count = tree->node_count;
-  t->first_index = bk_alloc(sizeof(uint32_t) * tree->node_count);
-  t->index_count = bk_alloc(sizeof(uint32_t) * tree->node_count);
+  uint32_t* base = bk_alloc(sizeof(uint32_t) * (tree->node_count + 1));
   uint32_t v = 0, k = 0;
   for (uint32_t i = 0; i < tree->node_count; ++i) {
     const bk_mesh* m = &tree->nodes[i].mesh;
-    uint32_t base = v;
+    base[i] = v;
     for (uint32_t c = 0; c < m->corner_count; ++c) {
       const bk_corner* corner = &m->corners[c];
       bk_vec3 p = m->positions[corner->position];
-      vertex* out = &vertices[v++];
-      *out = (vertex){{(float)p.x, (float)p.y, (float)p.z},
-                      {corner->normal[0], corner->normal[1], corner->normal[2]},
-                      {corner->uv[0], corner->uv[1]},
-                      {corner->tangent[0], corner->tangent[1], corner->tangent[2], corner->tangent[3]},
-                      0.0f,
-                      i};
+      vertices[v++] =
+          (vertex){{(float)p.x, (float)p.y, (float)p.z},
+                   {corner->normal[0], corner->normal[1], corner->normal[2]},
+                   {corner->uv[0], corner->uv[1]},
+                   {corner->tangent[0], corner->tangent[1], corner->tangent[2], corner->tangent[3]},
+                   i};
     }
-    t->first_index[i] = k;
-    for (uint32_t tri = 0; tri < m->triangle_count; ++tri) {
-      float interior = m->materials[tri] == BK_MATERIAL_INTERIOR ? 1.0f : 0.0f;
-      for (int j = 0; j < 3; ++j) {
-        uint32_t corner = m->indices[3 * tri + j];
-        index_data[k++] = base + corner;
-        // A corner belongs to faces of one material (cuts make their own corners).
-        vertices[base + corner].interior = interior;
-      }
-    }
-    t->index_count[i] = k - t->first_index[i];
   }
+  // Outer triangles of every node, then cut faces of every node.
+  for (int section = 0; section < SECTIONS; ++section) {
+    t->first_index[section] = bk_alloc(sizeof(uint32_t) * tree->node_count);
+    t->index_count[section] = bk_alloc(sizeof(uint32_t) * tree->node_count);
+    for (uint32_t i = 0; i < tree->node_count; ++i) {
+      const bk_mesh* m = &tree->nodes[i].mesh;
+      t->first_index[section][i] = k;
+      for (uint32_t tri = 0; tri < m->triangle_count; ++tri)
+        if ((m->materials[tri] == BK_MATERIAL_INTERIOR) == (section == INTERIOR))
+          for (int j = 0; j < 3; ++j)
+            index_data[k++] = base[i] + m->indices[3 * tri + j];
+      t->index_count[section][i] = k - t->first_index[section][i];
+    }
+  }
+  free(base);
   glGenVertexArrays(1, &t->vao);
   glGenBuffers(1, &t->vbo);
   glGenBuffers(1, &t->ibo);
@@ -528,8 +548,10 @@ void bk_renderer_release_tree(bk_renderer* r, bk_render_tree id) {
   glDeleteTextures(1, &t->table_texture);
   GLuint buffers[3] = {t->vbo, t->ibo, t->table_buffer};
   glDeleteBuffers(3, buffers);
-  free(t->first_index);
-  free(t->index_count);
+  for (int section = 0; section < SECTIONS; ++section) {
+    free(t->first_index[section]);
+    free(t->index_count[section]);
+  }
   free(t->table);
   free(t->node_frame);
   free(t->node_batch);
@@ -579,8 +601,8 @@ void bk_renderer_draw_nodes(bk_renderer* r, const bk_node_draw* d) {
     r->node_capacity = bk_grow_capacity(r->node_capacity, r->node_count + d->node_count);
     r->nodes = bk_realloc(r->nodes, sizeof(uint32_t) * r->node_capacity);
     r->node_colors = bk_realloc(r->node_colors, sizeof(float) * 4u * r->node_capacity);
-    r->multi_counts = bk_realloc(r->multi_counts, sizeof(GLsizei) * 2u * r->node_capacity);
-    r->multi_offsets = bk_realloc(r->multi_offsets, sizeof(void*) * 2u * r->node_capacity);
+    r->multi_counts = bk_realloc(r->multi_counts, sizeof(GLsizei) * 2u * SECTIONS * r->node_capacity);
+    r->multi_offsets = bk_realloc(r->multi_offsets, sizeof(void*) * 2u * SECTIONS * r->node_capacity);
   }
   draw_item* item = &r->items[r->item_count++];
   item->tree = d->tree;
@@ -722,7 +744,7 @@ static void prepare_batches(bk_renderer* r) {
                                                    .material = item->material,
                                                    .interior_scale = item->interior_scale};
         write_row(loose_row(r), item->rows, color);
-        r->stats.triangles += 2 * (t->index_count[node] / 3);
+        r->stats.triangles += 2 * ((t->index_count[SURFACE][node] + t->index_count[INTERIOR][node]) / 3);
         continue;
       }
       t->node_frame[node] = r->frame;
@@ -734,23 +756,27 @@ static void prepare_batches(bk_renderer* r) {
     }
   }
   uint32_t next_range = 0;
-  for (uint32_t b = 0; b < r->batch_count; ++b) {
-    r->batches[b].first_range = next_range;
-    next_range += r->batches[b].node_count;
-  }
+  for (uint32_t b = 0; b < r->batch_count; ++b)
+    for (int section = 0; section < SECTIONS; ++section) {
+      r->batches[b].first_range[section] = next_range;
+      next_range += r->batches[b].node_count;
+    }
   for (uint32_t i = 0; i < r->drawn_tree_count; ++i) {
     tree_buffers* t = &r->trees[r->drawn_trees[i]];
     t->first_shadow_range = next_range;
     t->shadow_range_count = 0;
     if (t->lowest > t->highest) continue;
     // In node order, so that neighbouring nodes merge into one range.
-    for (uint32_t node = t->lowest; node <= t->highest; ++node) {
-      if (t->node_frame[node] != r->frame || t->index_count[node] == 0) continue;
-      draw_batch* batch = &r->batches[t->node_batch[node]];
-      append_range(r, batch->first_range, &batch->range_count, t->index_count[node], t->first_index[node]);
-      append_range(r, t->first_shadow_range, &t->shadow_range_count, t->index_count[node],
-                   t->first_index[node]);
-      r->stats.triangles += 2 * (t->index_count[node] / 3); // both passes
+    for (int section = 0; section < SECTIONS; ++section) {
+      const uint32_t* first = t->first_index[section];
+      const uint32_t* count = t->index_count[section];
+      for (uint32_t node = t->lowest; node <= t->highest; ++node) {
+        if (t->node_frame[node] != r->frame || count[node] == 0) continue;
+        draw_batch* batch = &r->batches[t->node_batch[node]];
+        append_range(r, batch->first_range[section], &batch->range_count[section], count[node], first[node]);
+        append_range(r, t->first_shadow_range, &t->shadow_range_count, count[node], first[node]);
+        r->stats.triangles += 2 * (count[node] / 3); // lit and shadow passes
+      }
     }
     next_range += t->shadow_range_count;
     glBindBuffer(GL_TEXTURE_BUFFER, t->table_buffer);
@@ -774,23 +800,30 @@ static void bind_table(GLuint texture) {
   glBindTexture(GL_TEXTURE_BUFFER, texture);
 }
 
-static void use_material(bk_renderer* r, const material* m, float interior_scale) {
+// Binds what `program` samples of a material and sets its uniforms.
+static void use_material(bk_renderer* r, int program, const material* m, float interior_scale) {
+  const mesh_uniforms* u = &r->mesh_u[program];
   glActiveTexture(GL_TEXTURE0);
-  glBindTexture(GL_TEXTURE_2D, m->albedo);
-  glActiveTexture(GL_TEXTURE1);
-  glBindTexture(GL_TEXTURE_2D, m->normal);
-  glActiveTexture(GL_TEXTURE2);
-  glBindTexture(GL_TEXTURE_2D, m->interior);
-  glUniform3fv(r->mesh_u.tint, 1, m->tint);
-  glUniform1f(r->mesh_u.gloss, m->gloss);
-  glUniform1f(r->mesh_u.uv_scale, m->uv_scale);
-  glUniform1f(r->mesh_u.interior_scale, interior_scale);
+  glBindTexture(GL_TEXTURE_2D, program == INTERIOR ? m->interior : m->albedo);
+  if (program == SURFACE) {
+    glActiveTexture(GL_TEXTURE1);
+    glBindTexture(GL_TEXTURE_2D, m->normal);
+  }
+  glUniform3fv(u->tint, 1, m->tint);
+  glUniform1f(u->gloss, m->gloss);
+  glUniform1f(u->uv_scale, m->uv_scale);
+  glUniform1f(u->interior_scale, interior_scale);
 }
 
-// Everything that casts a shadow or is lit: trees, spheres (and the ground,
-// which only receives). `shadow` selects the depth-only program, which needs
-// no materials: there a tree is one call whatever its batches.
-static void draw_scene(bk_renderer* r, bool shadow) {
+enum { DEPTH_ONLY = -1 }; // draw_scene's pass for the shadow map
+
+// Everything that casts a shadow or is lit: trees and spheres (the ground
+// only receives). `pass` is DEPTH_ONLY, which needs no materials (a tree is
+// one call whatever its batches), or the program of one section: SURFACE
+// draws outer surfaces and the spheres, INTERIOR the cut faces.
+static void draw_scene(bk_renderer* r, int pass) {
+  bool shadow = pass == DEPTH_ONLY;
+  int section = pass == INTERIOR ? INTERIOR : SURFACE;
   if (shadow) {
     for (uint32_t i = 0; i < r->drawn_tree_count; ++i) {
       const tree_buffers* t = &r->trees[r->drawn_trees[i]];
@@ -804,13 +837,14 @@ static void draw_scene(bk_renderer* r, bool shadow) {
   } else {
     for (uint32_t b = 0; b < r->batch_count; ++b) {
       const draw_batch* batch = &r->batches[b];
-      if (batch->range_count == 0) continue;
+      if (batch->range_count[section] == 0) continue;
       const tree_buffers* t = &r->trees[batch->tree];
       glBindVertexArray(t->vao);
       bind_table(t->table_texture);
-      use_material(r, &r->materials[batch->material], batch->interior_scale);
-      glMultiDrawElements(GL_TRIANGLES, &r->multi_counts[batch->first_range], GL_UNSIGNED_INT,
-                          &r->multi_offsets[batch->first_range], (GLsizei)batch->range_count);
+      use_material(r, pass, &r->materials[batch->material], batch->interior_scale);
+      glMultiDrawElements(GL_TRIANGLES, &r->multi_counts[batch->first_range[section]], GL_UNSIGNED_INT,
+                          &r->multi_offsets[batch->first_range[section]],
+                          (GLsizei)batch->range_count[section]);
       r->stats.draw_calls++;
     }
   }
@@ -822,22 +856,26 @@ static void draw_scene(bk_renderer* r, bool shadow) {
     glBindVertexArray(t->vao);
     glDisableVertexAttribArray(NODE_ATTRIBUTE);
     glVertexAttribI4ui(NODE_ATTRIBUTE, s->entry, 0, 0, 0);
-    if (!shadow) use_material(r, &r->materials[s->material], s->interior_scale);
-    glDrawElements(GL_TRIANGLES, (GLsizei)t->index_count[s->node], GL_UNSIGNED_INT,
-                   (void*)(uintptr_t)(sizeof(uint32_t) * t->first_index[s->node]));
+    if (!shadow) use_material(r, pass, &r->materials[s->material], s->interior_scale);
+    for (int k = 0; k < SECTIONS; ++k) {
+      uint32_t count = t->index_count[k][s->node];
+      if ((!shadow && k != section) || count == 0) continue;
+      glDrawElements(GL_TRIANGLES, (GLsizei)count, GL_UNSIGNED_INT,
+                     (void*)(uintptr_t)(sizeof(uint32_t) * t->first_index[k][s->node]));
+      r->stats.draw_calls++;
+    }
     glEnableVertexAttribArray(NODE_ATTRIBUTE);
-    r->stats.draw_calls++;
   }
-  if (r->sphere_count == 0) return;
+  if (r->sphere_count == 0 || pass == INTERIOR) return;
   glBindVertexArray(r->sphere_vao);
   if (!shadow) {
-    use_material(r, &r->materials[0], 1.0f);
-    glUniform1f(r->mesh_u.gloss, 0.8f); // polished steel; the tint is per sphere
+    use_material(r, SURFACE, &r->materials[0], 1.0f);
+    glUniform1f(r->mesh_u[SURFACE].gloss, 0.8f); // polished steel; the tint is per sphere
   }
   for (uint32_t i = 0; i < r->sphere_count; ++i) {
     const float* s = r->spheres[i];
     glVertexAttribI4ui(NODE_ATTRIBUTE, 1 + i, 0, 0, 0); // rows 1.. of the loose table
-    if (!shadow) glUniform3f(r->mesh_u.tint, s[4], s[5], s[6]);
+    if (!shadow) glUniform3f(r->mesh_u[SURFACE].tint, s[4], s[5], s[6]);
     glDrawElements(GL_TRIANGLES, (GLsizei)r->sphere_index_count, GL_UNSIGNED_INT, NULL);
     r->stats.draw_calls++;
   }
@@ -871,7 +909,7 @@ unsigned bk_renderer_end_frame(bk_renderer* r) {
   glDepthFunc(GL_LESS);
   glEnable(GL_CULL_FACE);
   glDisable(GL_BLEND);
-  glDisable(GL_FRAMEBUFFER_SRGB);
+  glDisable(GL_FRAMEBUFFER_SRGB); // shaders encode sRGB themselves (common.glsl)
 
   // Shadow pass.
   glBindFramebuffer(GL_FRAMEBUFFER, r->shadow_fbo);
@@ -881,37 +919,39 @@ unsigned bk_renderer_end_frame(bk_renderer* r) {
   glUniformMatrix4fv(r->shadow_light_view_projection, 1, GL_FALSE, (const float*)light_view_projection);
   glEnable(GL_POLYGON_OFFSET_FILL);
   glPolygonOffset(1.5f, 2.0f);
-  draw_scene(r, true);
+  draw_scene(r, DEPTH_ONLY);
   glDisable(GL_POLYGON_OFFSET_FILL);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
 
   glViewport(0, 0, r->width, r->height);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-  glEnable(GL_FRAMEBUFFER_SRGB); // shaders write linear colour
 
-  // Lit pass.
-  const mesh_uniforms* u = &r->mesh_u;
-  glUseProgram(r->mesh_program);
-  glUniformMatrix4fv(u->view_projection, 1, GL_FALSE, (const float*)view_projection);
-  glUniformMatrix4fv(u->light_view_projection, 1, GL_FALSE, (const float*)light_view_projection);
-  glUniform3fv(u->sun_direction, 1, sun);
-  glUniform3fv(u->sun_color, 1, sun_color);
-  glUniform3fv(u->sky_color, 1, sky_color);
-  glUniform3fv(u->ground_color, 1, ground_bounce);
-  glUniform3f(u->eye, (float)c->eye.x, (float)c->eye.y, (float)c->eye.z);
-  glUniform1i(u->detail, 1);
+  // Lit passes: outer surfaces, cut faces, then the ground.
   glActiveTexture(GL_TEXTURE3);
   glBindTexture(GL_TEXTURE_2D, r->shadow_texture);
-  // Objects before the ground and the sky: on a software renderer every
-  // shaded pixel counts, and early depth tests skip what they hide.
-  draw_scene(r, false);
-  // Ground: row 0 of the loose table.
-  bind_table(r->loose_texture);
-  glVertexAttribI4ui(NODE_ATTRIBUTE, 0, 0, 0, 0);
-  use_material(r, &r->ground, 1.0f);
-  glUniform1i(u->detail, 0);
-  glBindVertexArray(r->ground_vao);
-  glDrawArrays(GL_TRIANGLES, 0, 6);
+  for (int program = 0; program < MESH_PROGRAMS; ++program) {
+    const mesh_uniforms* u = &r->mesh_u[program];
+    glUseProgram(r->mesh_programs[program]);
+    glUniformMatrix4fv(u->view_projection, 1, GL_FALSE, (const float*)view_projection);
+    glUniformMatrix4fv(u->light_view_projection, 1, GL_FALSE, (const float*)light_view_projection);
+    glUniform3fv(u->sun_direction, 1, sun);
+    glUniform3fv(u->sun_color, 1, sun_color);
+    glUniform3fv(u->sky_color, 1, sky_color);
+    glUniform3fv(u->ground_color, 1, ground_bounce);
+    glUniform3f(u->eye, (float)c->eye.x, (float)c->eye.y, (float)c->eye.z);
+    if (program != GROUND) {
+      // Objects before the ground and the sky: on a software renderer every
+      // shaded pixel counts, and early depth tests skip what they hide.
+      draw_scene(r, program);
+      continue;
+    }
+    // The ground: row 0 of the loose table.
+    bind_table(r->loose_texture);
+    glVertexAttribI4ui(NODE_ATTRIBUTE, 0, 0, 0, 0);
+    use_material(r, GROUND, &r->ground, 1.0f);
+    glBindVertexArray(r->ground_vao);
+    glDrawArrays(GL_TRIANGLES, 0, 6);
+  }
 
   // Sky last, only where nothing was drawn (depth still at the far plane).
   glDepthMask(GL_FALSE);
@@ -962,7 +1002,6 @@ unsigned bk_renderer_end_frame(bk_renderer* r) {
     r->stats.particles = r->particle_count;
   }
   glDisable(GL_BLEND);
-  glDisable(GL_FRAMEBUFFER_SRGB); // the UI draws in sRGB already
   glBindVertexArray(0);
   glUseProgram(0);
   return glGetError();

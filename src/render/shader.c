@@ -28,12 +28,23 @@ static void first_line(char* log) {
   if (newline) *newline = 0;
 }
 
-static GLuint compile(const char* path, GLenum type, bk_error* err) {
+// Right after the #version line, which GLSL wants first, come the variant
+// (may be NULL) as a macro and the shared functions of common.glsl. A variant
+// lets one file make several programs without runtime branches, whose both
+// sides a software renderer would execute.
+static GLuint compile(const char* path, GLenum type, const char* variant, const char* common, bk_error* err) {
   char* source = read_text(path);
   if (!source) return bk_error_set(err, "%s: cannot read shader", path), 0;
   GLuint shader = glCreateShader(type);
-  const char* sources[1] = {source};
-  glShaderSource(shader, 1, sources, NULL);
+  char* newline = strchr(source, '\n');
+  GLint version_length = newline ? (GLint)(newline - source + 1) : 0;
+  char define[64] = "";
+  if (variant) snprintf(define, sizeof define, "#define %s 1\n", variant);
+  // Keeps the info log's line numbers those of the file.
+  const char* line_reset = "\n#line 2\n";
+  const char* sources[5] = {source, define, common, line_reset, source + version_length};
+  const GLint lengths[5] = {version_length, -1, -1, -1, -1};
+  glShaderSource(shader, 5, sources, lengths);
   glCompileShader(shader);
   free(source);
   GLint ok = 0;
@@ -42,22 +53,26 @@ static GLuint compile(const char* path, GLenum type, bk_error* err) {
     char log[1024] = {0};
     glGetShaderInfoLog(shader, sizeof log, NULL, log);
     first_line(log);
-    bk_error_set(err, "%s: shader does not compile: %s", path, log);
+    bk_error_set(err, "%s%s%s%s: shader does not compile: %s", path, variant ? " (" : "",
+                 variant ? variant : "", variant ? ")" : "", log);
     glDeleteShader(shader);
     return 0;
   }
   return shader;
 }
 
-GLuint bk_shader_load(const char* dir, const char* name, bk_error* err) {
+GLuint bk_shader_load(const char* dir, const char* name, const char* variant, bk_error* err) {
   char path[1024];
+  snprintf(path, sizeof path, "%s/common.glsl", dir);
+  char* common = read_text(path);
+  if (!common) return bk_error_set(err, "%s: cannot read shader", path), 0;
   snprintf(path, sizeof path, "%s/%s.vert", dir, name);
-  GLuint vertex = compile(path, GL_VERTEX_SHADER, err);
-  if (!vertex) return 0;
+  GLuint vertex = compile(path, GL_VERTEX_SHADER, variant, common, err);
   snprintf(path, sizeof path, "%s/%s.frag", dir, name);
-  GLuint fragment = compile(path, GL_FRAGMENT_SHADER, err);
+  GLuint fragment = vertex ? compile(path, GL_FRAGMENT_SHADER, variant, common, err) : 0;
+  free(common);
   if (!fragment) {
-    glDeleteShader(vertex);
+    if (vertex) glDeleteShader(vertex);
     return 0;
   }
   GLuint program = glCreateProgram();
@@ -72,7 +87,8 @@ GLuint bk_shader_load(const char* dir, const char* name, bk_error* err) {
     char log[1024] = {0};
     glGetProgramInfoLog(program, sizeof log, NULL, log);
     first_line(log);
-    bk_error_set(err, "%s/%s: shaders do not link: %s", dir, name, log);
+    bk_error_set(err, "%s/%s%s%s%s: shaders do not link: %s", dir, name, variant ? " (" : "",
+                 variant ? variant : "", variant ? ")" : "", log);
     glDeleteProgram(program);
     return 0;
   }
