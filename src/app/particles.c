@@ -53,9 +53,9 @@ void bk_particles_emit_break(bk_particles* p, const bk_break_event* e, const flo
   *d = (bk_particle){.position = e->position,
                      .velocity = bk_v3_add(bk_v3_scale(e->velocity, 0.3),
                                            bk_v3(jitter(&p->rng, 0.3), 0.25, jitter(&p->rng, 0.3))),
-                     .size = (float)(0.05 + 0.6 * size),
-                     .growth = 0.35f,
-                     .life = 1.8f + (float)bk_rng_unit(&p->rng) * 1.2f,
+                     .size = (float)(0.05 + 0.5 * size),
+                     .growth = 0.2f,
+                     .life = 1.2f + (float)bk_rng_unit(&p->rng) * 0.8f,
                      .kind = 0.0f,
                      .gravity = 0.0f};
   for (int k = 0; k < 3; ++k)
