@@ -122,6 +122,15 @@ static void step_world(bk_game* g) {
   g->break_ms = s.break_ms;
 }
 
+// The worker's job: the steps the last frame's time asked for.
+static void run_steps(void* game) {
+  bk_game* g = game;
+  double start = glfwGetTime();
+  for (int i = 0; i < g->pending_steps; ++i)
+    step_world(g);
+  g->steps_ms = (glfwGetTime() - start) * 1e3;
+}
+
 static void handle_input(bk_game* g, double dt) {
   GLFWwindow* w = g->window;
   bool ui_keys = g->ui && bk_ui_wants_keyboard(), ui_mouse = g->ui && bk_ui_wants_mouse();
@@ -329,10 +338,15 @@ int bk_cmd_play(int argc, char** argv) {
     return free(g), 1;
   }
   uint32_t bodies_start = bk_world_body_count(g->scene.world);
+  // The world steps on a worker while the driver draws the frame just
+  // submitted: a software renderer's threads sit idle while physics runs on
+  // the main thread, and vice versa. Between bk_worker_wait and the next
+  // start the world is the main thread's: input, the panel and drawing.
+  bk_worker* worker = bk_worker_create();
   const double fixed = 1.0 / 60.0;
-  double last = glfwGetTime(), frame_ms_sum = 0.0, physics_ms_sum = 0.0, last_ms_sum = 0.0;
+  double last = glfwGetTime(), frame_ms_sum = 0.0, physics_ms_sum = 0.0, last_ms_sum = 0.0, frame_ms = 0.0;
   unsigned gl_error = 0;
-  uint32_t frame = 0, fired = 0;
+  uint32_t frame = 0, fired = 0, jobs = 0;
   int status = 0;
   while (!glfwWindowShouldClose(g->window) && (wo.frames == 0 || frame < wo.frames)) {
     double now = glfwGetTime();
@@ -340,6 +354,11 @@ int bk_cmd_play(int argc, char** argv) {
     // reproducible whatever the machine's speed.
     double dt = wo.frames ? fixed : fmin(now - last, 0.1);
     last = now;
+    if (worker) bk_worker_wait(worker);
+    if (jobs > 0) {
+      physics_ms_sum += g->steps_ms;
+      record_history(g, frame_ms);
+    }
     glfwPollEvents();
     handle_input(g, dt);
     if (g->reload) {
@@ -357,28 +376,14 @@ int bk_cmd_play(int argc, char** argv) {
       bk_projectile_desc shot = bk_scene_shot(g->scene.scene, fired++, g->projectile_speed);
       bk_world_fire(g->scene.world, &shot);
     }
-    double physics_start = glfwGetTime();
-    if (!g->paused) g->accumulator += dt * g->time_scale;
-    if (g->step_once) {
-      g->accumulator += fixed;
-      g->step_once = false;
-    }
-    int steps = 0;
-    while (g->accumulator >= fixed && steps < 4) {
-      step_world(g);
-      g->accumulator -= fixed;
-      steps++;
-    }
-    if (steps == 4) g->accumulator = 0.0; // far behind: drop time rather than spiral
-    double physics_ms = (glfwGetTime() - physics_start) * 1e3;
-    double alpha = g->accumulator / fixed;
     uint32_t particles = bk_particles_update(&g->particles, g->paused ? 0.0 : dt * g->time_scale);
 
+    // The world as the last steps left it, between their two states.
     int width = 0, height = 0;
     glfwGetFramebufferSize(g->window, &width, &height);
     bk_camera camera = {.eye = g->eye, .target = bk_v3_add(g->eye, bk_game_forward(g))};
     bk_renderer_begin_frame(g->renderer, &camera, width, height);
-    draw_world(g, alpha);
+    draw_world(g, g->alpha);
     bk_renderer_draw_particles(g->renderer, g->particles.instances, particles);
     unsigned error = bk_renderer_end_frame(g->renderer);
     if (error && !gl_error) gl_error = error;
@@ -387,6 +392,26 @@ int bk_cmd_play(int argc, char** argv) {
       if (g->show_panel) bk_game_panel(g);
       bk_ui_end_frame();
     }
+
+    // This frame's time in fixed steps, run while the driver draws.
+    if (!g->paused) g->accumulator += dt * g->time_scale;
+    if (g->step_once) {
+      g->accumulator += fixed;
+      g->step_once = false;
+    }
+    g->pending_steps = 0;
+    while (g->accumulator >= fixed && g->pending_steps < 4) {
+      g->accumulator -= fixed;
+      g->pending_steps++;
+    }
+    if (g->pending_steps == 4) g->accumulator = 0.0; // far behind: drop time rather than spiral
+    g->alpha = g->accumulator / fixed;
+    if (worker)
+      bk_worker_start(worker, run_steps, g);
+    else
+      run_steps(g);
+    jobs++;
+
     bool last_frame = wo.frames && frame + 1 == wo.frames;
     if (last_frame && bk_game_panel_busy()) { // a scripted benchmark run shows the sweep's result
       glfwSwapBuffers(g->window);
@@ -398,19 +423,19 @@ int bk_cmd_play(int argc, char** argv) {
       status = 1;
     }
     glfwSwapBuffers(g->window);
-    double frame_ms = (glfwGetTime() - now) * 1e3;
+    frame_ms = (glfwGetTime() - now) * 1e3;
     frame_ms_sum += frame_ms;
-    physics_ms_sum += physics_ms;
     if (wo.frames && frame + 60 >= wo.frames) last_ms_sum += frame_ms; // the last second
-    record_history(g, frame_ms);
     frame++;
   }
+  if (worker) bk_worker_destroy(worker);
+  if (jobs > 0) physics_ms_sum += g->steps_ms;
   bk_world_stats s = bk_world_get_stats(g->scene.world);
   if (wo.frames)
     printf("frames %u, bodies %u (from %u), fragments free %u, mean frame ms %.2f (last second %.2f, "
            "physics %.2f), shots %u, gl errors %s\n",
            frame, s.bodies, bodies_start, s.fragments_free, frame ? frame_ms_sum / frame : 0.0,
-           frame ? last_ms_sum / (frame < 60 ? frame : 60) : 0.0, frame ? physics_ms_sum / frame : 0.0,
+           frame ? last_ms_sum / (frame < 60 ? frame : 60) : 0.0, jobs ? physics_ms_sum / jobs : 0.0,
            fired + g->shots, gl_error ? "yes" : "none");
   if (gl_error) {
     fprintf(stderr, "breakables play: OpenGL error 0x%x while rendering\n", gl_error);

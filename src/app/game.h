@@ -29,6 +29,18 @@ void bk_particles_emit_break(bk_particles* particles, const bk_break_event* even
 /// Advances by dt; fills `instances` with the live ones and returns their count.
 uint32_t bk_particles_update(bk_particles* particles, double dt);
 
+/// A thread that runs one job at a time (the game's physics steps, while the
+/// driver draws the frame). Touch nothing the job uses until bk_worker_wait.
+typedef struct bk_worker bk_worker;
+/// NULL if no thread can be started (the caller then runs jobs itself).
+bk_worker* bk_worker_create(void);
+/// Waits for the job in progress, then ends the thread.
+void bk_worker_destroy(bk_worker* worker);
+/// Runs job(argument) on the worker, after waiting for the previous job.
+void bk_worker_start(bk_worker* worker, void (*job)(void*), void* argument);
+/// Returns once no job is running.
+void bk_worker_wait(bk_worker* worker);
+
 /// Options shared by `play` and `editor`.
 typedef struct bk_window_options {
   int width, height;

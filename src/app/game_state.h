@@ -25,6 +25,9 @@ typedef struct bk_game {
   // Time.
   double accumulator, time_scale;
   bool paused, step_once;
+  int pending_steps; ///< fixed steps the worker runs for this frame
+  double alpha;      ///< where between the last two steps the drawn frame lies
+  double steps_ms;   ///< wall time of the last frame's steps (on the worker)
   // Projectiles.
   double projectile_speed, projectile_radius, projectile_mass;
   uint32_t shots;
