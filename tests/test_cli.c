@@ -203,13 +203,21 @@ static void test_sim(void) {
   // Plain BCRB: one collider per fragment.
   r = run("sim --scene wall --pieces 64 --shots 2 --steps 150 --naive --json");
   ENSURE(json_number(r->out, "colliders_final") == json_number(r->out, "colliders_naive_final"));
+  // --volley moves the shots to the start: fired at step 1 instead of step 4
+  // of 8, the ball reaches the wall before the run ends.
+  r = run("sim --scene wall --pieces 64 --shots 1 --steps 8 --json");
+  ENSURE_MSG(json_number(r->out, "bonds_broken") == 0, "%s", r->out);
+  r = run("sim --scene wall --pieces 64 --shots 1 --steps 8 --volley 2 --json");
+  ENSURE_MSG(json_number(r->out, "bonds_broken") > 0, "%s", r->out);
   r = run("sim --help");
-  const char* options[] = {"--scene",   "--pieces",  "--seed",     "--shots",      "--steps", "--speed",
-                           "--frailty", "--density", "--discrete", "--accumulate", "--naive", "--json"};
+  const char* options[] = {"--scene",      "--pieces", "--seed",    "--shots",   "--steps",
+                           "--volley",     "--speed",  "--frailty", "--density", "--discrete",
+                           "--accumulate", "--naive",  "--json"};
   for (size_t i = 0; i < sizeof options / sizeof *options; ++i)
     ENSURE_MSG(strstr(r->out, options[i]) != NULL, "sim help does not describe %s", options[i]);
   expect_error("sim --scene castle", 2, "unknown scene 'castle'");
   expect_error("sim --steps 0", 2, "--steps must be a whole number from 1 to 1000000");
+  expect_error("sim --volley 0", 2, "--volley must be a whole number from 1 to 1000000");
   expect_error("sim --frailty nan", 2, "--frailty must be a positive number");
   expect_error("sim --density -5", 2, "--density must be a positive number");
   expect_error("sim --explode", 2, "unknown option '--explode'");

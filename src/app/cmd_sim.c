@@ -6,19 +6,22 @@
 #include "app.h"
 
 static const char* const sim_usage =
-    "usage: breakables sim [--scene NAME] [--pieces N] [--seed S] [--shots K] [--steps F] [--speed M/S]\n"
-    "                      [--frailty X] [--density X] [--discrete|--accumulate] [--naive] [--json]\n"
+    "usage: breakables sim [--scene NAME] [--pieces N] [--seed S] [--shots K] [--steps F] [--volley V]\n"
+    "                      [--speed M/S] [--frailty X] [--density X] [--discrete|--accumulate] [--naive]\n"
+    "                      [--json]\n"
     "\n"
     "Runs a scene headless at a fixed 60 Hz: builds (or loads from the cache) the\n"
     "scene's mesh tree, fires K projectiles at the object at regular intervals\n"
     "during F steps, and reports what broke and what it cost.\n"
     "\n"
     "options:\n"
-    "  --scene NAME     wall, eggshell, pillar, slab, bunny, torus (default: wall)\n"
+    "  --scene NAME     wall, eggshell, pillar, slab, bunny, torus, showcase (default: wall)\n"
     "  --pieces N       fragments per object, 1..65536 (default: the scene's)\n"
     "  --seed S         fracture seed (default: 3000)\n"
     "  --shots K        projectiles to fire, 0..1000 (default: 3)\n"
     "  --steps F        60 Hz steps to run, 1..1000000 (default: 300)\n"
+    "  --volley V       fire the shots within the first V steps (default: all F): the\n"
+    "                   rest shows what the debris costs as it settles\n"
     "  --speed M/S      projectile speed (default: the scene's)\n"
     "  --frailty X      damage multiplier (default: the material's)\n"
     "  --density X      kg/m^3 (default: the material's)\n"
@@ -49,7 +52,7 @@ static double maximum(const double* values, uint32_t count) {
 
 int bk_cmd_sim(int argc, char** argv) {
   const char* scene_name = "wall";
-  uint64_t shots = 3, steps = 300;
+  uint64_t shots = 3, steps = 300, volley = 0;
   double speed = 0.0;
   bool json = false;
   bk_scene_options options = bk_default_scene_options();
@@ -73,8 +76,8 @@ int bk_cmd_sim(int argc, char** argv) {
       flag = false;
     }
     if (flag) continue;
-    const char* known[] = {"--scene", "--pieces", "--seed",    "--shots",
-                           "--steps", "--speed",  "--frailty", "--density"};
+    const char* known[] = {"--scene",  "--pieces", "--seed",    "--shots",  "--steps",
+                           "--volley", "--speed",  "--frailty", "--density"};
     bool is_known = false;
     for (size_t k = 0; k < sizeof known / sizeof *known; ++k)
       is_known = is_known || strcmp(arg, known[k]) == 0;
@@ -99,6 +102,9 @@ int bk_cmd_sim(int argc, char** argv) {
     } else if (strcmp(arg, "--steps") == 0) {
       if (!bk_parse_u64(value, 1, 1000000, &steps))
         return usage_error(arg, "must be a whole number from 1 to 1000000");
+    } else if (strcmp(arg, "--volley") == 0) {
+      if (!bk_parse_u64(value, 1, 1000000, &volley))
+        return usage_error(arg, "must be a whole number from 1 to 1000000");
     } else if (strcmp(arg, "--speed") == 0) {
       if (!bk_parse_double(value, 0.0, 2000.0, &speed))
         return usage_error(arg, "must be a number in (0, 2000] m/s");
@@ -112,8 +118,10 @@ int bk_cmd_sim(int argc, char** argv) {
   }
   const bk_scene* scene = bk_scene_find(scene_name);
   if (!scene) {
-    fprintf(stderr, "breakables sim: unknown scene '%s': use wall, eggshell, pillar, slab, bunny or torus\n",
-            scene_name);
+    fprintf(
+        stderr,
+        "breakables sim: unknown scene '%s': use wall, eggshell, pillar, slab, bunny, torus or showcase\n",
+        scene_name);
     return 2;
   }
 
@@ -129,7 +137,8 @@ int bk_cmd_sim(int argc, char** argv) {
   uint32_t break_steps = 0, fired = 0;
   for (uint64_t step = 0; step < steps; ++step) {
     // Shots at regular intervals, leaving time after the last one.
-    while (fired < shots && step >= (fired + 1) * steps / (shots + 1)) {
+    uint64_t span = volley && volley < steps ? volley : steps;
+    while (fired < shots && step >= (fired + 1) * span / (shots + 1)) {
       bk_projectile_desc shot = bk_scene_shot(scene, fired++, speed);
       bk_world_fire(loaded.world, &shot);
     }

@@ -11,7 +11,7 @@
 static const char* const play_usage =
     "usage: breakables [play] [--scene NAME] [--pieces N] [--seed S] [--frames N] [--autofire K]\n"
     "                  [--screenshot FILE.png] [--width W] [--height H] [--hide-panel] [--overlay NAME]\n"
-    "                  [--benchmark]\n"
+    "                  [--volley V] [--benchmark]\n"
     "\n"
     "The demo game: shoot projectiles at breakable objects and tune them live.\n"
     "\n"
@@ -21,6 +21,7 @@ static const char* const play_usage =
     "  --seed S              fracture seed (default: 3000)\n"
     "  --frames N            run N frames, then exit with a one-line summary\n"
     "  --autofire K          fire K projectiles at the scene's target at regular intervals\n"
+    "  --volley V            fire them within the first V frames (default: all N)\n"
     "  --screenshot FILE.png save the last frame\n"
     "  --width W --height H  window size (default: 1280x720)\n"
     "  --hide-panel          start with the tuning panel hidden (F1 shows it)\n"
@@ -263,6 +264,7 @@ int bk_cmd_play(int argc, char** argv) {
   g->options.retire_volume = 2e-5; // chips under 20 cm^3 leave after 10 s: a long session stays bounded
   const char* scene_name = "showcase";
   bool hide_panel = false;
+  uint64_t volley = 0;
   for (int i = 1; i < argc; ++i) {
     const char* arg = argv[i];
     int parsed = bk_parse_window_option("play", argc, argv, &i, &wo);
@@ -296,6 +298,11 @@ int bk_cmd_play(int argc, char** argv) {
         return free(g), 2;
       }
       g->options.pieces = (uint32_t)number;
+    } else if (strcmp(arg, "--volley") == 0 && i + 1 < argc) {
+      if (!bk_parse_u64(argv[++i], 1, 10000000, &volley)) {
+        fprintf(stderr, "breakables play: --volley must be a whole number from 1 to 10000000\n");
+        return free(g), 2;
+      }
     } else if (strcmp(arg, "--seed") == 0 && i + 1 < argc) {
       if (!bk_parse_u64(argv[++i], 0, UINT64_MAX, &g->options.seed)) {
         fprintf(stderr, "breakables play: --seed must be a whole number >= 0\n");
@@ -371,8 +378,9 @@ int bk_cmd_play(int argc, char** argv) {
         break;
       }
     }
+    uint64_t span = volley && volley < wo.frames ? volley : wo.frames;
     while (wo.autofire && fired < wo.autofire && wo.frames &&
-           frame >= (uint64_t)(fired + 1) * wo.frames / (wo.autofire + 1)) {
+           frame >= (fired + 1) * span / (wo.autofire + 1)) {
       bk_projectile_desc shot = bk_scene_shot(g->scene.scene, fired++, g->projectile_speed);
       bk_world_fire(g->scene.world, &shot);
     }
