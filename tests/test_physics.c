@@ -754,6 +754,83 @@ static void test_piles_sleep(void) {
   bk_physics_destroy(w);
 }
 
+/// Number of the given bodies that are awake.
+static int count_awake(const bk_physics* w, const bk_body_id* bodies, int count) {
+  int awake = 0;
+  for (int i = 0; i < count; ++i)
+    awake += bk_physics_body_awake(w, bodies[i]);
+  return awake;
+}
+
+// A body that never sleeps rests on a heap: Bullet would keep the heap's
+// whole island awake; here calm shards freeze one by one and only what the
+// restless body touches stays awake. A frozen shard still holds up what
+// rests on it, a restless body wakes what it hits, and a frozen body whose
+// support is destroyed falls.
+static void test_calm_bodies_freeze(void) {
+  bk_physics* w = make_world();
+  make_ground(w);
+  bk_rng rng = bk_rng_seed(11, 1);
+  enum { SHARDS = 60 };
+  bk_body_id shards[SHARDS];
+  for (int i = 0; i < SHARDS; ++i) {
+    bk_vec3 h = bk_v3(range(&rng, 0.02, 0.05), range(&rng, 0.01, 0.03), range(&rng, 0.02, 0.05));
+    bk_vec3 p = bk_v3(range(&rng, -0.3, 0.3), 0.05 + 0.06 * (i / 6), range(&rng, -0.3, 0.3));
+    shards[i] = make_small_box(w, h, p, 0.7, 0.1 * cbrt(8.0 * h.x * h.y * h.z));
+  }
+  // A block that never sleeps lands on top of the heap: its island (with
+  // Bullet's rules, the whole heap) never would.
+  bk_body_desc d = bk_default_body_desc();
+  bk_vec3 bh = bk_v3(0.08, 0.04, 0.08);
+  d.shape = bk_physics_create_box(w, bh);
+  d.mass = 2.0;
+  d.inertia = box_inertia(2.0, bh);
+  d.transform.position = bk_v3(0.0, 0.9, 0.0);
+  d.disable_sleep = true;
+  bk_error err = {{0}};
+  bk_body_id block = bk_physics_create_body(w, &d, &err);
+  ENSURE_MSG(!bk_body_is_null(block), "%s", err.message);
+  for (int step = 0; step < 6 * 60; ++step)
+    bk_physics_step(w, dt, 1);
+  int awake = count_awake(w, shards, SHARDS);
+  ENSURE_MSG(awake <= 12, "%d of %d shards awake 6 s after they fell", awake, SHARDS);
+  ENSURE(bk_physics_body_awake(w, block));
+  for (int i = 0; i < SHARDS; ++i) {
+    double y = bk_physics_body_transform(w, shards[i]).position.y;
+    ENSURE_MSG(y > 0.0 && y < 0.5, "shard %d at y %g", i, y);
+  }
+  // A box dropped onto the heap wakes the shards it lands on.
+  bk_body_id dropped = make_small_box(w, bk_v3(0.08, 0.08, 0.08), bk_v3(-0.15, 0.6, -0.15), 0.7, 0.0);
+  int most_awake = 0;
+  for (int step = 0; step < 30; ++step) {
+    bk_physics_step(w, dt, 1);
+    int now = count_awake(w, shards, SHARDS);
+    most_awake = now > most_awake ? now : most_awake;
+  }
+  ENSURE_MSG(most_awake > awake, "the falling box woke no shard (%d awake before, %d after)", awake,
+             most_awake);
+  ENSURE(bk_physics_body_transform(w, dropped).position.y > 0.08);
+  bk_physics_destroy(w);
+
+  // A box on a box: both freeze; destroy the lower one and the upper falls.
+  w = make_world();
+  make_ground(w);
+  const bk_vec3 h = bk_v3(0.1, 0.1, 0.1);
+  bk_body_id lower = make_small_box(w, h, bk_v3(0, 0.1, 0), 0.7, 0.0);
+  bk_body_id upper = make_small_box(w, h, bk_v3(0, 0.3, 0), 0.7, 0.0);
+  for (int step = 0; step < 3 * 60; ++step)
+    bk_physics_step(w, dt, 1);
+  ENSURE(!bk_physics_body_awake(w, lower) && !bk_physics_body_awake(w, upper));
+  ENSURE_SMALL(bk_physics_body_mass(w, upper), 8.0 * 0.001 * 2400.0, 1e-9); // kept while frozen
+  ENSURE(bk_physics_body_inertia(w, upper).x > 0.0);
+  bk_physics_destroy_body(w, lower);
+  for (int step = 0; step < 60; ++step)
+    bk_physics_step(w, dt, 1);
+  double y = bk_physics_body_transform(w, upper).position.y;
+  ENSURE_MSG(y < 0.15, "the upper box stayed at y %g after its support went", y);
+  bk_physics_destroy(w);
+}
+
 int main(void) {
   RUN(test_defaults);
   RUN(test_fall_and_rest);
@@ -769,6 +846,7 @@ int main(void) {
   RUN(test_churn);
   RUN(test_near_pairs_skip_narrowphase);
   RUN(test_piles_sleep);
+  RUN(test_calm_bodies_freeze);
   fprintf(stderr, "test_physics: all passed\n");
   return 0;
 }

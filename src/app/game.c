@@ -352,6 +352,7 @@ int bk_cmd_play(int argc, char** argv) {
   bk_worker* worker = bk_worker_create();
   const double fixed = 1.0 / 60.0;
   double last = glfwGetTime(), frame_ms_sum = 0.0, physics_ms_sum = 0.0, last_ms_sum = 0.0, frame_ms = 0.0;
+  double last_physics_sum = 0.0;
   unsigned gl_error = 0;
   uint32_t frame = 0, fired = 0, jobs = 0;
   int status = 0;
@@ -364,6 +365,7 @@ int bk_cmd_play(int argc, char** argv) {
     if (worker) bk_worker_wait(worker);
     if (jobs > 0) {
       physics_ms_sum += g->steps_ms;
+      if (wo.frames && frame + 59 >= wo.frames) last_physics_sum += g->steps_ms; // jobs of the last 60 frames
       record_history(g, frame_ms);
     }
     glfwPollEvents();
@@ -437,14 +439,18 @@ int bk_cmd_play(int argc, char** argv) {
     frame++;
   }
   if (worker) bk_worker_destroy(worker);
-  if (jobs > 0) physics_ms_sum += g->steps_ms;
+  if (jobs > 0) {
+    physics_ms_sum += g->steps_ms;
+    last_physics_sum += g->steps_ms;
+  }
   bk_world_stats s = bk_world_get_stats(g->scene.world);
   if (wo.frames)
-    printf("frames %u, bodies %u (from %u), fragments free %u, mean frame ms %.2f (last second %.2f, "
-           "physics %.2f), shots %u, gl errors %s\n",
+    printf("frames %u, bodies %u (from %u), fragments free %u, mean frame ms %.2f (last second %.2f), "
+           "physics ms %.2f (last second %.2f), shots %u, gl errors %s\n",
            frame, s.bodies, bodies_start, s.fragments_free, frame ? frame_ms_sum / frame : 0.0,
            frame ? last_ms_sum / (frame < 60 ? frame : 60) : 0.0, jobs ? physics_ms_sum / jobs : 0.0,
-           fired + g->shots, gl_error ? "yes" : "none");
+           frame ? last_physics_sum / (frame < 60 ? frame : 60) : 0.0, fired + g->shots,
+           gl_error ? "yes" : "none");
   if (gl_error) {
     fprintf(stderr, "breakables play: OpenGL error 0x%x while rendering\n", gl_error);
     status = 1;

@@ -28,6 +28,7 @@ const double default_margin = 0.004;
 // Sleeping: Bullet's speeds, a shorter calm time (2 s by default), and an
 // angular threshold that follows the body's size (see bk_physics_create_body).
 const double sleep_time = 0.5;
+const double freeze_time = 2.0 * sleep_time; // calm this long, a body is frozen even in an awake island
 const double sleep_linear_speed = 0.8;
 const double sleep_angular_speed = 1.0;
 const double sleep_edge_speed = 0.25;
@@ -52,6 +53,8 @@ struct BodySlot {
   uint32_t generation = 1;
   uint32_t shape = 0; // shape slot index
   double mass = 0.0;
+  btVector3 inertia{0, 0, 0}; // principal moments of a dynamic body (kept while it is frozen)
+  bool frozen = false;        // asleep and fixed: see freeze_calm_bodies
   uint64_t user_data = 0;
   // Velocities and centre of mass at the start of the current substep.
   btVector3 linear_velocity{0, 0, 0}, angular_velocity{0, 0, 0}, center{0, 0, 0};
@@ -209,6 +212,8 @@ std::vector<btVector3> simplify_hull(const std::vector<btVector3>& points, uint3
 
 namespace {
 
+void freeze_calm_bodies(bk_physics* w);
+
 // Bullet forms simulation islands from broadphase pairs, that is from
 // overlapping fattened boxes: a field of debris becomes one island, and one
 // shard still rocking anywhere keeps every other shard awake. Here islands
@@ -218,7 +223,11 @@ namespace {
 // wakes as a whole.
 class ContactIslandManager : public btSimulationIslandManager {
 public:
+  bk_physics* owner = nullptr;
+
   void updateActivationState(btCollisionWorld* world, btDispatcher* dispatcher) override {
+    // Before the islands: frozen bodies count as static from here on.
+    if (owner) freeze_calm_bodies(owner);
     btCollisionObjectArray& objects = world->getCollisionObjectArray();
     int index = 0;
     for (int i = 0; i < objects.size(); ++i) {
@@ -373,8 +382,72 @@ struct bk_physics {
     }
   }
 
+  // A calm body is frozen: zero mass and Bullet's static flag, so islands,
+  // the solver and the narrowphase treat it like the ground until a
+  // restless body touches it. Bullet sleeps whole islands only, and in a
+  // heap of debris some shard always rocks: ~15 restless shards kept ~560
+  // of ~1340 bodies awake 13 s after the last shot. Frozen, calm shards stop
+  // costing anything, and what rests on them is held as by the ground.
+  void freeze(BodySlot& s) {
+    s.frozen = true;
+    s.body->setLinearVelocity(btVector3(0, 0, 0));
+    s.body->setAngularVelocity(btVector3(0, 0, 0));
+    s.body->setMassProps(0, btVector3(0, 0, 0)); // also sets CF_STATIC_OBJECT
+    s.body->updateInertiaTensor();
+    s.body->forceActivationState(ISLAND_SLEEPING);
+  }
+
+  /// `moving`: restless at once (its support went), not just awake.
+  void thaw(BodySlot& s, bool moving = false) {
+    if (!s.frozen) return;
+    s.frozen = false;
+    s.body->setMassProps((btScalar)s.mass, s.inertia); // clears CF_STATIC_OBJECT
+    s.body->updateInertiaTensor();
+    s.body->setGravity(world.getGravity()); // it may have changed meanwhile
+    // Awake but calm, as Bullet wakes an island: it becomes restless (and
+    // wakes what it touches) only if it is really pushed.
+    s.body->forceActivationState(moving ? ACTIVE_TAG : WANTS_DEACTIVATION);
+    s.body->setDeactivationTime(0);
+  }
+
+  static bool restless(const btCollisionObject* o) {
+    return o->getActivationState() == ACTIVE_TAG || o->getActivationState() == DISABLE_DEACTIVATION;
+  }
+
+  /// Thaws frozen bodies touched by restless ones, then freezes bodies calm
+  /// for freeze_time (or put to sleep with their island).
+  void freeze_calm_bodies() {
+    for (int m = 0; m < dispatcher.getNumManifolds(); ++m) {
+      const btPersistentManifold* manifold = dispatcher.getManifoldByIndexInternal(m);
+      if (manifold->getNumContacts() == 0) continue;
+      BodySlot* a = slot_of(manifold->getBody0());
+      BodySlot* b = slot_of(manifold->getBody1());
+      if (a && a->frozen && restless(manifold->getBody1())) thaw(*a);
+      if (b && b->frozen && restless(manifold->getBody0())) thaw(*b);
+    }
+    const btCollisionObjectArray& objects = world.getCollisionObjectArray();
+    for (int i = 0; i < objects.size(); ++i) {
+      BodySlot* s = slot_of(objects[i]);
+      if (!s || s->frozen || s->mass == 0.0) continue;
+      int state = s->body->getActivationState();
+      if (state == ISLAND_SLEEPING ||
+          (state == WANTS_DEACTIVATION && s->body->getDeactivationTime() >= freeze_time))
+        freeze(*s);
+    }
+  }
+
   void destroy_body_slot(uint32_t index) {
     BodySlot& s = bodies.slots[index];
+    // What rested on it falls.
+    for (int m = 0; m < dispatcher.getNumManifolds(); ++m) {
+      const btPersistentManifold* manifold = dispatcher.getManifoldByIndexInternal(m);
+      if (manifold->getNumContacts() == 0) continue;
+      const btCollisionObject* other = manifold->getBody0() == s.body   ? manifold->getBody1()
+                                       : manifold->getBody1() == s.body ? manifold->getBody0()
+                                                                        : nullptr;
+      BodySlot* neighbour = other ? slot_of(other) : nullptr;
+      if (neighbour) thaw(*neighbour, true);
+    }
     world.removeRigidBody(s.body);
     delete s.body;
     --shapes.slots[s.shape].uses;
@@ -395,6 +468,8 @@ namespace {
 void pre_tick(btDynamicsWorld* world, btScalar) {
   static_cast<bk_physics*>(world->getWorldUserInfo())->snapshot_velocities();
 }
+
+void freeze_calm_bodies(bk_physics* w) { w->freeze_calm_bodies(); }
 
 void post_tick(btDynamicsWorld* world, btScalar) {
   static_cast<bk_physics*>(world->getWorldUserInfo())->collect_contacts();
@@ -497,6 +572,7 @@ bk_physics* bk_physics_create(const bk_physics_desc* desc, bk_error* err) {
   gDbvtMargin = btScalar(0.01);
   // Sleeping bodies keep their boxes (Bullet's default recomputes all).
   w->world.setForceUpdateAllAabbs(false);
+  static_cast<ContactIslandManager*>(w->world.getSimulationIslandManager())->owner = w;
   w->world.setInternalTickCallback(pre_tick, w, true);
   w->world.setInternalTickCallback(post_tick, w, false);
   return w;
@@ -518,7 +594,10 @@ void bk_physics_set_gravity(bk_physics* w, bk_vec3 gravity) {
   w->gravity = gravity;
   w->world.setGravity(to_bt(gravity));
   for (BodySlot& s : w->bodies.slots)
-    if (s.body && s.mass > 0.0) s.body->activate(true);
+    if (s.body && s.mass > 0.0) {
+      w->thaw(s, true);
+      s.body->activate(true);
+    }
 }
 
 bk_vec3 bk_physics_gravity(const bk_physics* w) { return w ? w->gravity : bk_v3(0, 0, 0); }
@@ -834,6 +913,8 @@ bk_body_id bk_physics_create_body(bk_physics* w, const bk_body_desc* desc, bk_er
   s.body = body;
   s.shape = d.shape.index;
   s.mass = dynamic ? d.mass : 0.0;
+  s.inertia = inertia;
+  s.frozen = false;
   s.user_data = d.user_data;
   ++shape.uses;
   w->world.addRigidBody(body);
@@ -856,6 +937,7 @@ bk_transform bk_physics_body_transform(const bk_physics* w, bk_body_id body) {
 void bk_physics_body_set_transform(bk_physics* w, bk_body_id body, bk_transform transform) {
   BodySlot* s = w ? w->body(body) : nullptr;
   if (!s || !transform_is_finite(transform)) return;
+  w->thaw(*s, true);
   s->body->setCenterOfMassTransform(to_bt(transform));
   w->world.updateSingleAabb(s->body);
   if (s->mass > 0.0) s->body->activate(true);
@@ -874,6 +956,7 @@ bk_vec3 bk_physics_body_angular_velocity(const bk_physics* w, bk_body_id body) {
 void bk_physics_body_set_velocity(bk_physics* w, bk_body_id body, bk_vec3 linear, bk_vec3 angular) {
   BodySlot* s = w ? w->body(body) : nullptr;
   if (!s || s->mass == 0.0 || !bk_v3_is_finite(linear) || !bk_v3_is_finite(angular)) return;
+  w->thaw(*s, true);
   s->body->setLinearVelocity(to_bt(linear));
   s->body->setAngularVelocity(to_bt(angular));
   s->body->activate(true);
@@ -885,10 +968,12 @@ void bk_physics_body_set_mass(bk_physics* w, bk_body_id body, double mass, bk_ve
   if (!s || s->mass == 0.0 || !(std::isfinite(mass) && mass > 0.0) || !bk_v3_is_finite(inertia) ||
       !(inertia.x > 0.0 && inertia.y > 0.0 && inertia.z > 0.0))
     return;
+  w->thaw(*s, true);
   s->body->setMassProps((btScalar)mass, to_bt(inertia));
   s->body->updateInertiaTensor();
   s->body->activate(true);
   s->mass = mass;
+  s->inertia = to_bt(inertia);
 }
 
 double bk_physics_body_mass(const bk_physics* w, bk_body_id body) {
@@ -899,14 +984,13 @@ double bk_physics_body_mass(const bk_physics* w, bk_body_id body) {
 bk_vec3 bk_physics_body_inertia(const bk_physics* w, bk_body_id body) {
   const BodySlot* s = w ? w->body(body) : nullptr;
   if (!s || s->mass == 0.0) return bk_v3(0, 0, 0);
-  btVector3 inv = s->body->getInvInertiaDiagLocal();
-  return bk_v3(inv.x() > 0 ? 1.0 / inv.x() : 0.0, inv.y() > 0 ? 1.0 / inv.y() : 0.0,
-               inv.z() > 0 ? 1.0 / inv.z() : 0.0);
+  return to_bk(s->inertia);
 }
 
 void bk_physics_body_apply_impulse(bk_physics* w, bk_body_id body, bk_vec3 impulse, bk_vec3 world_point) {
   BodySlot* s = w ? w->body(body) : nullptr;
   if (!s || s->mass == 0.0 || !bk_v3_is_finite(impulse) || !bk_v3_is_finite(world_point)) return;
+  w->thaw(*s, true);
   bk_vec3 arm = bk_v3_sub(world_point, to_bk(s->body->getCenterOfMassPosition()));
   s->body->applyImpulse(to_bt(impulse), to_bt(arm));
   s->body->activate(true);
