@@ -9,9 +9,11 @@
 // is one glMultiDrawElements per pass, whatever the number of bodies in it.
 //
 // A software renderer also runs both sides of a shader's branches, so outer
-// surfaces, cut faces and the ground are three programs (variants of
-// mesh.frag). Each tree's index buffer holds every node's outer triangles
-// first, then every node's cut faces, so a batch is one call per program.
+// surfaces, cut faces and the ground are separate programs (variants of
+// mesh.frag), and nodes only a few pixels wide a fourth, lit per vertex in
+// their material's mean colours. Each tree's index buffer holds every node's
+// outer triangles first, then every node's cut faces, so a batch is one call
+// per program and section.
 #include <cglm/cglm.h>
 #include <stb_image_write.h>
 #include <stdlib.h>
@@ -38,7 +40,12 @@ enum {
 
 // The programs of mesh.frag, and the two sections of a tree's index buffer
 // (outer surface, cut faces) that the first two draw.
-enum { SURFACE, INTERIOR, GROUND, MESH_PROGRAMS, SECTIONS = 2 };
+enum { SURFACE, INTERIOR, SIMPLE, GROUND, MESH_PROGRAMS, SECTIONS = 2 };
+
+// Nodes whose bounding sphere spans fewer pixels than this are drawn with
+// SIMPLE: a shard a few pixels wide shows no texture or normal map, and a
+// heap of debris is thousands of them.
+static const float simple_below_pixels = 24.0f;
 
 typedef struct tree_buffers {
   uint32_t generation; // last generation handed out for this slot
@@ -46,6 +53,7 @@ typedef struct tree_buffers {
   GLuint vao, vbo, ibo;
   uint32_t* first_index[SECTIONS]; // per section, per node
   uint32_t* index_count[SECTIONS];
+  float (*spheres)[4]; // per node: bounding sphere in tree space (centre, radius)
   uint32_t node_count;
   GLuint table_buffer, table_texture;              // the node table on the GPU
   float* table;                                    // its CPU side: rows of nodes drawn this frame are current
@@ -60,6 +68,7 @@ typedef struct material {
   const char* name;
   const char* texture; // file prefix
   GLuint albedo, normal, interior;
+  float albedo_mean[3], interior_mean[3]; // linear mean colours: small debris is drawn with these
   float tint[3];
   float gloss;
   float uv_scale;
@@ -79,6 +88,7 @@ typedef struct draw_batch {
   uint32_t tree; // slot
   int material;
   float interior_scale;
+  bool simple;                                           // drawn with SIMPLE (its nodes are small on screen)
   uint32_t node_count;                                   // nodes it draws (bounds its ranges in each section)
   uint32_t first_range[SECTIONS], range_count[SECTIONS]; // in the frame's range arrays
 } draw_batch;
@@ -94,7 +104,7 @@ typedef struct spill_draw {
 // Uniform locations, looked up once: a lookup is a string search in the driver.
 typedef struct mesh_uniforms {
   GLint view_projection, light_view_projection, sun_direction, sun_color, sky_color, ground_color, eye;
-  GLint tint, gloss, uv_scale, interior_scale;
+  GLint tint, gloss, uv_scale, interior_scale, mean_color;
 } mesh_uniforms;
 
 typedef struct sky_uniforms {
@@ -186,14 +196,15 @@ static const material material_table[] = {
 static bool load_material(const char* dir, material* m, bool has_interior, bk_error* err) {
   char path[1024];
   snprintf(path, sizeof path, "%s/%s_albedo.png", dir, m->texture);
-  if (!(m->albedo = bk_texture_load(path, true, err))) return false;
+  if (!(m->albedo = bk_texture_load(path, true, m->albedo_mean, err))) return false;
   snprintf(path, sizeof path, "%s/%s_normal.png", dir, m->texture);
-  if (!(m->normal = bk_texture_load(path, false, err))) return false;
+  if (!(m->normal = bk_texture_load(path, false, NULL, err))) return false;
   if (has_interior) {
     snprintf(path, sizeof path, "%s/%s_interior.png", dir, m->texture);
-    if (!(m->interior = bk_texture_load(path, true, err))) return false;
+    if (!(m->interior = bk_texture_load(path, true, m->interior_mean, err))) return false;
   } else {
     m->interior = m->albedo;
+    memcpy(m->interior_mean, m->albedo_mean, sizeof m->interior_mean);
   }
   return true;
 }
@@ -332,16 +343,13 @@ bk_renderer* bk_renderer_create(const bk_renderer_desc* desc, bk_error* err) {
   bk_renderer* r = bk_calloc(1, sizeof *r);
   r->shadow_size = desc->shadow_size > 0 ? desc->shadow_size : 1024;
   r->max_particles = desc->max_particles ? desc->max_particles : 16384;
-  const char* programs[7] = {"mesh", "mesh", "mesh", "shadow", "sky", "particle", "line"};
-  const char* variants[7] = {"SURFACE", "INTERIOR", "GROUND"};
-  GLuint* slots[7] = {&r->mesh_programs[SURFACE],
-                      &r->mesh_programs[INTERIOR],
-                      &r->mesh_programs[GROUND],
-                      &r->shadow_program,
-                      &r->sky_program,
-                      &r->particle_program,
-                      &r->line_program};
-  for (int i = 0; i < 7; ++i)
+  const char* programs[8] = {"mesh", "mesh", "mesh", "mesh", "shadow", "sky", "particle", "line"};
+  const char* variants[8] = {"SURFACE", "INTERIOR", "SIMPLE", "GROUND"};
+  GLuint* slots[8] = {&r->mesh_programs[SURFACE], &r->mesh_programs[INTERIOR],
+                      &r->mesh_programs[SIMPLE],  &r->mesh_programs[GROUND],
+                      &r->shadow_program,         &r->sky_program,
+                      &r->particle_program,       &r->line_program};
+  for (int i = 0; i < 8; ++i)
     if (!(*slots[i] = bk_shader_load(desc->shader_dir, programs[i], variants[i], err))) {
       bk_renderer_destroy(r);
       return NULL;
@@ -359,7 +367,8 @@ bk_renderer* bk_renderer_create(const bk_renderer_desc* desc, bk_error* err) {
                                    .tint = uniform(p, "u_tint"),
                                    .gloss = uniform(p, "u_gloss"),
                                    .uv_scale = uniform(p, "u_uv_scale"),
-                                   .interior_scale = uniform(p, "u_interior_scale")};
+                                   .interior_scale = uniform(p, "u_interior_scale"),
+                                   .mean_color = uniform(p, "u_mean_color")};
     // Texture units never change: set once, the program keeps them.
     glUseProgram(p);
     glUniform1i(uniform(p, "u_albedo"), 0);
@@ -420,14 +429,11 @@ void bk_renderer_destroy(bk_renderer* r) {
   for (uint32_t i = 0; i < r->tree_count; ++i)
     if (r->trees[i].used) bk_renderer_release_tree(r, (bk_render_tree){i, r->trees[i].generation});
   free(r->trees);
-  GLuint programs[7] = {r->mesh_programs[SURFACE],
-                        r->mesh_programs[INTERIOR],
-                        r->mesh_programs[GROUND],
-                        r->shadow_program,
-                        r->sky_program,
-                        r->particle_program,
-                        r->line_program};
-  for (int i = 0; i < 7; ++i)
+  GLuint programs[8] = {r->mesh_programs[SURFACE], r->mesh_programs[INTERIOR],
+                        r->mesh_programs[SIMPLE],  r->mesh_programs[GROUND],
+                        r->shadow_program,         r->sky_program,
+                        r->particle_program,       r->line_program};
+  for (int i = 0; i < 8; ++i)
     if (programs[i]) glDeleteProgram(programs[i]);
   for (int i = 0; i < r->material_count; ++i) {
     material* m = &r->materials[i];
@@ -505,6 +511,21 @@ bk_render_tree bk_renderer_upload_tree(bk_renderer* r, const bk_mesh_tree* tree)
                    i};
     }
   }
+  t->spheres = bk_alloc(sizeof(float[4]) * (tree->node_count + 1));
+  for (uint32_t i = 0; i < tree->node_count; ++i) {
+    const bk_mesh* m = &tree->nodes[i].mesh;
+    bk_vec3 lo = bk_v3(0, 0, 0), hi = lo;
+    for (uint32_t p = 0; p < m->position_count; ++p) {
+      lo = p ? bk_v3_min(lo, m->positions[p]) : m->positions[p];
+      hi = p ? bk_v3_max(hi, m->positions[p]) : m->positions[p];
+    }
+    bk_vec3 c = bk_v3_scale(bk_v3_add(lo, hi), 0.5);
+    double radius = 0.0;
+    for (uint32_t p = 0; p < m->position_count; ++p)
+      radius = fmax(radius, bk_v3_length(bk_v3_sub(m->positions[p], c)));
+    t->spheres[i][0] = (float)c.x, t->spheres[i][1] = (float)c.y, t->spheres[i][2] = (float)c.z;
+    t->spheres[i][3] = (float)radius;
+  }
   // Outer triangles of every node, then cut faces of every node.
   for (int section = 0; section < SECTIONS; ++section) {
     t->first_index[section] = bk_alloc(sizeof(uint32_t) * tree->node_count);
@@ -552,6 +573,7 @@ void bk_renderer_release_tree(bk_renderer* r, bk_render_tree id) {
     free(t->first_index[section]);
     free(t->index_count[section]);
   }
+  free(t->spheres);
   free(t->table);
   free(t->node_frame);
   free(t->node_batch);
@@ -644,21 +666,23 @@ void bk_renderer_draw_particles(bk_renderer* r, const bk_particle_instance* part
   r->particle_count = count < r->max_particles ? count : r->max_particles;
 }
 
-static uint32_t find_batch(bk_renderer* r, const draw_item* item) {
-  // Few batches (about one per breakable), and a body's neighbours in the
+static uint32_t find_batch(bk_renderer* r, const draw_item* item, bool simple) {
+  // Few batches (about two per breakable), and a body's neighbours in the
   // list mostly share its batch: search from the newest.
   for (uint32_t b = r->batch_count; b-- > 0;) {
     const draw_batch* batch = &r->batches[b];
     if (batch->tree == item->tree.index && batch->material == item->material &&
-        batch->interior_scale == item->interior_scale)
+        batch->interior_scale == item->interior_scale && batch->simple == simple)
       return b;
   }
   if (r->batch_count == r->batch_capacity) {
     r->batch_capacity = bk_grow_capacity(r->batch_capacity, r->batch_count + 1);
     r->batches = bk_realloc(r->batches, sizeof(draw_batch) * r->batch_capacity);
   }
-  r->batches[r->batch_count] = (draw_batch){
-      .tree = item->tree.index, .material = item->material, .interior_scale = item->interior_scale};
+  r->batches[r->batch_count] = (draw_batch){.tree = item->tree.index,
+                                            .material = item->material,
+                                            .interior_scale = item->interior_scale,
+                                            .simple = simple};
   return r->batch_count++;
 }
 
@@ -709,6 +733,9 @@ static void prepare_batches(bk_renderer* r) {
     r->drawn_trees = bk_realloc(r->drawn_trees, sizeof(uint32_t) * r->drawn_tree_capacity);
   }
   r->batch_count = r->drawn_tree_count = r->spill_count = r->loose_count = 0;
+  // Screen pixels per world unit at distance 1, and the eye.
+  const float pixels_per_unit = 0.5f * (float)r->height / tanf(0.5f * (float)r->camera.fov_y);
+  const float eye[3] = {(float)r->camera.eye.x, (float)r->camera.eye.y, (float)r->camera.eye.z};
   static const float no_color[4] = {0, 0, 0, 0};
   // The ground, then the spheres.
   write_row(loose_row(r), (const float[12]){1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0}, no_color);
@@ -727,10 +754,21 @@ static void prepare_batches(bk_renderer* r) {
       t->highest = 0;
       r->drawn_trees[r->drawn_tree_count++] = item->tree.index;
     }
-    uint32_t b = find_batch(r, item);
+    uint32_t detailed = find_batch(r, item, false), simple = UINT32_MAX;
+    const float* m = item->rows;
     for (uint32_t k = 0; k < item->node_count; ++k) {
       uint32_t node = r->nodes[item->first_node + k];
       if (node >= t->node_count) continue;
+      // How wide the node's bounding sphere looks: small ones draw simply.
+      const float* sphere = t->spheres[node];
+      float centre[3];
+      for (int row = 0; row < 3; ++row)
+        centre[row] = m[4 * row] * sphere[0] + m[4 * row + 1] * sphere[1] + m[4 * row + 2] * sphere[2] +
+                      m[4 * row + 3] - eye[row];
+      float distance = sqrtf(centre[0] * centre[0] + centre[1] * centre[1] + centre[2] * centre[2]);
+      bool small = 2.0f * sphere[3] * pixels_per_unit < simple_below_pixels * distance;
+      if (small && simple == UINT32_MAX) simple = find_batch(r, item, true);
+      uint32_t b = small ? simple : detailed;
       const float* color = item->colored ? &r->node_colors[4 * (item->first_node + k)] : no_color;
       if (t->node_frame[node] == r->frame) {
         // Bodies own disjoint nodes, so this is rare (the API allows it).
@@ -774,8 +812,12 @@ static void prepare_batches(bk_renderer* r) {
         if (t->node_frame[node] != r->frame || count[node] == 0) continue;
         draw_batch* batch = &r->batches[t->node_batch[node]];
         append_range(r, batch->first_range[section], &batch->range_count[section], count[node], first[node]);
-        append_range(r, t->first_shadow_range, &t->shadow_range_count, count[node], first[node]);
-        r->stats.triangles += 2 * (count[node] / 3); // lit and shadow passes
+        // Small nodes cast no shadow: theirs would be a few texels, and the
+        // shadow pass paid for every one of their triangles (8 ms a frame
+        // with 1500 shards in view).
+        if (!batch->simple)
+          append_range(r, t->first_shadow_range, &t->shadow_range_count, count[node], first[node]);
+        r->stats.triangles += (batch->simple ? 1 : 2) * (count[node] / 3); // lit and shadow passes
       }
     }
     next_range += t->shadow_range_count;
@@ -803,8 +845,10 @@ static void bind_table(GLuint texture) {
 // Binds what `program` samples of a material and sets its uniforms.
 static void use_material(bk_renderer* r, int program, const material* m, float interior_scale) {
   const mesh_uniforms* u = &r->mesh_u[program];
-  glActiveTexture(GL_TEXTURE0);
-  glBindTexture(GL_TEXTURE_2D, program == INTERIOR ? m->interior : m->albedo);
+  if (program != SIMPLE) {
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, program == INTERIOR ? m->interior : m->albedo);
+  }
   if (program == SURFACE) {
     glActiveTexture(GL_TEXTURE1);
     glBindTexture(GL_TEXTURE_2D, m->normal);
@@ -819,10 +863,32 @@ enum { DEPTH_ONLY = -1 }; // draw_scene's pass for the shadow map
 
 // Everything that casts a shadow or is lit: trees and spheres (the ground
 // only receives). `pass` is DEPTH_ONLY, which needs no materials (a tree is
-// one call whatever its batches), or the program of one section: SURFACE
-// draws outer surfaces and the spheres, INTERIOR the cut faces.
+// one call whatever its batches), or a program: SURFACE draws the outer
+// surfaces of detailed batches and the spheres, INTERIOR their cut faces,
+// SIMPLE both sections of the batches of small nodes, each in its mean colour.
 static void draw_scene(bk_renderer* r, int pass) {
   bool shadow = pass == DEPTH_ONLY;
+  if (pass == SIMPLE) {
+    for (uint32_t b = 0; b < r->batch_count; ++b) {
+      const draw_batch* batch = &r->batches[b];
+      if (!batch->simple) continue;
+      const tree_buffers* t = &r->trees[batch->tree];
+      const material* m = &r->materials[batch->material];
+      glBindVertexArray(t->vao);
+      bind_table(t->table_texture);
+      use_material(r, SIMPLE, m, batch->interior_scale);
+      for (int section = 0; section < SECTIONS; ++section) {
+        if (batch->range_count[section] == 0) continue;
+        glUniform3fv(r->mesh_u[SIMPLE].mean_color, 1,
+                     section == INTERIOR ? m->interior_mean : m->albedo_mean);
+        glMultiDrawElements(GL_TRIANGLES, &r->multi_counts[batch->first_range[section]], GL_UNSIGNED_INT,
+                            &r->multi_offsets[batch->first_range[section]],
+                            (GLsizei)batch->range_count[section]);
+        r->stats.draw_calls++;
+      }
+    }
+    return;
+  }
   int section = pass == INTERIOR ? INTERIOR : SURFACE;
   if (shadow) {
     for (uint32_t i = 0; i < r->drawn_tree_count; ++i) {
@@ -837,7 +903,7 @@ static void draw_scene(bk_renderer* r, int pass) {
   } else {
     for (uint32_t b = 0; b < r->batch_count; ++b) {
       const draw_batch* batch = &r->batches[b];
-      if (batch->range_count[section] == 0) continue;
+      if (batch->simple || batch->range_count[section] == 0) continue;
       const tree_buffers* t = &r->trees[batch->tree];
       glBindVertexArray(t->vao);
       bind_table(t->table_texture);

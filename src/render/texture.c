@@ -1,12 +1,30 @@
 // Textures from PNG files (stb_image), mipmapped and repeating.
+#include <math.h>
 #include <stb_image.h>
 
 #include "render_internal.h"
 
-GLuint bk_texture_load(const char* path, bool srgb, bk_error* err) {
+// An sRGB-encoded byte in linear light.
+static float decode_srgb(unsigned char c) {
+  float x = (float)c / 255.0f;
+  return x <= 0.04045f ? x / 12.92f : powf((x + 0.055f) / 1.055f, 2.4f);
+}
+
+GLuint bk_texture_load(const char* path, bool srgb, float mean_rgb[3], bk_error* err) {
   int width = 0, height = 0, channels = 0;
   unsigned char* pixels = stbi_load(path, &width, &height, &channels, 3);
   if (!pixels) return bk_error_set(err, "%s: cannot load texture: %s", path, stbi_failure_reason()), 0;
+  if (mean_rgb) {
+    // In linear light, as the shaders light it: what the texture looks like
+    // from far away (its last mipmap level).
+    double sum[3] = {0, 0, 0};
+    size_t count = (size_t)width * (size_t)height;
+    for (size_t i = 0; i < count; ++i)
+      for (int k = 0; k < 3; ++k)
+        sum[k] += srgb ? decode_srgb(pixels[3 * i + k]) : pixels[3 * i + k] / 255.0;
+    for (int k = 0; k < 3; ++k)
+      mean_rgb[k] = count ? (float)(sum[k] / (double)count) : 0.0f;
+  }
   GLuint texture = 0;
   glGenTextures(1, &texture);
   glBindTexture(GL_TEXTURE_2D, texture);
