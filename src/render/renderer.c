@@ -15,6 +15,7 @@
 // outer triangles first, then every node's cut faces, so a batch is one call
 // per program and section.
 #include <cglm/cglm.h>
+#include <math.h>
 #include <stb_image_write.h>
 #include <stdlib.h>
 #include <string.h>
@@ -53,6 +54,8 @@ typedef struct tree_buffers {
   GLuint vao, vbo, ibo;
   uint32_t* first_index[SECTIONS]; // per section, per node
   uint32_t* index_count[SECTIONS];
+  uint32_t* coarse_first[SECTIONS]; // the same, simplified: what SIMPLE draws
+  uint32_t* coarse_count[SECTIONS];
   float (*spheres)[4]; // per node: bounding sphere in tree space (centre, radius)
   uint32_t node_count;
   GLuint table_buffer, table_texture;              // the node table on the GPU
@@ -471,6 +474,62 @@ static tree_buffers* find_tree(bk_renderer* r, bk_render_tree id) {
   return t->used && t->generation == id.generation ? t : NULL;
 }
 
+typedef struct cell_corner {
+  int64_t cell;
+  uint32_t corner;
+} cell_corner;
+
+static int compare_cell_corners(const void* a, const void* b) {
+  const cell_corner *x = a, *y = b;
+  if (x->cell != y->cell) return x->cell < y->cell ? -1 : 1;
+  return x->corner < y->corner ? -1 : x->corner > y->corner;
+}
+
+// A node's triangles of one section (cut faces or outer surface) with their
+// corners merged by vertex clustering: every corner in a grid cell of size
+// `cell` becomes the cell's first corner, and triangles left with two equal
+// corners go. Writes indices (offset by `base`) to `out`, returns how many.
+static uint32_t coarse_indices(const bk_mesh* m, bool interior, uint32_t base, double cell, uint32_t* out) {
+  if (m->corner_count == 0 || !(cell > 0.0)) return 0;
+  cell_corner* cells = bk_alloc(sizeof(cell_corner) * m->corner_count);
+  uint32_t* merged = bk_alloc(sizeof(uint32_t) * m->corner_count);
+  // Corners of the other section never stand in for these (other normals).
+  for (uint32_t c = 0; c < m->corner_count; ++c)
+    merged[c] = 0;
+  for (uint32_t tri = 0; tri < m->triangle_count; ++tri)
+    if (m->materials[tri] == BK_MATERIAL_INTERIOR)
+      for (int j = 0; j < 3; ++j)
+        merged[m->indices[3 * tri + j]] = 1;
+  for (uint32_t c = 0; c < m->corner_count; ++c) {
+    bk_vec3 p = m->positions[m->corners[c].position];
+    int64_t x = (int64_t)floor(p.x / cell), y = (int64_t)floor(p.y / cell), z = (int64_t)floor(p.z / cell);
+    // Corners merge only with corners facing about the same way (normals
+    // rounded to a 5 x 5 x 5 grid), so flat faces stay flat.
+    const float* n = m->corners[c].normal;
+    int64_t facing =
+        (int64_t)(lroundf(2.0f * n[0]) + 2) * 25 + (lroundf(2.0f * n[1]) + 2) * 5 + lroundf(2.0f * n[2]) + 2;
+    int64_t key = ((int64_t)merged[c] << 62) | (facing << 48) | ((x & 0xffff) << 32) | ((y & 0xffff) << 16) |
+                  (z & 0xffff);
+    cells[c] = (cell_corner){key, c};
+  }
+  qsort(cells, m->corner_count, sizeof(cell_corner), compare_cell_corners);
+  for (uint32_t c = 0, first = 0; c < m->corner_count; ++c) {
+    if (c > 0 && cells[c].cell != cells[c - 1].cell) first = c;
+    merged[cells[c].corner] = cells[first].corner;
+  }
+  uint32_t n = 0;
+  for (uint32_t tri = 0; tri < m->triangle_count; ++tri) {
+    if ((m->materials[tri] == BK_MATERIAL_INTERIOR) != interior) continue;
+    uint32_t a = merged[m->indices[3 * tri]], b = merged[m->indices[3 * tri + 1]],
+             c = merged[m->indices[3 * tri + 2]];
+    if (a == b || b == c || a == c) continue;
+    out[n++] = base + a, out[n++] = base + b, out[n++] = base + c;
+  }
+  free(cells);
+  free(merged);
+  return n;
+}
+
 bk_render_tree bk_renderer_upload_tree(bk_renderer* r, const bk_mesh_tree* tree) {
   uint32_t slot = 0;
   while (slot < r->tree_count && r->trees[slot].used)
@@ -493,7 +552,7 @@ bk_render_tree bk_renderer_upload_tree(bk_renderer* r, const bk_mesh_tree* tree)
     indices += 3ull * tree->nodes[i].mesh.triangle_count;
   }
   vertex* vertices = bk_alloc(sizeof(vertex) * (corners + 1));
-  uint32_t* index_data = bk_alloc(sizeof(uint32_t) * (indices + 1));
+  uint32_t* index_data = bk_alloc(sizeof(uint32_t) * (2 * indices + 1)); // full, then coarse
   t->node_count = tree->node_count;
   uint32_t* base = bk_alloc(sizeof(uint32_t) * (tree->node_count + 1));
   uint32_t v = 0, k = 0;
@@ -540,6 +599,20 @@ bk_render_tree bk_renderer_upload_tree(bk_renderer* r, const bk_mesh_tree* tree)
       t->index_count[section][i] = k - t->first_index[section][i];
     }
   }
+  // Coarse copies for SIMPLE, which draws nodes under simple_below_pixels:
+  // corners merged on a grid of a tenth of the node's width (two or three
+  // pixels). Shards cut from a fine mesh (the bunny's, the eggshell's) lose
+  // half their triangles; plain convex ones keep theirs.
+  for (int section = 0; section < SECTIONS; ++section) {
+    t->coarse_first[section] = bk_alloc(sizeof(uint32_t) * tree->node_count);
+    t->coarse_count[section] = bk_alloc(sizeof(uint32_t) * tree->node_count);
+    for (uint32_t i = 0; i < tree->node_count; ++i) {
+      t->coarse_first[section][i] = k;
+      k += coarse_indices(&tree->nodes[i].mesh, section == INTERIOR, base[i], t->spheres[i][3] / 5.0,
+                          &index_data[k]);
+      t->coarse_count[section][i] = k - t->coarse_first[section][i];
+    }
+  }
   free(base);
   glGenVertexArrays(1, &t->vao);
   glGenBuffers(1, &t->vbo);
@@ -572,6 +645,8 @@ void bk_renderer_release_tree(bk_renderer* r, bk_render_tree id) {
   for (int section = 0; section < SECTIONS; ++section) {
     free(t->first_index[section]);
     free(t->index_count[section]);
+    free(t->coarse_first[section]);
+    free(t->coarse_count[section]);
   }
   free(t->spheres);
   free(t->table);
@@ -806,18 +881,25 @@ static void prepare_batches(bk_renderer* r) {
     if (t->lowest > t->highest) continue;
     // In node order, so that neighbouring nodes merge into one range.
     for (int section = 0; section < SECTIONS; ++section) {
-      const uint32_t* first = t->first_index[section];
-      const uint32_t* count = t->index_count[section];
       for (uint32_t node = t->lowest; node <= t->highest; ++node) {
-        if (t->node_frame[node] != r->frame || count[node] == 0) continue;
+        if (t->node_frame[node] != r->frame) continue;
         draw_batch* batch = &r->batches[t->node_batch[node]];
-        append_range(r, batch->first_range[section], &batch->range_count[section], count[node], first[node]);
-        // Small nodes cast no shadow: theirs would be a few texels, and the
-        // shadow pass paid for every one of their triangles (8 ms a frame
-        // with 1500 shards in view).
-        if (!batch->simple)
-          append_range(r, t->first_shadow_range, &t->shadow_range_count, count[node], first[node]);
-        r->stats.triangles += (batch->simple ? 1 : 2) * (count[node] / 3); // lit and shadow passes
+        if (batch->simple) {
+          // Small nodes draw coarse and cast no shadow: theirs would be a
+          // few texels, and the shadow pass paid for every one of their
+          // triangles (8 ms a frame with 1500 shards in view).
+          uint32_t count = t->coarse_count[section][node];
+          if (count == 0) continue;
+          append_range(r, batch->first_range[section], &batch->range_count[section], count,
+                       t->coarse_first[section][node]);
+          r->stats.triangles += count / 3;
+          continue;
+        }
+        uint32_t count = t->index_count[section][node], first = t->first_index[section][node];
+        if (count == 0) continue;
+        append_range(r, batch->first_range[section], &batch->range_count[section], count, first);
+        append_range(r, t->first_shadow_range, &t->shadow_range_count, count, first);
+        r->stats.triangles += 2 * (count / 3); // lit and shadow passes
       }
     }
     next_range += t->shadow_range_count;
