@@ -638,19 +638,29 @@ static void test_churn(void) {
   bk_physics_destroy(w);
 }
 
-/// A small box body (half extents h) at p.
-static bk_body_id make_small_box(bk_physics* w, bk_vec3 h, bk_vec3 p, double friction, double rolling) {
+/// A dynamic box (half extents h) at p.
+static bk_body_desc box_desc(bk_physics* w, bk_vec3 h, double mass, bk_vec3 p) {
   bk_body_desc d = bk_default_body_desc();
   d.shape = bk_physics_create_box(w, h);
-  d.mass = 8.0 * h.x * h.y * h.z * 2400.0;
-  d.inertia = box_inertia(d.mass, h);
+  d.mass = mass;
+  d.inertia = box_inertia(mass, h);
   d.transform.position = p;
-  d.friction = friction;
-  d.rolling_friction = rolling;
+  return d;
+}
+
+static bk_body_id create_body(bk_physics* w, const bk_body_desc* d) {
   bk_error err = {{0}};
-  bk_body_id body = bk_physics_create_body(w, &d, &err);
+  bk_body_id body = bk_physics_create_body(w, d, &err);
   ENSURE_MSG(!bk_body_is_null(body), "%s", err.message);
   return body;
+}
+
+/// A small stone box (half extents h) at p.
+static bk_body_id make_small_box(bk_physics* w, bk_vec3 h, bk_vec3 p, double friction, double rolling) {
+  bk_body_desc d = box_desc(w, h, 8.0 * h.x * h.y * h.z * 2400.0, p);
+  d.friction = friction;
+  d.rolling_friction = rolling;
+  return create_body(w, &d);
 }
 
 // Bodies whose boxes are a few centimetres apart are broadphase pairs (the
@@ -699,60 +709,7 @@ static void test_near_pairs_skip_narrowphase(void) {
   bk_physics_destroy(w);
 }
 
-// A heap of small shards comes to rest and sleeps within a few seconds, and
-// it sleeps even while a body elsewhere (not touching it) keeps moving:
-// islands are formed by contacts, not by overlapping boxes.
-static void test_piles_sleep(void) {
-  bk_physics* w = make_world();
-  make_ground(w);
-  bk_rng rng = bk_rng_seed(7, 1);
-  enum { SHARDS = 60 };
-  bk_body_id shards[SHARDS];
-  for (int i = 0; i < SHARDS; ++i) {
-    bk_vec3 h = bk_v3(range(&rng, 0.02, 0.05), range(&rng, 0.01, 0.03), range(&rng, 0.02, 0.05));
-    bk_vec3 p = bk_v3(range(&rng, -0.3, 0.22), 0.05 + 0.06 * (i / 6), range(&rng, -0.3, 0.3));
-    shards[i] = make_small_box(w, h, p, 0.7, 0.1 * cbrt(8.0 * h.x * h.y * h.z));
-  }
-  // A frictionless puck spinning in place forever, a few centimetres from
-  // the heap: near enough for the broadphase to pair it with shards, which
-  // made Bullet's islands (built from those pairs) keep the heap awake.
-  bk_body_desc d = bk_default_body_desc();
-  bk_vec3 ph = bk_v3(0.1, 0.02, 0.1);
-  d.shape = bk_physics_create_box(w, ph);
-  d.mass = 1.0;
-  d.inertia = box_inertia(1.0, ph);
-  d.transform.position = bk_v3(0.47, 0.02, 0.0);
-  d.angular_velocity = bk_v3(0.0, 3.0, 0.0);
-  d.friction = 0.0;
-  d.disable_sleep = true;
-  bk_error err = {{0}};
-  bk_body_id puck = bk_physics_create_body(w, &d, &err);
-  ENSURE_MSG(!bk_body_is_null(puck), "%s", err.message);
-  int slept_at = -1;
-  for (int step = 0; step < 8 * 60 && slept_at < 0; ++step) {
-    bk_physics_step(w, dt, 1);
-    bool any_awake = false;
-    for (int i = 0; i < SHARDS; ++i)
-      any_awake = any_awake || bk_physics_body_awake(w, shards[i]);
-    if (!any_awake) slept_at = step;
-  }
-  ENSURE_MSG(slept_at >= 0, "the heap of %d shards was still awake after 8 s", SHARDS);
-  ENSURE(bk_physics_body_awake(w, puck));
-  bk_physics_stats s = bk_physics_get_stats(w);
-  ENSURE_MSG(s.awake_bodies == 1, "awake %u", s.awake_bodies);
-  ENSURE_MSG(s.pairs > (uint32_t)SHARDS, "pairs %u: the puck should be near the heap", s.pairs);
-  // Sleeping shards still lie on the ground, none fell through.
-  for (int i = 0; i < SHARDS; ++i) {
-    double y = bk_physics_body_transform(w, shards[i]).position.y;
-    ENSURE_MSG(y > 0.0 && y < 0.5, "shard %d at y %g", i, y);
-  }
-  // A hit on the heap wakes it.
-  bk_physics_body_apply_impulse(w, shards[0], bk_v3(0.0, 0.5, 0.0),
-                                bk_physics_body_transform(w, shards[0]).position);
-  bk_physics_step(w, dt, 1);
-  ENSURE(bk_physics_body_awake(w, shards[0]));
-  bk_physics_destroy(w);
-}
+enum { SHARDS = 60 };
 
 /// Number of the given bodies that are awake.
 static int count_awake(const bk_physics* w, const bk_body_id* bodies, int count) {
@@ -760,6 +717,63 @@ static int count_awake(const bk_physics* w, const bk_body_id* bodies, int count)
   for (int i = 0; i < count; ++i)
     awake += bk_physics_body_awake(w, bodies[i]);
   return awake;
+}
+
+/// A heap of SHARDS small boxes dropped in layers over x in [-0.3, x_max], z in [-0.3, 0.3].
+static void make_heap(bk_physics* w, uint64_t seed, double x_max, bk_body_id shards[SHARDS]) {
+  bk_rng rng = bk_rng_seed(seed, 1);
+  for (int i = 0; i < SHARDS; ++i) {
+    bk_vec3 h = bk_v3(range(&rng, 0.02, 0.05), range(&rng, 0.01, 0.03), range(&rng, 0.02, 0.05));
+    bk_vec3 p = bk_v3(range(&rng, -0.3, x_max), 0.05 + 0.06 * (i / 6), range(&rng, -0.3, 0.3));
+    shards[i] = make_small_box(w, h, p, 0.7, 0.1 * cbrt(8.0 * h.x * h.y * h.z));
+  }
+}
+
+/// A box (half extents h) that never sleeps, spinning about y at `spin` rad/s.
+static bk_body_id make_sleepless_box(bk_physics* w, bk_vec3 h, double mass, bk_vec3 p, double spin) {
+  bk_body_desc d = box_desc(w, h, mass, p);
+  d.angular_velocity = bk_v3(0.0, spin, 0.0);
+  d.disable_sleep = true;
+  return create_body(w, &d);
+}
+
+/// Every shard lies on the ground: none fell through, none was flung off.
+static void ensure_on_ground(const bk_physics* w, const bk_body_id shards[SHARDS]) {
+  for (int i = 0; i < SHARDS; ++i) {
+    double y = bk_physics_body_transform(w, shards[i]).position.y;
+    ENSURE_MSG(y > 0.0 && y < 0.5, "shard %d at y %g", i, y);
+  }
+}
+
+// A heap of small shards comes to rest and sleeps within a few seconds, and
+// it sleeps even while a body elsewhere (not touching it) keeps moving:
+// islands are formed by contacts, not by overlapping boxes.
+static void test_piles_sleep(void) {
+  bk_physics* w = make_world();
+  make_ground(w);
+  bk_body_id shards[SHARDS];
+  make_heap(w, 7, 0.22, shards);
+  // A puck spinning in place forever, a few centimetres from
+  // the heap: near enough for the broadphase to pair it with shards, which
+  // made Bullet's islands (built from those pairs) keep the heap awake.
+  bk_body_id puck = make_sleepless_box(w, bk_v3(0.1, 0.02, 0.1), 1.0, bk_v3(0.47, 0.02, 0.0), 3.0);
+  int slept_at = -1;
+  for (int step = 0; step < 8 * 60 && slept_at < 0; ++step) {
+    bk_physics_step(w, dt, 1);
+    if (count_awake(w, shards, SHARDS) == 0) slept_at = step;
+  }
+  ENSURE_MSG(slept_at >= 0, "the heap of %d shards was still awake after 8 s", SHARDS);
+  ENSURE(bk_physics_body_awake(w, puck));
+  bk_physics_stats s = bk_physics_get_stats(w);
+  ENSURE_MSG(s.awake_bodies == 1, "awake %u", s.awake_bodies);
+  ENSURE_MSG(s.pairs > (uint32_t)SHARDS, "pairs %u: the puck should be near the heap", s.pairs);
+  ensure_on_ground(w, shards); // asleep, none fell through
+  // A hit on the heap wakes it.
+  bk_physics_body_apply_impulse(w, shards[0], bk_v3(0.0, 0.5, 0.0),
+                                bk_physics_body_transform(w, shards[0]).position);
+  bk_physics_step(w, dt, 1);
+  ENSURE(bk_physics_body_awake(w, shards[0]));
+  bk_physics_destroy(w);
 }
 
 // A body that never sleeps rests on a heap: Bullet would keep the heap's
@@ -770,35 +784,17 @@ static int count_awake(const bk_physics* w, const bk_body_id* bodies, int count)
 static void test_calm_bodies_freeze(void) {
   bk_physics* w = make_world();
   make_ground(w);
-  bk_rng rng = bk_rng_seed(11, 1);
-  enum { SHARDS = 60 };
   bk_body_id shards[SHARDS];
-  for (int i = 0; i < SHARDS; ++i) {
-    bk_vec3 h = bk_v3(range(&rng, 0.02, 0.05), range(&rng, 0.01, 0.03), range(&rng, 0.02, 0.05));
-    bk_vec3 p = bk_v3(range(&rng, -0.3, 0.3), 0.05 + 0.06 * (i / 6), range(&rng, -0.3, 0.3));
-    shards[i] = make_small_box(w, h, p, 0.7, 0.1 * cbrt(8.0 * h.x * h.y * h.z));
-  }
+  make_heap(w, 11, 0.3, shards);
   // A block that never sleeps lands on top of the heap: its island (with
   // Bullet's rules, the whole heap) never would.
-  bk_body_desc d = bk_default_body_desc();
-  bk_vec3 bh = bk_v3(0.08, 0.04, 0.08);
-  d.shape = bk_physics_create_box(w, bh);
-  d.mass = 2.0;
-  d.inertia = box_inertia(2.0, bh);
-  d.transform.position = bk_v3(0.0, 0.9, 0.0);
-  d.disable_sleep = true;
-  bk_error err = {{0}};
-  bk_body_id block = bk_physics_create_body(w, &d, &err);
-  ENSURE_MSG(!bk_body_is_null(block), "%s", err.message);
+  bk_body_id block = make_sleepless_box(w, bk_v3(0.08, 0.04, 0.08), 2.0, bk_v3(0.0, 0.9, 0.0), 0.0);
   for (int step = 0; step < 6 * 60; ++step)
     bk_physics_step(w, dt, 1);
   int awake = count_awake(w, shards, SHARDS);
   ENSURE_MSG(awake <= 12, "%d of %d shards awake 6 s after they fell", awake, SHARDS);
   ENSURE(bk_physics_body_awake(w, block));
-  for (int i = 0; i < SHARDS; ++i) {
-    double y = bk_physics_body_transform(w, shards[i]).position.y;
-    ENSURE_MSG(y > 0.0 && y < 0.5, "shard %d at y %g", i, y);
-  }
+  ensure_on_ground(w, shards); // frozen shards hold up the block and each other
   // A box dropped onto the heap wakes the shards it lands on.
   bk_body_id dropped = make_small_box(w, bk_v3(0.08, 0.08, 0.08), bk_v3(-0.15, 0.6, -0.15), 0.7, 0.0);
   int most_awake = 0;
