@@ -438,14 +438,14 @@ struct bk_physics {
 
   void destroy_body_slot(uint32_t index) {
     BodySlot& s = bodies.slots[index];
-    // What rested on it falls.
-    for (int m = 0; m < dispatcher.getNumManifolds(); ++m) {
-      const btPersistentManifold* manifold = dispatcher.getManifoldByIndexInternal(m);
-      if (manifold->getNumContacts() == 0) continue;
-      const btCollisionObject* other = manifold->getBody0() == s.body   ? manifold->getBody1()
-                                       : manifold->getBody1() == s.body ? manifold->getBody0()
-                                                                        : nullptr;
-      BodySlot* neighbour = other ? slot_of(other) : nullptr;
+    // What rested on it falls. Frozen pairs keep no manifold (see
+    // near_callback), so the neighbours are the broadphase's.
+    const btBroadphasePairArray& pairs = broadphase.getOverlappingPairCache()->getOverlappingPairArray();
+    for (int i = 0; i < pairs.size(); ++i) {
+      const void* a = pairs[i].m_pProxy0->m_clientObject;
+      const void* b = pairs[i].m_pProxy1->m_clientObject;
+      const void* other = a == s.body ? b : b == s.body ? a : nullptr;
+      BodySlot* neighbour = other ? slot_of(static_cast<const btCollisionObject*>(other)) : nullptr;
       if (neighbour) thaw(*neighbour, true);
     }
     world.removeRigidBody(s.body);
@@ -486,20 +486,31 @@ void post_tick(btDynamicsWorld* world, btScalar) {
 // island builder and the contact report walk only pairs that can touch.
 const btScalar pair_gap = btScalar(0.005);
 
+void free_algorithm(btBroadphasePair& pair, btCollisionDispatcher& dispatcher) {
+  if (!pair.m_algorithm) return;
+  pair.m_algorithm->~btCollisionAlgorithm();
+  dispatcher.freeCollisionAlgorithm(pair.m_algorithm);
+  pair.m_algorithm = nullptr;
+}
+
 void near_callback(btBroadphasePair& pair, btCollisionDispatcher& dispatcher, const btDispatcherInfo& info) {
   const btBroadphaseProxy* a = pair.m_pProxy0;
   const btBroadphaseProxy* b = pair.m_pProxy1;
+  // Two sleepers (frozen, asleep or static) keep no manifold: thousands of
+  // them in a settled heap were walked every step by the island builder and
+  // the contact report. Contacts come back within a step of a wake.
+  if (!static_cast<const btCollisionObject*>(a->m_clientObject)->isActive() &&
+      !static_cast<const btCollisionObject*>(b->m_clientObject)->isActive()) {
+    free_algorithm(pair, dispatcher);
+    return;
+  }
   // Bullet grows every box by gContactBreakingThreshold (2 cm); 5 mm of that
   // is kept: contact points of resting fragments are born within ~2 mm, and
   // fast bodies' boxes already cover their motion over the substep.
   const btScalar shrink = btMax(gContactBreakingThreshold - pair_gap, btScalar(0));
   const btVector3 s(shrink, shrink, shrink);
   if (!TestAabbAgainstAabb2(a->m_aabbMin + s, a->m_aabbMax - s, b->m_aabbMin + s, b->m_aabbMax - s)) {
-    if (pair.m_algorithm) {
-      pair.m_algorithm->~btCollisionAlgorithm();
-      dispatcher.freeCollisionAlgorithm(pair.m_algorithm);
-      pair.m_algorithm = nullptr;
-    }
+    free_algorithm(pair, dispatcher);
     return;
   }
   btCollisionDispatcher::defaultNearCallback(pair, dispatcher, info);
