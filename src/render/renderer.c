@@ -111,7 +111,7 @@ typedef struct mesh_uniforms {
 } mesh_uniforms;
 
 typedef struct sky_uniforms {
-  GLint inverse_view_projection, sun_direction, sky_color, horizon_color;
+  GLint inverse_view_projection, sun_direction, sky_color, horizon_color, below_horizon;
 } sky_uniforms;
 
 typedef struct particle_uniforms {
@@ -212,9 +212,11 @@ static bool load_material(const char* dir, material* m, bool has_interior, bk_er
   return true;
 }
 
+static const float ground_half_size = 60.0f; // metres
+
 static void make_ground(bk_renderer* r) {
   // A large quad; uvs in metres so the paving keeps its size.
-  const float s = 60.0f;
+  const float s = ground_half_size;
   vertex quad[4] = {{{-s, 0, -s}, {0, 1, 0}, {-s, -s}, {1, 0, 0, 1}, 0},
                     {{-s, 0, s}, {0, 1, 0}, {-s, s}, {1, 0, 0, 1}, 0},
                     {{s, 0, s}, {0, 1, 0}, {s, s}, {1, 0, 0, 1}, 0},
@@ -388,7 +390,8 @@ bk_renderer* bk_renderer_create(const bk_renderer_desc* desc, bk_error* err) {
   r->sky_u = (sky_uniforms){.inverse_view_projection = uniform(p, "u_inverse_view_projection"),
                             .sun_direction = uniform(p, "u_sun_direction"),
                             .sky_color = uniform(p, "u_sky_color"),
-                            .horizon_color = uniform(p, "u_horizon_color")};
+                            .horizon_color = uniform(p, "u_horizon_color"),
+                            .below_horizon = uniform(p, "u_below_horizon")};
   p = r->particle_program;
   r->particle_u = (particle_uniforms){.view_projection = uniform(p, "u_view_projection"),
                                       .camera_right = uniform(p, "u_camera_right"),
@@ -1110,7 +1113,12 @@ unsigned bk_renderer_end_frame(bk_renderer* r) {
   glUniform3fv(r->sky_u.sky_color, 1, sky_color);
   glUniform3fv(r->sky_u.horizon_color, 1, horizon_color);
   glBindVertexArray(r->empty_vao);
+  // The sky stops below the horizon where the ground's far edge is seen.
+  double reach = fmax(1.0, ground_half_size - fmax(fabs(c->eye.x), fabs(c->eye.z)));
+  glUniform1f(r->sky_u.below_horizon, (float)fmax(0.05, (fabs(c->eye.y) + 1.0) / reach));
+  glEnable(GL_CLIP_DISTANCE0);
   glDrawArrays(GL_TRIANGLES, 0, 3);
+  glDisable(GL_CLIP_DISTANCE0);
   glDepthFunc(GL_LESS);
   glDepthMask(GL_TRUE);
 
