@@ -1113,9 +1113,12 @@ unsigned bk_renderer_end_frame(bk_renderer* r) {
   glUniform3fv(r->sky_u.sky_color, 1, sky_color);
   glUniform3fv(r->sky_u.horizon_color, 1, horizon_color);
   glBindVertexArray(r->empty_vao);
-  // The sky stops below the horizon where the ground's far edge is seen.
+  // The sky stops below the horizon where the ground's far edge is seen:
+  // the edge's slope from the eye, doubled because sky.vert measures it
+  // along the view's heading (rays at the screen's sides, up to 60 degrees
+  // off, see only half of it).
   double reach = fmax(1.0, ground_half_size - fmax(fabs(c->eye.x), fabs(c->eye.z)));
-  glUniform1f(r->sky_u.below_horizon, (float)fmax(0.05, (fabs(c->eye.y) + 1.0) / reach));
+  glUniform1f(r->sky_u.below_horizon, (float)fmax(0.05, 2.0 * (fabs(c->eye.y) + 1.0) / reach));
   glEnable(GL_CLIP_DISTANCE0);
   glDrawArrays(GL_TRIANGLES, 0, 3);
   glDisable(GL_CLIP_DISTANCE0);
