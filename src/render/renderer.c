@@ -435,12 +435,11 @@ void bk_renderer_destroy(bk_renderer* r) {
   for (uint32_t i = 0; i < r->tree_count; ++i)
     if (r->trees[i].used) bk_renderer_release_tree(r, (bk_render_tree){i, r->trees[i].generation});
   free(r->trees);
-  GLuint programs[8] = {r->mesh_programs[SURFACE], r->mesh_programs[INTERIOR],
-                        r->mesh_programs[SIMPLE],  r->mesh_programs[GROUND],
-                        r->shadow_program,         r->sky_program,
-                        r->particle_program,       r->line_program};
-  for (int i = 0; i < 8; ++i)
+  GLuint programs[4] = {r->shadow_program, r->sky_program, r->particle_program, r->line_program};
+  for (int i = 0; i < 4; ++i)
     if (programs[i]) glDeleteProgram(programs[i]);
+  for (int i = 0; i < MESH_PROGRAMS; ++i)
+    if (r->mesh_programs[i]) glDeleteProgram(r->mesh_programs[i]);
   for (int i = 0; i < r->material_count; ++i) {
     material* m = &r->materials[i];
     GLuint textures[3] = {m->albedo, m->normal, m->interior};
@@ -497,12 +496,11 @@ static uint32_t coarse_indices(const bk_mesh* m, bool interior, uint32_t base, d
   cell_corner* cells = bk_alloc(sizeof(cell_corner) * m->corner_count);
   uint32_t* merged = bk_alloc(sizeof(uint32_t) * m->corner_count);
   // Corners of the other section never stand in for these (other normals).
-  for (uint32_t c = 0; c < m->corner_count; ++c)
-    merged[c] = 0;
+  unsigned char* cut = bk_calloc(m->corner_count, 1);
   for (uint32_t tri = 0; tri < m->triangle_count; ++tri)
     if (m->materials[tri] == BK_MATERIAL_INTERIOR)
       for (int j = 0; j < 3; ++j)
-        merged[m->indices[3 * tri + j]] = 1;
+        cut[m->indices[3 * tri + j]] = 1;
   for (uint32_t c = 0; c < m->corner_count; ++c) {
     bk_vec3 p = m->positions[m->corners[c].position];
     int64_t x = (int64_t)floor(p.x / cell), y = (int64_t)floor(p.y / cell), z = (int64_t)floor(p.z / cell);
@@ -511,8 +509,8 @@ static uint32_t coarse_indices(const bk_mesh* m, bool interior, uint32_t base, d
     const float* n = m->corners[c].normal;
     int64_t facing =
         (int64_t)(lroundf(2.0f * n[0]) + 2) * 25 + (lroundf(2.0f * n[1]) + 2) * 5 + lroundf(2.0f * n[2]) + 2;
-    int64_t key = ((int64_t)merged[c] << 62) | (facing << 48) | ((x & 0xffff) << 32) | ((y & 0xffff) << 16) |
-                  (z & 0xffff);
+    int64_t key =
+        ((int64_t)cut[c] << 62) | (facing << 48) | ((x & 0xffff) << 32) | ((y & 0xffff) << 16) | (z & 0xffff);
     cells[c] = (cell_corner){key, c};
   }
   qsort(cells, m->corner_count, sizeof(cell_corner), compare_cell_corners);
@@ -530,6 +528,7 @@ static uint32_t coarse_indices(const bk_mesh* m, bool interior, uint32_t base, d
   }
   free(cells);
   free(merged);
+  free(cut);
   return n;
 }
 
@@ -576,12 +575,8 @@ bk_render_tree bk_renderer_upload_tree(bk_renderer* r, const bk_mesh_tree* tree)
   t->spheres = bk_alloc(sizeof(float[4]) * (tree->node_count + 1));
   for (uint32_t i = 0; i < tree->node_count; ++i) {
     const bk_mesh* m = &tree->nodes[i].mesh;
-    bk_vec3 lo = bk_v3(0, 0, 0), hi = lo;
-    for (uint32_t p = 0; p < m->position_count; ++p) {
-      lo = p ? bk_v3_min(lo, m->positions[p]) : m->positions[p];
-      hi = p ? bk_v3_max(hi, m->positions[p]) : m->positions[p];
-    }
-    bk_vec3 c = bk_v3_scale(bk_v3_add(lo, hi), 0.5);
+    const bk_aabb* box = &tree->nodes[i].bounds;
+    bk_vec3 c = bk_v3_scale(bk_v3_add(box->min, box->max), 0.5);
     double radius = 0.0;
     for (uint32_t p = 0; p < m->position_count; ++p)
       radius = fmax(radius, bk_v3_length(bk_v3_sub(m->positions[p], c)));
