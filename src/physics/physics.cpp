@@ -54,7 +54,6 @@ struct BodySlot {
   uint32_t shape = 0; // shape slot index
   double mass = 0.0;
   btVector3 inertia{0, 0, 0}; // principal moments of a dynamic body (kept while it is frozen)
-  bool frozen = false;        // asleep and fixed: see freeze_calm_bodies
   uint64_t user_data = 0;
   // Velocities and centre of mass at the start of the current substep.
   btVector3 linear_velocity{0, 0, 0}, angular_velocity{0, 0, 0}, center{0, 0, 0};
@@ -388,8 +387,9 @@ struct bk_physics {
   // heap of debris some shard always rocks: ~15 restless shards kept ~560
   // of ~1340 bodies awake 13 s after the last shot. Frozen, calm shards stop
   // costing anything, and what rests on them is held as by the ground.
+  static bool frozen(const BodySlot& s) { return s.mass > 0.0 && s.body->isStaticObject(); }
+
   void freeze(BodySlot& s) {
-    s.frozen = true;
     s.body->setLinearVelocity(btVector3(0, 0, 0));
     s.body->setAngularVelocity(btVector3(0, 0, 0));
     s.body->setMassProps(0, btVector3(0, 0, 0)); // also sets CF_STATIC_OBJECT
@@ -399,8 +399,7 @@ struct bk_physics {
 
   /// `moving`: restless at once (its support went), not just awake.
   void thaw(BodySlot& s, bool moving = false) {
-    if (!s.frozen) return;
-    s.frozen = false;
+    if (!frozen(s)) return;
     s.body->setMassProps((btScalar)s.mass, s.inertia); // clears CF_STATIC_OBJECT
     s.body->updateInertiaTensor();
     s.body->setGravity(world.getGravity()); // it may have changed meanwhile
@@ -422,13 +421,13 @@ struct bk_physics {
       if (manifold->getNumContacts() == 0) continue;
       BodySlot* a = slot_of(manifold->getBody0());
       BodySlot* b = slot_of(manifold->getBody1());
-      if (a && a->frozen && restless(manifold->getBody1())) thaw(*a);
-      if (b && b->frozen && restless(manifold->getBody0())) thaw(*b);
+      if (a && frozen(*a) && restless(manifold->getBody1())) thaw(*a);
+      if (b && frozen(*b) && restless(manifold->getBody0())) thaw(*b);
     }
     const btCollisionObjectArray& objects = world.getCollisionObjectArray();
     for (int i = 0; i < objects.size(); ++i) {
       BodySlot* s = slot_of(objects[i]);
-      if (!s || s->frozen || s->mass == 0.0) continue;
+      if (!s || s->mass == 0.0 || frozen(*s)) continue;
       int state = s->body->getActivationState();
       if (state == ISLAND_SLEEPING ||
           (state == WANTS_DEACTIVATION && s->body->getDeactivationTime() >= freeze_time))
@@ -436,12 +435,14 @@ struct bk_physics {
     }
   }
 
-  void destroy_body_slot(uint32_t index) {
+  /// `wake_neighbours`: off when the whole world goes (the walk below is
+  /// over every pair, once per body).
+  void destroy_body_slot(uint32_t index, bool wake_neighbours = true) {
     BodySlot& s = bodies.slots[index];
     // What rested on it falls. Frozen pairs keep no manifold (see
     // near_callback), so the neighbours are the broadphase's.
     const btBroadphasePairArray& pairs = broadphase.getOverlappingPairCache()->getOverlappingPairArray();
-    for (int i = 0; i < pairs.size(); ++i) {
+    for (int i = 0; wake_neighbours && i < pairs.size(); ++i) {
       const void* a = pairs[i].m_pProxy0->m_clientObject;
       const void* b = pairs[i].m_pProxy1->m_clientObject;
       const void* other = a == s.body ? b : b == s.body ? a : nullptr;
@@ -592,7 +593,7 @@ bk_physics* bk_physics_create(const bk_physics_desc* desc, bk_error* err) {
 void bk_physics_destroy(bk_physics* w) {
   if (!w) return;
   for (uint32_t i = 0; i < w->bodies.slots.size(); ++i)
-    if (w->bodies.slots[i].body) w->destroy_body_slot(i);
+    if (w->bodies.slots[i].body) w->destroy_body_slot(i, false);
   for (uint32_t i = 0; i < w->shapes.slots.size(); ++i)
     if (w->shapes.slots[i].shape && w->shapes.slots[i].kind == ShapeKind::compound) w->destroy_shape_slot(i);
   for (uint32_t i = 0; i < w->shapes.slots.size(); ++i)
@@ -925,7 +926,6 @@ bk_body_id bk_physics_create_body(bk_physics* w, const bk_body_desc* desc, bk_er
   s.shape = d.shape.index;
   s.mass = dynamic ? d.mass : 0.0;
   s.inertia = inertia;
-  s.frozen = false;
   s.user_data = d.user_data;
   ++shape.uses;
   w->world.addRigidBody(body);
