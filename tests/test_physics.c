@@ -663,14 +663,21 @@ static bk_body_id make_small_box(bk_physics* w, bk_vec3 h, bk_vec3 p, double fri
   return create_body(w, &d);
 }
 
-// Bodies whose boxes are a few centimetres apart are broadphase pairs (the
-// tree's boxes are fattened) but get no narrowphase work and no manifold.
-static void test_near_pairs_skip_narrowphase(void) {
+/// A world without gravity.
+static bk_physics* make_weightless_world(void) {
   bk_error err = {{0}};
   bk_physics_desc desc = bk_default_physics_desc();
   desc.use_zero_gravity = true;
+  desc.gravity = bk_v3(0, 0, 0);
   bk_physics* w = bk_physics_create(&desc, &err);
   ENSURE_MSG(w, "%s", err.message);
+  return w;
+}
+
+// Bodies whose boxes are a few centimetres apart are broadphase pairs (the
+// tree's boxes are fattened) but get no narrowphase work and no manifold.
+static void test_near_pairs_skip_narrowphase(void) {
+  bk_physics* w = make_weightless_world();
   const bk_vec3 h = bk_v3(0.05, 0.05, 0.05);
   // A row of 10 cm cubes, 3 cm apart: far enough to never touch, close
   // enough for the broadphase's fattened boxes (2 cm contact threshold and
@@ -687,8 +694,7 @@ static void test_near_pairs_skip_narrowphase(void) {
   // 8 cm apart they are not even pairs (with Bullet's 5 cm tree margin they
   // were: pairs are walked every step, so a heap of shards paid for ~26 each).
   bk_physics_destroy(w);
-  w = bk_physics_create(&desc, &err);
-  ENSURE_MSG(w, "%s", err.message);
+  w = make_weightless_world();
   for (int i = 0; i < 8; ++i)
     make_small_box(w, h, bk_v3(0.18 * i, 1.0, 0.0), 0.6, 0.0);
   for (int i = 0; i < 10; ++i)
@@ -706,6 +712,99 @@ static void test_near_pairs_skip_narrowphase(void) {
   s = bk_physics_get_stats(w);
   ENSURE_MSG(s.manifolds >= 4 && s.contact_points >= 16, "manifolds %u points %u", s.manifolds,
              s.contact_points);
+  bk_physics_destroy(w);
+}
+
+/// A hull box (half extents h), dynamic when mass > 0, at p with velocities.
+static bk_body_id make_hull_box(bk_physics* w, bk_vec3 h, double mass, bk_vec3 p, bk_vec3 v, bk_vec3 spin) {
+  bk_vec3 corners[8];
+  for (int i = 0; i < 8; ++i)
+    corners[i] = bk_v3(i & 1 ? h.x : -h.x, i & 2 ? h.y : -h.y, i & 4 ? h.z : -h.z);
+  bk_body_desc d = bk_default_body_desc();
+  d.shape = bk_physics_create_hull(w, corners, 8, 0);
+  ENSURE(!bk_shape_is_null(d.shape));
+  d.mass = mass;
+  if (mass > 0.0) d.inertia = box_inertia(mass, h);
+  d.transform.position = p;
+  d.linear_velocity = v;
+  d.angular_velocity = spin;
+  d.disable_sleep = true;
+  return create_body(w, &d);
+}
+
+/// Whether the last step reported a contact between bodies a and b.
+static bool touched(const bk_physics* w, bk_body_id a, bk_body_id b) {
+  uint32_t n = bk_physics_contacts(w, contacts, MAX_CONTACTS);
+  for (uint32_t i = 0; i < n && i < MAX_CONTACTS; ++i)
+    if ((bk_body_equal(contacts[i].a, a) && bk_body_equal(contacts[i].b, b)) ||
+        (bk_body_equal(contacts[i].a, b) && bk_body_equal(contacts[i].b, a)))
+      return true;
+  return false;
+}
+
+// Hulls a few millimetres apart skip the narrowphase and keep no manifold
+// while they provably stay apart; moving or turning towards each other, they
+// still collide on time.
+static void test_separated_hulls(void) {
+  bk_physics* w = make_weightless_world();
+  const bk_vec3 h = bk_v3(0.05, 0.05, 0.05);
+  // 3 mm apart: inside the narrowphase's reach (5 mm between exact boxes).
+  bk_body_id left = make_hull_box(w, h, 1.0, bk_v3(0, 1, 0), bk_v3(0, 0, 0), bk_v3(0, 0, 0));
+  bk_body_id right = make_hull_box(w, h, 1.0, bk_v3(0.103, 1, 0), bk_v3(0, 0, 0), bk_v3(0, 0, 0));
+  for (int i = 0; i < 10; ++i) {
+    bk_physics_step(w, dt, 1);
+    ENSURE(!touched(w, left, right));
+  }
+  bk_physics_stats s = bk_physics_get_stats(w);
+  ENSURE_MSG(s.pairs == 1 && s.manifolds == 0, "pairs %u manifolds %u for hulls 3 mm apart", s.pairs,
+             s.manifolds);
+  // Pushed together at 0.3 m/s (5 mm a step): they touch and part, never
+  // overlapping by more than a step's motion (Bullet's own narrowphase gives
+  // the same track: 2 mm, then 4.6 mm, then the overlap is pushed out).
+  bk_physics_body_set_velocity(w, left, bk_v3(0.3, 0, 0), bk_v3(0, 0, 0));
+  int first_touch = -1;
+  for (int i = 0; i < 60; ++i) {
+    bk_physics_step(w, dt, 1);
+    if (first_touch < 0 && touched(w, left, right)) first_touch = i;
+    double gap =
+        bk_physics_body_transform(w, right).position.x - bk_physics_body_transform(w, left).position.x;
+    ENSURE_MSG(gap > 0.1 - 0.005, "step %d: centres %.4f m apart (cubes are 0.1 m)", i, gap);
+  }
+  ENSURE_MSG(first_touch >= 0 && first_touch <= 1, "first contact at step %d", first_touch);
+  double apart =
+      bk_physics_body_transform(w, right).position.x - bk_physics_body_transform(w, left).position.x;
+  ENSURE_MSG(apart > 0.1 - 0.0005, "centres %.4f m apart after the push", apart);
+  bk_physics_destroy(w);
+
+  // Turning only: a 1 m plank spins about its centre (0.9 m/s at its end)
+  // towards a static cube 4 mm beside its end. The plank's end moves, its
+  // centre does not, so the pair's motion bound must count the rotation.
+  w = make_weightless_world();
+  // The block first: the pair is then (block, plank), and in the block's
+  // frame the plank's centre stays put while its end sweeps.
+  bk_body_id block = make_hull_box(w, h, 0.0, bk_v3(0.44, 1, 0.104), bk_v3(0, 0, 0), bk_v3(0, 0, 0));
+  bk_body_id plank =
+      make_hull_box(w, bk_v3(0.5, 0.01, 0.05), 2.0, bk_v3(0, 1, 0), bk_v3(0, 0, 0), bk_v3(0, 0, 0));
+  for (int i = 0; i < 5; ++i)
+    bk_physics_step(w, dt, 1);
+  ENSURE(!touched(w, plank, block));
+  ENSURE(bk_physics_get_stats(w).manifolds == 0);
+  // Spin about y, clockwise seen from above: the end at +x moves towards +z.
+  bk_physics_body_set_velocity(w, plank, bk_v3(0, 0, 0), bk_v3(0, -2.0, 0));
+  first_touch = -1;
+  for (int i = 0; i < 30 && first_touch < 0; ++i) {
+    bk_physics_step(w, dt, 1);
+    if (touched(w, plank, block)) first_touch = i;
+  }
+  // 4 mm at 15 mm a step: the first or the second step.
+  ENSURE_MSG(first_touch >= 0 && first_touch <= 1, "first contact at step %d", first_touch);
+  // The plank's side under the block never goes more than a step's motion
+  // into it (the block's face is at z = 0.054).
+  for (int i = 0; i < 30; ++i) {
+    bk_physics_step(w, dt, 1);
+    bk_vec3 side = bk_transform_point(bk_physics_body_transform(w, plank), bk_v3(0.44, 0, 0.05));
+    ENSURE_MSG(side.z < 0.054 + 0.015, "step %d: the plank's side is at z = %.4f", i, side.z);
+  }
   bk_physics_destroy(w);
 }
 
@@ -841,6 +940,7 @@ int main(void) {
   RUN(test_ray_cast);
   RUN(test_churn);
   RUN(test_near_pairs_skip_narrowphase);
+  RUN(test_separated_hulls);
   RUN(test_piles_sleep);
   RUN(test_calm_bodies_freeze);
   fprintf(stderr, "test_physics: all passed\n");
