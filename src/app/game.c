@@ -106,12 +106,12 @@ static const float* tint_of(const bk_game* g, bk_breakable_id id) {
 static void step_world(bk_game* g) {
   bk_world_step(g->scene.world);
   // A big hit breaks hundreds of bonds at once. Blended particles cost fill
-  // rate, so a step emits at most ~32 puffs and ~150 chips, spread evenly
+  // rate, so a step emits at most ~8 puffs and ~150 chips, spread evenly
   // over its broken bonds.
   bk_break_event events[1024];
   uint32_t total = bk_world_break_events(g->scene.world, events, 1024);
   uint32_t n = total < 1024 ? total : 1024;
-  uint32_t dust_every = n / 32 + 1, chip_every = n / 75 + 1;
+  uint32_t dust_every = n / 8 + 1, chip_every = n / 75 + 1;
   for (uint32_t i = 0; i < n; ++i) {
     bool dust = i % dust_every == 0;
     int chips = i % chip_every == 0 ? 2 : 0;

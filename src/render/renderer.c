@@ -43,10 +43,16 @@ enum {
 // (outer surface, cut faces) that the first two draw.
 enum { SURFACE, INTERIOR, SIMPLE, GROUND, MESH_PROGRAMS, SECTIONS = 2 };
 
+enum { SPHERE_LEVELS = 3 };
+// A sphere's level of detail when its width on screen is at least this many pixels.
+static const float sphere_level_pixels[SPHERE_LEVELS] = {48.0f, 16.0f, 0.0f};
+
 // Nodes whose bounding sphere spans fewer pixels than this are drawn with
 // SIMPLE: a shard a few pixels wide shows no texture or normal map, and a
 // heap of debris is thousands of them.
 static const float simple_below_pixels = 24.0f;
+// A node's batch when it is out of view but casts a shadow into the map.
+#define SHADOW_ONLY UINT32_MAX
 
 typedef struct tree_buffers {
   uint32_t generation; // last generation handed out for this slot
@@ -138,7 +144,7 @@ struct bk_renderer {
   material ground;
   GLuint ground_vao, ground_vbo;
   GLuint sphere_vao, sphere_vbo, sphere_ibo;
-  uint32_t sphere_index_count;
+  uint32_t sphere_first[SPHERE_LEVELS], sphere_index_count[SPHERE_LEVELS];
   GLuint particle_vao, particle_quad_vbo, particle_instance_vbo;
   uint32_t max_particles;
   GLuint line_vao, line_vbo;
@@ -152,6 +158,7 @@ struct bk_renderer {
   uint32_t loose_count, loose_capacity, loose_gpu_capacity;
   // This frame.
   bk_camera camera;
+  vec4 view_planes[6], light_planes[6]; // the camera's frustum and the shadow map's box, facing in
   int width, height;
   draw_item* items;
   uint32_t item_count, item_capacity;
@@ -171,6 +178,8 @@ struct bk_renderer {
   spill_draw* spills;
   uint32_t spill_count, spill_capacity;
   float (*spheres)[7]; // center, radius, rgb
+  // Per sphere this frame: level of detail in the lit and the shadow pass (-1: not drawn).
+  int8_t (*sphere_levels)[2];
   uint32_t sphere_count, sphere_capacity;
   line_vertex* lines;
   uint32_t line_count, line_vertex_capacity;
@@ -255,37 +264,48 @@ static void make_table(GLuint* buffer, GLuint* texture, uint32_t rows) {
   glBindBuffer(GL_TEXTURE_BUFFER, 0);
 }
 
+// Projectiles in three levels of detail, chosen by their size on screen: a
+// volley leaves dozens on the ground, and at full detail they were ~40k
+// triangles a frame counting the shadow pass.
+static const int sphere_rings[SPHERE_LEVELS] = {12, 8, 5}, sphere_segments[SPHERE_LEVELS] = {20, 12, 8};
+
 static void make_sphere(bk_renderer* r) {
-  enum { RINGS = 12, SEGMENTS = 20 };
-  vertex vertices[(RINGS + 1) * (SEGMENTS + 1)];
-  uint32_t indices[RINGS * SEGMENTS * 6];
+  enum { MAX_VERTICES = 13 * 21 + 9 * 13 + 6 * 9, MAX_INDICES = 6 * (12 * 20 + 8 * 12 + 5 * 8) };
+  vertex vertices[MAX_VERTICES];
+  uint32_t indices[MAX_INDICES];
   uint32_t v = 0, i = 0;
-  for (int ring = 0; ring <= RINGS; ++ring)
-    for (int seg = 0; seg <= SEGMENTS; ++seg) {
-      float theta = (float)ring / RINGS * 3.14159265f, phi = (float)seg / SEGMENTS * 6.2831853f;
-      float n[3] = {sinf(theta) * cosf(phi), cosf(theta), sinf(theta) * sinf(phi)};
-      vertices[v++] = (vertex){{n[0], n[1], n[2]},
-                               {n[0], n[1], n[2]},
-                               {(float)seg / SEGMENTS * 2, (float)ring / RINGS},
-                               {-sinf(phi), 0, cosf(phi), 1},
-                               0};
-    }
-  for (int ring = 0; ring < RINGS; ++ring)
-    for (int seg = 0; seg < SEGMENTS; ++seg) {
-      uint32_t a = (uint32_t)(ring * (SEGMENTS + 1) + seg), b = a + SEGMENTS + 1;
-      uint32_t quad[6] = {a, a + 1, b, a + 1, b + 1, b};
-      memcpy(&indices[i], quad, sizeof quad);
-      i += 6;
-    }
-  r->sphere_index_count = i;
+  for (int level = 0; level < SPHERE_LEVELS; ++level) {
+    int rings = sphere_rings[level], segments = sphere_segments[level];
+    uint32_t base = v;
+    r->sphere_first[level] = i;
+    for (int ring = 0; ring <= rings; ++ring)
+      for (int seg = 0; seg <= segments; ++seg) {
+        float theta = (float)ring / (float)rings * 3.14159265f,
+              phi = (float)seg / (float)segments * 6.2831853f;
+        float n[3] = {sinf(theta) * cosf(phi), cosf(theta), sinf(theta) * sinf(phi)};
+        vertices[v++] = (vertex){{n[0], n[1], n[2]},
+                                 {n[0], n[1], n[2]},
+                                 {(float)seg / (float)segments * 2, (float)ring / (float)rings},
+                                 {-sinf(phi), 0, cosf(phi), 1},
+                                 0};
+      }
+    for (int ring = 0; ring < rings; ++ring)
+      for (int seg = 0; seg < segments; ++seg) {
+        uint32_t a = base + (uint32_t)(ring * (segments + 1) + seg), b = a + (uint32_t)segments + 1;
+        uint32_t quad[6] = {a, a + 1, b, a + 1, b + 1, b};
+        memcpy(&indices[i], quad, sizeof quad);
+        i += 6;
+      }
+    r->sphere_index_count[level] = i - r->sphere_first[level];
+  }
   glGenVertexArrays(1, &r->sphere_vao);
   glGenBuffers(1, &r->sphere_vbo);
   glGenBuffers(1, &r->sphere_ibo);
   glBindVertexArray(r->sphere_vao);
   glBindBuffer(GL_ARRAY_BUFFER, r->sphere_vbo);
-  glBufferData(GL_ARRAY_BUFFER, sizeof vertices, vertices, GL_STATIC_DRAW);
+  glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(sizeof(vertex) * v), vertices, GL_STATIC_DRAW);
   glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, r->sphere_ibo);
-  glBufferData(GL_ELEMENT_ARRAY_BUFFER, sizeof indices, indices, GL_STATIC_DRAW);
+  glBufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)(sizeof(uint32_t) * i), indices, GL_STATIC_DRAW);
   vertex_layout();
 }
 
@@ -466,6 +486,7 @@ void bk_renderer_destroy(bk_renderer* r) {
   free(r->spills);
   free(r->loose);
   free(r->spheres);
+  free(r->sphere_levels);
   free(r->lines);
   free(r);
 }
@@ -717,6 +738,7 @@ void bk_renderer_draw_sphere(bk_renderer* r, bk_vec3 center, double radius, cons
   if (r->sphere_count == r->sphere_capacity) {
     r->sphere_capacity = bk_grow_capacity(r->sphere_capacity, r->sphere_count + 1);
     r->spheres = bk_realloc(r->spheres, sizeof(float[7]) * r->sphere_capacity);
+    r->sphere_levels = bk_realloc(r->sphere_levels, sizeof(int8_t[2]) * r->sphere_capacity);
   }
   float* s = r->spheres[r->sphere_count++];
   s[0] = (float)center.x, s[1] = (float)center.y, s[2] = (float)center.z, s[3] = (float)radius;
@@ -788,6 +810,15 @@ static void append_range(bk_renderer* r, uint32_t first, uint32_t* count, uint32
   (*count)++;
 }
 
+// Whether a sphere reaches into a volume given by six planes facing in.
+static bool sphere_inside(vec4 planes[6], const float centre[3], float radius) {
+  for (int i = 0; i < 6; ++i)
+    if (planes[i][0] * centre[0] + planes[i][1] * centre[1] + planes[i][2] * centre[2] + planes[i][3] <
+        -radius)
+      return false;
+  return true;
+}
+
 // Turns the frame's items into node table rows and batches, and uploads the
 // tables (one buffer update per tree, one for the loose table). Both passes
 // then draw from the same index ranges.
@@ -816,6 +847,15 @@ static void prepare_batches(bk_renderer* r) {
     const float* s = r->spheres[i];
     const float rows[12] = {s[3], 0, 0, s[0], 0, s[3], 0, s[1], 0, 0, s[3], s[2]};
     write_row(loose_row(r), rows, no_color);
+    float distance = sqrtf((s[0] - eye[0]) * (s[0] - eye[0]) + (s[1] - eye[1]) * (s[1] - eye[1]) +
+                           (s[2] - eye[2]) * (s[2] - eye[2]));
+    int level = 0;
+    while (level + 1 < SPHERE_LEVELS && 2.0f * s[3] * pixels_per_unit < sphere_level_pixels[level] * distance)
+      level++;
+    // The shadow map has a texel per centimetre or so: a level coarser is enough.
+    int shadow = level + 1 < SPHERE_LEVELS ? level + 1 : level;
+    r->sphere_levels[i][0] = (int8_t)(sphere_inside(r->view_planes, s, s[3]) ? level : -1);
+    r->sphere_levels[i][1] = (int8_t)(sphere_inside(r->light_planes, s, s[3]) ? shadow : -1);
   }
   for (uint32_t i = 0; i < r->item_count; ++i) {
     const draw_item* item = &r->items[i];
@@ -839,9 +879,13 @@ static void prepare_batches(bk_renderer* r) {
         centre[row] = m[4 * row] * sphere[0] + m[4 * row + 1] * sphere[1] + m[4 * row + 2] * sphere[2] +
                       m[4 * row + 3] - eye[row];
       float distance = sqrtf(centre[0] * centre[0] + centre[1] * centre[1] + centre[2] * centre[2]);
+      const float world[3] = {centre[0] + eye[0], centre[1] + eye[1], centre[2] + eye[2]};
       bool small = 2.0f * sphere[3] * pixels_per_unit < simple_below_pixels * distance;
-      if (small && simple == UINT32_MAX) simple = find_batch(r, item, true);
-      uint32_t b = small ? simple : detailed;
+      // Out of view, a node is drawn only into the shadow map, if it casts there.
+      bool seen = sphere_inside(r->view_planes, world, sphere[3]);
+      if (!seen && (small || !sphere_inside(r->light_planes, world, sphere[3]))) continue;
+      if (seen && small && simple == UINT32_MAX) simple = find_batch(r, item, true);
+      uint32_t b = !seen ? SHADOW_ONLY : small ? simple : detailed;
       const float* color = item->colored ? &r->node_colors[4 * (item->first_node + k)] : no_color;
       if (t->node_frame[node] == r->frame) {
         // Bodies own disjoint nodes, so this is rare (the API allows it).
@@ -863,7 +907,7 @@ static void prepare_batches(bk_renderer* r) {
       write_row(&t->table[TABLE_FLOATS * node], item->rows, color);
       if (node < t->lowest) t->lowest = node;
       if (node > t->highest) t->highest = node;
-      r->batches[b].node_count++;
+      if (b != SHADOW_ONLY) r->batches[b].node_count++;
     }
   }
   uint32_t next_range = 0;
@@ -881,19 +925,25 @@ static void prepare_batches(bk_renderer* r) {
     for (int section = 0; section < SECTIONS; ++section) {
       for (uint32_t node = t->lowest; node <= t->highest; ++node) {
         if (t->node_frame[node] != r->frame) continue;
+        uint32_t count = t->index_count[section][node], first = t->first_index[section][node];
+        if (t->node_batch[node] == SHADOW_ONLY) {
+          if (count == 0) continue;
+          append_range(r, t->first_shadow_range, &t->shadow_range_count, count, first);
+          r->stats.triangles += count / 3;
+          continue;
+        }
         draw_batch* batch = &r->batches[t->node_batch[node]];
         if (batch->simple) {
           // Small nodes draw coarse and cast no shadow: theirs would be a
           // few texels, and the shadow pass paid for every one of their
           // triangles (8 ms a frame with 1500 shards in view).
-          uint32_t count = t->coarse_count[section][node];
-          if (count == 0) continue;
-          append_range(r, batch->first_range[section], &batch->range_count[section], count,
+          uint32_t coarse = t->coarse_count[section][node];
+          if (coarse == 0) continue;
+          append_range(r, batch->first_range[section], &batch->range_count[section], coarse,
                        t->coarse_first[section][node]);
-          r->stats.triangles += count / 3;
+          r->stats.triangles += coarse / 3;
           continue;
         }
-        uint32_t count = t->index_count[section][node], first = t->first_index[section][node];
         if (count == 0) continue;
         append_range(r, batch->first_range[section], &batch->range_count[section], count, first);
         append_range(r, t->first_shadow_range, &t->shadow_range_count, count, first);
@@ -1020,10 +1070,14 @@ static void draw_scene(bk_renderer* r, int pass) {
   }
   for (uint32_t i = 0; i < r->sphere_count; ++i) {
     const float* s = r->spheres[i];
+    int level = r->sphere_levels[i][shadow ? 1 : 0];
+    if (level < 0) continue;
     glVertexAttribI4ui(NODE_ATTRIBUTE, 1 + i, 0, 0, 0); // rows 1.. of the loose table
     if (!shadow) glUniform3f(r->mesh_u[SURFACE].tint, s[4], s[5], s[6]);
-    glDrawElements(GL_TRIANGLES, (GLsizei)r->sphere_index_count, GL_UNSIGNED_INT, NULL);
+    glDrawElements(GL_TRIANGLES, (GLsizei)r->sphere_index_count[level], GL_UNSIGNED_INT,
+                   (void*)(uintptr_t)(sizeof(uint32_t) * r->sphere_first[level]));
     r->stats.draw_calls++;
+    r->stats.triangles += r->sphere_index_count[level] / 3;
   }
 }
 
@@ -1048,6 +1102,8 @@ unsigned bk_renderer_end_frame(bk_renderer* r) {
   glm_lookat(light_eye, focus, (vec3){0, 1, 0}, light_view);
   glm_ortho(-9.0f, 9.0f, -9.0f, 9.0f, 1.0f, 70.0f, light_projection);
   glm_mat4_mul(light_projection, light_view, light_view_projection);
+  glm_frustum_planes(view_projection, r->view_planes);
+  glm_frustum_planes(light_view_projection, r->light_planes);
 
   prepare_batches(r);
 
