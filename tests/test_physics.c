@@ -818,14 +818,18 @@ static int count_awake(const bk_physics* w, const bk_body_id* bodies, int count)
   return awake;
 }
 
-/// A heap of SHARDS small boxes dropped in layers over x in [-0.3, x_max], z in [-0.3, 0.3].
-static void make_heap(bk_physics* w, uint64_t seed, double x_max, bk_body_id shards[SHARDS]) {
+/// A world with a ground and a heap of SHARDS small boxes dropped on it in
+/// layers over x in [-0.3, x_max], z in [-0.3, 0.3].
+static bk_physics* make_heap_world(uint64_t seed, double x_max, bk_body_id shards[SHARDS]) {
+  bk_physics* w = make_world();
+  make_ground(w);
   bk_rng rng = bk_rng_seed(seed, 1);
   for (int i = 0; i < SHARDS; ++i) {
     bk_vec3 h = bk_v3(range(&rng, 0.02, 0.05), range(&rng, 0.01, 0.03), range(&rng, 0.02, 0.05));
     bk_vec3 p = bk_v3(range(&rng, -0.3, x_max), 0.05 + 0.06 * (i / 6), range(&rng, -0.3, 0.3));
     shards[i] = make_small_box(w, h, p, 0.7, 0.1 * cbrt(8.0 * h.x * h.y * h.z));
   }
+  return w;
 }
 
 /// A box (half extents h) that never sleeps, spinning about y at `spin` rad/s.
@@ -848,10 +852,8 @@ static void ensure_on_ground(const bk_physics* w, const bk_body_id shards[SHARDS
 // it sleeps even while a body elsewhere (not touching it) keeps moving:
 // islands are formed by contacts, not by overlapping boxes.
 static void test_piles_sleep(void) {
-  bk_physics* w = make_world();
-  make_ground(w);
   bk_body_id shards[SHARDS];
-  make_heap(w, 7, 0.22, shards);
+  bk_physics* w = make_heap_world(7, 0.22, shards);
   // A puck spinning in place forever, a few centimetres from
   // the heap: near enough for the broadphase to pair it with shards, which
   // made Bullet's islands (built from those pairs) keep the heap awake.
@@ -881,10 +883,8 @@ static void test_piles_sleep(void) {
 // rests on it, a restless body wakes what it hits, and a frozen body whose
 // support is destroyed falls.
 static void test_calm_bodies_freeze(void) {
-  bk_physics* w = make_world();
-  make_ground(w);
   bk_body_id shards[SHARDS];
-  make_heap(w, 11, 0.3, shards);
+  bk_physics* w = make_heap_world(11, 0.3, shards);
   // A block that never sleeps lands on top of the heap: its island (with
   // Bullet's rules, the whole heap) never would.
   bk_body_id block = make_sleepless_box(w, bk_v3(0.08, 0.04, 0.08), 2.0, bk_v3(0.0, 0.9, 0.0), 0.0);

@@ -299,8 +299,9 @@ public:
 
     // The pose kept below is B's in A's frame: it is only meaningful when the
     // pair comes in the same order as when it was kept.
+    // A pair known to be apart has no manifold (released below).
     bool known = a->getCollisionShape() == first_shape_ && a->getCollisionObject() == first_object_;
-    if (known && gap_ > threshold && (!manifold_ || manifold_->getNumContacts() == 0)) {
+    if (known && gap_ > threshold) {
       if (gap_ - motion_since(relative) > threshold) return;
       btScalar gap = gap_along(axis_, relative, shape_a, shape_b);
       if (gap > threshold) {
@@ -318,8 +319,8 @@ public:
     btVoronoiSimplexSolver simplex;
     btGjkPairDetector gjk(shape_a, shape_b, &simplex, depth_solver_);
     btGjkPairDetector::ClosestPointInput input;
-    btScalar reach = shape_a->getMargin() + shape_b->getMargin() + manifold_->getContactBreakingThreshold() +
-                     out->m_closestPointDistanceThreshold;
+    btScalar reach =
+        shape_a->getMargin() + shape_b->getMargin() + threshold_ + out->m_closestPointDistanceThreshold;
     input.m_maximumDistanceSquared = reach * reach;
     input.m_transformA = pose_a;
     input.m_transformB = b->getWorldTransform();
@@ -387,8 +388,9 @@ private:
   }
 
   void release_manifold() {
-    if (manifold_ && own_manifold_) m_dispatcher->releaseManifold(manifold_);
-    if (own_manifold_) manifold_ = nullptr;
+    if (!own_manifold_) return; // a shared manifold stays with its owner
+    m_dispatcher->releaseManifold(manifold_);
+    manifold_ = nullptr;
     own_manifold_ = false;
   }
 

@@ -267,10 +267,16 @@ static void make_table(GLuint* buffer, GLuint* texture, uint32_t rows) {
 // Projectiles in three levels of detail, chosen by their size on screen: a
 // volley leaves dozens on the ground, and at full detail they were ~40k
 // triangles a frame counting the shadow pass.
-static const int sphere_rings[SPHERE_LEVELS] = {12, 8, 5}, sphere_segments[SPHERE_LEVELS] = {20, 12, 8};
+enum { SPHERE_RINGS = 12, SPHERE_SEGMENTS = 20 }; // the finest level
+static const int sphere_rings[SPHERE_LEVELS] = {SPHERE_RINGS, 8, 5};
+static const int sphere_segments[SPHERE_LEVELS] = {SPHERE_SEGMENTS, 12, 8};
 
 static void make_sphere(bk_renderer* r) {
-  enum { MAX_VERTICES = 13 * 21 + 9 * 13 + 6 * 9, MAX_INDICES = 6 * (12 * 20 + 8 * 12 + 5 * 8) };
+  // Room for every level at the finest one's size.
+  enum {
+    MAX_VERTICES = SPHERE_LEVELS * (SPHERE_RINGS + 1) * (SPHERE_SEGMENTS + 1),
+    MAX_INDICES = SPHERE_LEVELS * 6 * SPHERE_RINGS * SPHERE_SEGMENTS
+  };
   vertex vertices[MAX_VERTICES];
   uint32_t indices[MAX_INDICES];
   uint32_t v = 0, i = 0;
