@@ -33,51 +33,6 @@ static bk_fracture_desc resolve_defaults(const bk_fracture_desc* in) {
   return d;
 }
 
-// ---------------------------------------------------------------- max-heap of leaves by volume
-
-typedef struct heap_item {
-  double volume;
-  uint32_t node;
-} heap_item;
-
-typedef struct leaf_heap {
-  heap_item* items;
-  uint32_t count, capacity;
-} leaf_heap;
-
-// Larger volume first; ties by lower node index so the order is deterministic.
-static bool heap_before(heap_item a, heap_item b) {
-  return a.volume > b.volume || (a.volume == b.volume && a.node < b.node);
-}
-
-static void heap_push(leaf_heap* h, heap_item item) {
-  if (h->count == h->capacity) {
-    h->capacity = bk_grow_capacity(h->capacity, h->count + 1);
-    h->items = bk_realloc(h->items, sizeof(heap_item) * h->capacity);
-  }
-  uint32_t i = h->count++;
-  while (i > 0 && heap_before(item, h->items[(i - 1) / 2])) {
-    h->items[i] = h->items[(i - 1) / 2];
-    i = (i - 1) / 2;
-  }
-  h->items[i] = item;
-}
-
-static heap_item heap_pop(leaf_heap* h) {
-  heap_item top = h->items[0], last = h->items[--h->count];
-  uint32_t i = 0;
-  for (;;) {
-    uint32_t child = 2 * i + 1;
-    if (child >= h->count) break;
-    if (child + 1 < h->count && heap_before(h->items[child + 1], h->items[child])) child++;
-    if (!heap_before(h->items[child], last)) break;
-    h->items[i] = h->items[child];
-    i = child;
-  }
-  if (h->count) h->items[i] = last;
-  return top;
-}
-
 // ---------------------------------------------------------------- building
 
 static uint32_t add_node(bk_mesh_tree* tree, uint32_t* capacity, bk_mesh* mesh, uint32_t parent) {
@@ -206,34 +161,34 @@ bool bk_mesh_tree_build(const bk_mesh* source, const bk_fracture_desc* desc_in, 
   bk_label_planar_faces(&root);
   add_node(tree, &capacity, &root, BK_NULL_INDEX);
 
-  leaf_heap heap = {0};
-  heap_push(&heap, (heap_item){tree->nodes[0].moments.v, 0});
+  // Largest volume first (keys negated), ties by lower node index.
+  bk_heap heap = {0};
+  bk_heap_push(&heap, -tree->nodes[0].moments.v, 0);
   uint32_t leaves = 1;
   bool cancelled = false;
   while (leaves < d.pieces && heap.count) {
-    heap_item item = heap_pop(&heap);
+    uint32_t split = bk_heap_pop(&heap).value;
     bk_plane plane = {0};
     bk_mesh* pieces = NULL;
-    uint32_t count =
-        split_node(slicer, simplifier, &tree->nodes[item.node], item.node, &d, &rng, &plane, &pieces);
+    uint32_t count = split_node(slicer, simplifier, &tree->nodes[split], split, &d, &rng, &plane, &pieces);
     if (count == 0) continue; // unsplittable (degenerate sliver): stays a leaf
     uint32_t first = tree->node_count;
     for (uint32_t i = 0; i < count; ++i)
-      add_node(tree, &capacity, &pieces[i], item.node);
+      add_node(tree, &capacity, &pieces[i], split);
     free(pieces);
-    bk_mesh_tree_node* node = &tree->nodes[item.node];
+    bk_mesh_tree_node* node = &tree->nodes[split];
     node->plane = plane;
     node->first_child = first;
     node->child_count = count;
     leaves += count - 1;
     for (uint32_t i = 0; i < count; ++i)
-      heap_push(&heap, (heap_item){tree->nodes[first + i].moments.v, first + i});
+      bk_heap_push(&heap, -tree->nodes[first + i].moments.v, first + i);
     if (d.progress && !d.progress(d.progress_user, leaves, d.pieces)) {
       cancelled = true;
       break;
     }
   }
-  free(heap.items);
+  bk_heap_free(&heap);
   bk_slicer_destroy(slicer);
   bk_face_simplifier_destroy(simplifier);
   if (cancelled) {

@@ -87,6 +87,13 @@ void bk_mesh_compute_normals(bk_mesh* mesh);
 /// Computes corner tangents from uvs and normals (falls back to any
 /// direction orthogonal to the normal where the uv mapping is degenerate).
 void bk_mesh_compute_tangents(bk_mesh* mesh);
+/// A lighter copy of a closed mesh for drawing it small: edges collapse while
+/// each survivor stays within `tolerance` of every original triangle plane it
+/// stands for, never pinching the surface or turning a triangle over, and the
+/// border between materials stays put. Corners keep their
+/// attributes. Positions where the mesh is open or non-manifold never move.
+/// `out` is overwritten (not freed first); returns its triangle count.
+uint32_t bk_mesh_decimate(const bk_mesh* mesh, double tolerance, bk_mesh* out);
 /// Stable 64-bit hash of the mesh's geometry and attributes (identifies cache files).
 uint64_t bk_mesh_hash(const bk_mesh* mesh);
 
@@ -214,6 +221,26 @@ static inline uint64_t bk_directed_edge_key(uint32_t a, uint32_t b) { return ((u
 /// 64-bit FNV-1a over bytes, continuing from `hash` (start with BK_FNV_OFFSET).
 uint64_t bk_hash_bytes(uint64_t hash, const void* data, size_t size);
 #define BK_FNV_OFFSET 0xcbf29ce484222325ull
+
+/// One entry of a bk_heap.
+typedef struct bk_heap_item {
+  double key;
+  uint32_t value;
+} bk_heap_item;
+
+/// Binary min-heap: smallest key first, equal keys by smallest value (so the
+/// order is deterministic). Zero-initialised is empty.
+typedef struct bk_heap {
+  bk_heap_item* items;
+  uint32_t count, capacity;
+} bk_heap;
+
+/// Adds a pair.
+void bk_heap_push(bk_heap* heap, double key, uint32_t value);
+/// Removes and returns the first pair; the heap must not be empty.
+bk_heap_item bk_heap_pop(bk_heap* heap);
+/// Releases the heap's storage and empties it.
+void bk_heap_free(bk_heap* heap);
 
 /// Growth helper: returns a capacity >= need (doubling), aborting on overflow.
 uint32_t bk_grow_capacity(uint32_t current, uint32_t need);

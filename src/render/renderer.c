@@ -41,7 +41,7 @@ enum {
 
 // The programs of mesh.frag, and the two sections of a tree's index buffer
 // (outer surface, cut faces) that the first two draw.
-enum { SURFACE, INTERIOR, SIMPLE, GROUND, MESH_PROGRAMS, SECTIONS = 2 };
+enum { SURFACE, INTERIOR, SIMPLE, GROUND, MESH_PROGRAMS, SECTIONS = 2, COARSE_LEVELS = 2 };
 
 enum { SPHERE_LEVELS = 3 };
 // A sphere's level of detail when its width on screen is at least this many pixels.
@@ -51,6 +51,8 @@ static const float sphere_level_pixels[SPHERE_LEVELS] = {48.0f, 16.0f, 0.0f};
 // SIMPLE: a shard a few pixels wide shows no texture or normal map, and a
 // heap of debris is thousands of them.
 static const float simple_below_pixels = 24.0f;
+// Under this many pixels SIMPLE draws a second, coarser copy (see coarse_tolerance).
+static const float tiny_below_pixels = 10.0f;
 // A node's batch when it is out of view but casts a shadow into the map.
 #define SHADOW_ONLY UINT32_MAX
 
@@ -60,14 +62,15 @@ typedef struct tree_buffers {
   GLuint vao, vbo, ibo;
   uint32_t* first_index[SECTIONS]; // per section, per node
   uint32_t* index_count[SECTIONS];
-  uint32_t* coarse_first[SECTIONS]; // the same, simplified: what SIMPLE draws
-  uint32_t* coarse_count[SECTIONS];
+  uint32_t* coarse_first[COARSE_LEVELS][SECTIONS]; // the same, decimated: what SIMPLE draws
+  uint32_t* coarse_count[COARSE_LEVELS][SECTIONS];
   float (*spheres)[4]; // per node: bounding sphere in tree space (centre, radius)
   uint32_t node_count;
   GLuint table_buffer, table_texture;              // the node table on the GPU
   float* table;                                    // its CPU side: rows of nodes drawn this frame are current
   uint32_t* node_frame;                            // frame that last drew each node
   uint32_t* node_batch;                            // the batch that drew it then
+  uint8_t* node_level;                             // and, if SIMPLE, which coarse copy
   uint32_t frame;                                  // last frame that drew from this tree
   uint32_t lowest, highest;                        // span of nodes drawn that frame: what gets uploaded
   uint32_t first_shadow_range, shadow_range_count; // the shadow pass draws the whole tree at once
@@ -503,59 +506,36 @@ static tree_buffers* find_tree(bk_renderer* r, bk_render_tree id) {
   return t->used && t->generation == id.generation ? t : NULL;
 }
 
-typedef struct cell_corner {
-  int64_t cell;
-  uint32_t corner;
-} cell_corner;
+// Copies of the nodes for SIMPLE, which draws nodes under
+// simple_below_pixels wide: decimated (bk_mesh_decimate) while no point
+// moves by more than 8% of the node's radius, under a pixel at that size;
+// under tiny_below_pixels, that copy decimated again at 20% (a pixel at
+// most). Vertex and triangle set-up is what a software renderer spends on a
+// shard a few pixels wide, and shards of curved shapes keep about half their
+// triangles, flat ones about three quarters.
+static const double coarse_tolerance[COARSE_LEVELS] = {0.08, 0.2};
 
-static int compare_cell_corners(const void* a, const void* b) {
-  const cell_corner *x = a, *y = b;
-  if (x->cell != y->cell) return x->cell < y->cell ? -1 : 1;
-  return x->corner < y->corner ? -1 : x->corner > y->corner;
+// One vertex per corner of `m`, all in `node`'s row of the table.
+static uint32_t add_vertices(vertex* out, const bk_mesh* m, uint32_t node) {
+  for (uint32_t c = 0; c < m->corner_count; ++c) {
+    const bk_corner* corner = &m->corners[c];
+    bk_vec3 p = m->positions[corner->position];
+    out[c] = (vertex){{(float)p.x, (float)p.y, (float)p.z},
+                      {corner->normal[0], corner->normal[1], corner->normal[2]},
+                      {corner->uv[0], corner->uv[1]},
+                      {corner->tangent[0], corner->tangent[1], corner->tangent[2], corner->tangent[3]},
+                      node};
+  }
+  return m->corner_count;
 }
 
-// A node's triangles of one section (cut faces or outer surface) with their
-// corners merged by vertex clustering: every corner in a grid cell of size
-// `cell` becomes the cell's first corner, and triangles left with two equal
-// corners go. Writes indices (offset by `base`) to `out`, returns how many.
-static uint32_t coarse_indices(const bk_mesh* m, bool interior, uint32_t base, double cell, uint32_t* out) {
-  if (m->corner_count == 0 || !(cell > 0.0)) return 0;
-  cell_corner* cells = bk_alloc(sizeof(cell_corner) * m->corner_count);
-  uint32_t* merged = bk_alloc(sizeof(uint32_t) * m->corner_count);
-  // Corners of the other section never stand in for these (other normals).
-  unsigned char* cut = bk_calloc(m->corner_count, 1);
-  for (uint32_t tri = 0; tri < m->triangle_count; ++tri)
-    if (m->materials[tri] == BK_MATERIAL_INTERIOR)
-      for (int j = 0; j < 3; ++j)
-        cut[m->indices[3 * tri + j]] = 1;
-  for (uint32_t c = 0; c < m->corner_count; ++c) {
-    bk_vec3 p = m->positions[m->corners[c].position];
-    int64_t x = (int64_t)floor(p.x / cell), y = (int64_t)floor(p.y / cell), z = (int64_t)floor(p.z / cell);
-    // Corners merge only with corners facing about the same way (normals
-    // rounded to a 5 x 5 x 5 grid), so flat faces stay flat.
-    const float* n = m->corners[c].normal;
-    int64_t facing =
-        (int64_t)(lroundf(2.0f * n[0]) + 2) * 25 + (lroundf(2.0f * n[1]) + 2) * 5 + lroundf(2.0f * n[2]) + 2;
-    int64_t key =
-        ((int64_t)cut[c] << 62) | (facing << 48) | ((x & 0xffff) << 32) | ((y & 0xffff) << 16) | (z & 0xffff);
-    cells[c] = (cell_corner){key, c};
-  }
-  qsort(cells, m->corner_count, sizeof(cell_corner), compare_cell_corners);
-  for (uint32_t c = 0, first = 0; c < m->corner_count; ++c) {
-    if (c > 0 && cells[c].cell != cells[c - 1].cell) first = c;
-    merged[cells[c].corner] = cells[first].corner;
-  }
+// Indices of the triangles of one section of `m`, offset by `base`.
+static uint32_t add_indices(uint32_t* out, const bk_mesh* m, bool interior, uint32_t base) {
   uint32_t n = 0;
-  for (uint32_t tri = 0; tri < m->triangle_count; ++tri) {
-    if ((m->materials[tri] == BK_MATERIAL_INTERIOR) != interior) continue;
-    uint32_t a = merged[m->indices[3 * tri]], b = merged[m->indices[3 * tri + 1]],
-             c = merged[m->indices[3 * tri + 2]];
-    if (a == b || b == c || a == c) continue;
-    out[n++] = base + a, out[n++] = base + b, out[n++] = base + c;
-  }
-  free(cells);
-  free(merged);
-  free(cut);
+  for (uint32_t tri = 0; tri < m->triangle_count; ++tri)
+    if ((m->materials[tri] == BK_MATERIAL_INTERIOR) == interior)
+      for (int j = 0; j < 3; ++j)
+        out[n++] = base + m->indices[3 * tri + j];
   return n;
 }
 
@@ -574,30 +554,33 @@ bk_render_tree bk_renderer_upload_tree(bk_renderer* r, const bk_mesh_tree* tree)
   tree_buffers* t = &r->trees[slot];
   t->used = true;
   t->generation++;
-  // One vertex per corner and one index per triangle corner, node after node.
+  // One vertex per corner and one index per triangle corner, node after
+  // node: the full meshes, then the coarse copies.
+  const uint32_t nodes = tree->node_count;
+  bk_mesh* coarse = bk_calloc((size_t)COARSE_LEVELS * nodes + 1, sizeof(bk_mesh)); // level by level
   uint64_t corners = 0, indices = 0;
-  for (uint32_t i = 0; i < tree->node_count; ++i) {
-    corners += tree->nodes[i].mesh.corner_count;
-    indices += 3ull * tree->nodes[i].mesh.triangle_count;
+  for (uint32_t i = 0; i < nodes; ++i) {
+    const bk_mesh_tree_node* node = &tree->nodes[i];
+    double radius = 0.5 * bk_v3_length(bk_v3_sub(node->bounds.max, node->bounds.min));
+    corners += node->mesh.corner_count;
+    indices += 3ull * node->mesh.triangle_count;
+    for (int level = 0; level < COARSE_LEVELS; ++level) {
+      bk_mesh* m = &coarse[level * nodes + i];
+      bk_mesh_decimate(level ? &coarse[(level - 1) * nodes + i] : &node->mesh,
+                       coarse_tolerance[level] * radius, m);
+      corners += m->corner_count;
+      indices += 3ull * m->triangle_count;
+    }
   }
   vertex* vertices = bk_alloc(sizeof(vertex) * (corners + 1));
-  uint32_t* index_data = bk_alloc(sizeof(uint32_t) * (2 * indices + 1)); // full, then coarse
-  t->node_count = tree->node_count;
-  uint32_t* base = bk_alloc(sizeof(uint32_t) * (tree->node_count + 1));
+  uint32_t* index_data = bk_alloc(sizeof(uint32_t) * (indices + 1));
+  t->node_count = nodes;
+  // Per mesh (the nodes', then each level's copies): its first vertex.
+  uint32_t* base = bk_alloc(sizeof(uint32_t) * ((COARSE_LEVELS + 1) * nodes + 1));
   uint32_t v = 0, k = 0;
-  for (uint32_t i = 0; i < tree->node_count; ++i) {
-    const bk_mesh* m = &tree->nodes[i].mesh;
+  for (uint32_t i = 0; i < (COARSE_LEVELS + 1) * nodes; ++i) {
     base[i] = v;
-    for (uint32_t c = 0; c < m->corner_count; ++c) {
-      const bk_corner* corner = &m->corners[c];
-      bk_vec3 p = m->positions[corner->position];
-      vertices[v++] =
-          (vertex){{(float)p.x, (float)p.y, (float)p.z},
-                   {corner->normal[0], corner->normal[1], corner->normal[2]},
-                   {corner->uv[0], corner->uv[1]},
-                   {corner->tangent[0], corner->tangent[1], corner->tangent[2], corner->tangent[3]},
-                   i};
-    }
+    v += add_vertices(&vertices[v], i < nodes ? &tree->nodes[i].mesh : &coarse[i - nodes], i % nodes);
   }
   t->spheres = bk_alloc(sizeof(float[4]) * (tree->node_count + 1));
   for (uint32_t i = 0; i < tree->node_count; ++i) {
@@ -610,34 +593,31 @@ bk_render_tree bk_renderer_upload_tree(bk_renderer* r, const bk_mesh_tree* tree)
     t->spheres[i][0] = (float)c.x, t->spheres[i][1] = (float)c.y, t->spheres[i][2] = (float)c.z;
     t->spheres[i][3] = (float)radius;
   }
-  // Outer triangles of every node, then cut faces of every node.
+  // Outer triangles of every node, then cut faces of every node; the same for the coarse copies.
   for (int section = 0; section < SECTIONS; ++section) {
     t->first_index[section] = bk_alloc(sizeof(uint32_t) * tree->node_count);
     t->index_count[section] = bk_alloc(sizeof(uint32_t) * tree->node_count);
     for (uint32_t i = 0; i < tree->node_count; ++i) {
-      const bk_mesh* m = &tree->nodes[i].mesh;
       t->first_index[section][i] = k;
-      for (uint32_t tri = 0; tri < m->triangle_count; ++tri)
-        if ((m->materials[tri] == BK_MATERIAL_INTERIOR) == (section == INTERIOR))
-          for (int j = 0; j < 3; ++j)
-            index_data[k++] = base[i] + m->indices[3 * tri + j];
-      t->index_count[section][i] = k - t->first_index[section][i];
+      t->index_count[section][i] =
+          add_indices(&index_data[k], &tree->nodes[i].mesh, section == INTERIOR, base[i]);
+      k += t->index_count[section][i];
     }
   }
-  // Coarse copies for SIMPLE, which draws nodes under simple_below_pixels:
-  // corners merged on a grid of a tenth of the node's width (two or three
-  // pixels). Shards cut from a fine mesh (the bunny's, the eggshell's) lose
-  // half their triangles; plain convex ones keep theirs.
-  for (int section = 0; section < SECTIONS; ++section) {
-    t->coarse_first[section] = bk_alloc(sizeof(uint32_t) * tree->node_count);
-    t->coarse_count[section] = bk_alloc(sizeof(uint32_t) * tree->node_count);
-    for (uint32_t i = 0; i < tree->node_count; ++i) {
-      t->coarse_first[section][i] = k;
-      k += coarse_indices(&tree->nodes[i].mesh, section == INTERIOR, base[i], t->spheres[i][3] / 5.0,
-                          &index_data[k]);
-      t->coarse_count[section][i] = k - t->coarse_first[section][i];
+  for (int level = 0; level < COARSE_LEVELS; ++level)
+    for (int section = 0; section < SECTIONS; ++section) {
+      uint32_t* first = t->coarse_first[level][section] = bk_alloc(sizeof(uint32_t) * nodes);
+      uint32_t* count = t->coarse_count[level][section] = bk_alloc(sizeof(uint32_t) * nodes);
+      for (uint32_t i = 0; i < nodes; ++i) {
+        uint32_t mesh = (uint32_t)level * nodes + i;
+        first[i] = k;
+        count[i] = add_indices(&index_data[k], &coarse[mesh], section == INTERIOR, base[nodes + mesh]);
+        k += count[i];
+      }
     }
-  }
+  for (uint32_t i = 0; i < COARSE_LEVELS * nodes; ++i)
+    bk_mesh_free(&coarse[i]);
+  free(coarse);
   free(base);
   glGenVertexArrays(1, &t->vao);
   glGenBuffers(1, &t->vbo);
@@ -657,6 +637,7 @@ bk_render_tree bk_renderer_upload_tree(bk_renderer* r, const bk_mesh_tree* tree)
   t->table = bk_calloc((size_t)t->node_count + 1, sizeof(float) * TABLE_FLOATS);
   t->node_frame = bk_calloc((size_t)t->node_count + 1, sizeof(uint32_t));
   t->node_batch = bk_calloc((size_t)t->node_count + 1, sizeof(uint32_t));
+  t->node_level = bk_calloc((size_t)t->node_count + 1, 1);
   return (bk_render_tree){slot, t->generation};
 }
 
@@ -670,13 +651,16 @@ void bk_renderer_release_tree(bk_renderer* r, bk_render_tree id) {
   for (int section = 0; section < SECTIONS; ++section) {
     free(t->first_index[section]);
     free(t->index_count[section]);
-    free(t->coarse_first[section]);
-    free(t->coarse_count[section]);
+    for (int level = 0; level < COARSE_LEVELS; ++level) {
+      free(t->coarse_first[level][section]);
+      free(t->coarse_count[level][section]);
+    }
   }
   free(t->spheres);
   free(t->table);
   free(t->node_frame);
   free(t->node_batch);
+  free(t->node_level);
   uint32_t generation = t->generation;
   memset(t, 0, sizeof *t);
   t->generation = generation; // the next upload here gets a new id
@@ -886,7 +870,8 @@ static void prepare_batches(bk_renderer* r) {
                       m[4 * row + 3] - eye[row];
       float distance = sqrtf(centre[0] * centre[0] + centre[1] * centre[1] + centre[2] * centre[2]);
       const float world[3] = {centre[0] + eye[0], centre[1] + eye[1], centre[2] + eye[2]};
-      bool small = 2.0f * sphere[3] * pixels_per_unit < simple_below_pixels * distance;
+      float pixels = 2.0f * sphere[3] * pixels_per_unit; // times the distance
+      bool small = pixels < simple_below_pixels * distance;
       // Out of view, a node is drawn only into the shadow map, if it casts there.
       bool seen = sphere_inside(r->view_planes, world, sphere[3]);
       if (!seen && (small || !sphere_inside(r->light_planes, world, sphere[3]))) continue;
@@ -910,6 +895,7 @@ static void prepare_batches(bk_renderer* r) {
       }
       t->node_frame[node] = r->frame;
       t->node_batch[node] = b;
+      t->node_level[node] = pixels < tiny_below_pixels * distance;
       write_row(&t->table[TABLE_FLOATS * node], item->rows, color);
       if (node < t->lowest) t->lowest = node;
       if (node > t->highest) t->highest = node;
@@ -943,10 +929,11 @@ static void prepare_batches(bk_renderer* r) {
           // Small nodes draw coarse and cast no shadow: theirs would be a
           // few texels, and the shadow pass paid for every one of their
           // triangles (8 ms a frame with 1500 shards in view).
-          uint32_t coarse = t->coarse_count[section][node];
+          int level = t->node_level[node];
+          uint32_t coarse = t->coarse_count[level][section][node];
           if (coarse == 0) continue;
           append_range(r, batch->first_range[section], &batch->range_count[section], coarse,
-                       t->coarse_first[section][node]);
+                       t->coarse_first[level][section][node]);
           r->stats.triangles += coarse / 3;
           continue;
         }
