@@ -129,15 +129,13 @@ static void drop_dead_incident(decimator* d, uint32_t p) {
   list->count = n;
 }
 
-// Marks the neighbours of p with the current stamp; returns how many.
-static uint32_t mark_neighbours(decimator* d, uint32_t p) {
-  uint32_t count = 0;
+// Marks the neighbours of p with the current stamp.
+static void mark_neighbours(decimator* d, uint32_t p) {
   for (uint32_t i = 0; i < d->incident[p].count; ++i) {
     const uint32_t* t = &d->tri[3 * d->incident[p].items[i]];
     for (int k = 0; k < 3; ++k)
-      if (t[k] != p && d->mark[t[k]] != d->stamp) d->mark[t[k]] = d->stamp, count++;
+      if (t[k] != p) d->mark[t[k]] = d->stamp;
   }
-  return count;
 }
 
 // Whether moving `keep` and `drop` to `target` keeps the surface a manifold

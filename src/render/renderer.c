@@ -511,8 +511,8 @@ static tree_buffers* find_tree(bk_renderer* r, bk_render_tree id) {
 // moves by more than 8% of the node's radius, under a pixel at that size;
 // under tiny_below_pixels, that copy decimated again at 20% (a pixel at
 // most). Vertex and triangle set-up is what a software renderer spends on a
-// shard a few pixels wide, and shards of curved shapes keep about half their
-// triangles, flat ones about three quarters.
+// shard a few pixels wide: at the first level, shards of curved shapes keep
+// 55-65% of their triangles and 55-65% of their vertices, flat ones ~85%.
 static const double coarse_tolerance[COARSE_LEVELS] = {0.08, 0.2};
 
 // One vertex per corner of `m`, all in `node`'s row of the table.
