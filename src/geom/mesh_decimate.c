@@ -38,6 +38,7 @@ typedef struct candidate {
 
 typedef struct decimator {
   const bk_mesh* in;
+  double tolerance;
   bk_vec3* position;
   plane* planes; // of the original triangles, then across material borders
   uint32_t plane_count, plane_capacity;
@@ -79,14 +80,17 @@ static uint32_t add_plane(decimator* d, bk_vec3 normal, bk_vec3 through) {
   return d->plane_count++;
 }
 
-// The farthest of the planes of positions a and b from x.
-static double farthest_plane(const decimator* d, uint32_t a, uint32_t b, bk_vec3 x) {
+// The distance from x to the farthest of the planes of positions a and b,
+// or some distance over `bound` once it is clear the answer exceeds it.
+static double farthest_plane(const decimator* d, uint32_t a, uint32_t b, bk_vec3 x, double bound) {
   double worst = 0.0;
   const index_list* lists[2] = {&d->position_planes[a], &d->position_planes[b]};
   for (int l = 0; l < 2; ++l)
     for (uint32_t i = 0; i < lists[l]->count; ++i) {
       const plane* p = &d->planes[lists[l]->items[i]];
-      worst = fmax(worst, fabs(bk_v3_dot(p->normal, x) + p->offset));
+      double distance = fabs(bk_v3_dot(p->normal, x) + p->offset);
+      if (distance > worst) worst = distance;
+      if (worst > bound) return worst;
     }
   return worst;
 }
@@ -100,7 +104,9 @@ static void push_candidate(decimator* d, candidate c) {
   bk_heap_push(&d->heap, c.cost, d->candidate_count++);
 }
 
-// Queues the collapse of edge (a, b) at its best point; a locked end stays put.
+// Queues the collapse of edge (a, b) at its best point, if that is within
+// the tolerance (the heap's order makes any other useless); a locked end
+// stays put.
 static void push_edge(decimator* d, uint32_t a, uint32_t b) {
   if (d->state[a] == LOCKED && d->state[b] == LOCKED) return;
   if (d->state[a] == LOCKED) {
@@ -113,12 +119,12 @@ static void push_edge(decimator* d, uint32_t a, uint32_t b) {
                         bk_v3_scale(bk_v3_add(d->position[a], d->position[b]), 0.5)};
   int count = d->state[b] == LOCKED ? 1 : 3;
   double best = DBL_MAX;
-  int chosen = 0;
+  int chosen = -1;
   for (int i = 0; i < count; ++i) {
-    double e = farthest_plane(d, a, b, options[i]);
-    if (e < best) best = e, chosen = i;
+    double e = farthest_plane(d, a, b, options[i], fmin(best, d->tolerance));
+    if (e < best && e <= d->tolerance) best = e, chosen = i;
   }
-  push_candidate(d, (candidate){best, b, a, d->version[b], d->version[a], options[chosen]});
+  if (chosen >= 0) push_candidate(d, (candidate){best, b, a, d->version[b], d->version[a], options[chosen]});
 }
 
 static void drop_dead_incident(decimator* d, uint32_t p) {
@@ -237,7 +243,7 @@ uint32_t bk_mesh_decimate(const bk_mesh* mesh, double tolerance, bk_mesh* out) {
   memset(out, 0, sizeof *out);
   const uint32_t np = mesh->position_count, nt = mesh->triangle_count;
   if (np == 0 || nt == 0) return 0;
-  decimator d = {.in = mesh};
+  decimator d = {.in = mesh, .tolerance = tolerance};
   d.position = bk_alloc(sizeof(bk_vec3) * np);
   memcpy(d.position, mesh->positions, sizeof(bk_vec3) * np);
   d.position_planes = bk_calloc(np, sizeof(index_list));
@@ -312,7 +318,6 @@ uint32_t bk_mesh_decimate(const bk_mesh* mesh, double tolerance, bk_mesh* out) {
   d.plane_mark = bk_calloc(d.plane_count + 1, sizeof(uint32_t));
   while (d.heap.count > 0 && d.alive_triangles > 4) {
     candidate c = d.candidates[bk_heap_pop(&d.heap).value];
-    if (c.cost > tolerance) break;
     if (d.state[c.keep] == DEAD || d.state[c.drop] == DEAD || d.version[c.keep] != c.keep_version ||
         d.version[c.drop] != c.drop_version)
       continue;
