@@ -302,16 +302,19 @@ uint32_t bk_mesh_decimate(const bk_mesh* mesh, double tolerance, bk_mesh* out) {
       }
     }
   }
-  // Every edge seen once (open) locks its ends too.
+  // Every edge seen once (open) locks its ends too; then, with every lock
+  // known, each edge is queued once.
   for (uint32_t t = 0; t < nt; ++t)
     for (int k = 0; k < 3; ++k) {
       uint32_t a = d.tri[3 * t + k], b = d.tri[3 * t + (k + 1) % 3];
-      if (a == b) continue;
-      const uint32_t* slot = bk_index_map_find(&edges, bk_edge_key(a, b));
-      if (slot && *slot != UINT32_MAX)
-        d.state[a] = d.state[b] = LOCKED;
-      else if (a < b)
-        push_edge(&d, a, b);
+      const uint32_t* slot = a == b ? NULL : bk_index_map_find(&edges, bk_edge_key(a, b));
+      if (slot && *slot != UINT32_MAX) d.state[a] = d.state[b] = LOCKED;
+    }
+  for (uint32_t t = 0; t < nt; ++t)
+    for (int k = 0; k < 3; ++k) {
+      uint32_t a = d.tri[3 * t + k], b = d.tri[3 * t + (k + 1) % 3];
+      const uint32_t* slot = a < b ? bk_index_map_find(&edges, bk_edge_key(a, b)) : NULL;
+      if (slot && *slot == UINT32_MAX) push_edge(&d, a, b); // closed edges, each from one side
     }
   bk_index_map_free(&edges);
 
