@@ -529,14 +529,22 @@ static uint32_t add_vertices(vertex* out, const bk_mesh* m, uint32_t node) {
   return m->corner_count;
 }
 
-// Indices of the triangles of one section of `m`, offset by `base`.
-static uint32_t add_indices(uint32_t* out, const bk_mesh* m, bool interior, uint32_t base) {
-  uint32_t n = 0;
-  for (uint32_t tri = 0; tri < m->triangle_count; ++tri)
-    if ((m->materials[tri] == BK_MATERIAL_INTERIOR) == interior)
-      for (int j = 0; j < 3; ++j)
-        out[n++] = base + m->indices[3 * tri + j];
-  return n;
+// One section (outer surface or cut faces) of `count` meshes, mesh after
+// mesh, appended at index_data[*k], each offset by its first vertex `base`;
+// fills (fresh arrays) where each mesh's indices start and how many they are.
+static void add_section(uint32_t* index_data, uint32_t* k, const bk_mesh* const* meshes, const uint32_t* base,
+                        uint32_t count, bool interior, uint32_t** first, uint32_t** index_count) {
+  *first = bk_alloc(sizeof(uint32_t) * count);
+  *index_count = bk_alloc(sizeof(uint32_t) * count);
+  for (uint32_t i = 0; i < count; ++i) {
+    const bk_mesh* m = meshes[i];
+    (*first)[i] = *k;
+    for (uint32_t tri = 0; tri < m->triangle_count; ++tri)
+      if ((m->materials[tri] == BK_MATERIAL_INTERIOR) == interior)
+        for (int j = 0; j < 3; ++j)
+          index_data[(*k)++] = base[i] + m->indices[3 * tri + j];
+    (*index_count)[i] = *k - (*first)[i];
+  }
 }
 
 bk_render_tree bk_renderer_upload_tree(bk_renderer* r, const bk_mesh_tree* tree) {
@@ -556,34 +564,36 @@ bk_render_tree bk_renderer_upload_tree(bk_renderer* r, const bk_mesh_tree* tree)
   t->generation++;
   // One vertex per corner and one index per triangle corner, node after
   // node: the full meshes, then the coarse copies.
-  const uint32_t nodes = tree->node_count;
+  const uint32_t nodes = tree->node_count, mesh_count = (COARSE_LEVELS + 1) * nodes;
   bk_mesh* coarse = bk_calloc((size_t)COARSE_LEVELS * nodes + 1, sizeof(bk_mesh)); // level by level
-  uint64_t corners = 0, indices = 0;
+  // Every mesh drawn: the nodes', then each level's copies.
+  const bk_mesh** meshes = bk_alloc(sizeof(bk_mesh*) * (mesh_count + 1));
   for (uint32_t i = 0; i < nodes; ++i) {
     const bk_mesh_tree_node* node = &tree->nodes[i];
     double radius = 0.5 * bk_v3_length(bk_v3_sub(node->bounds.max, node->bounds.min));
-    corners += node->mesh.corner_count;
-    indices += 3ull * node->mesh.triangle_count;
-    for (int level = 0; level < COARSE_LEVELS; ++level) {
+    meshes[i] = &node->mesh;
+    for (uint32_t level = 0; level < COARSE_LEVELS; ++level) {
       bk_mesh* m = &coarse[level * nodes + i];
-      bk_mesh_decimate(level ? &coarse[(level - 1) * nodes + i] : &node->mesh,
-                       coarse_tolerance[level] * radius, m);
-      corners += m->corner_count;
-      indices += 3ull * m->triangle_count;
+      bk_mesh_decimate(meshes[level * nodes + i], coarse_tolerance[level] * radius, m);
+      meshes[(level + 1) * nodes + i] = m;
     }
+  }
+  uint64_t corners = 0, indices = 0;
+  for (uint32_t i = 0; i < mesh_count; ++i) {
+    corners += meshes[i]->corner_count;
+    indices += 3ull * meshes[i]->triangle_count;
   }
   vertex* vertices = bk_alloc(sizeof(vertex) * (corners + 1));
   uint32_t* index_data = bk_alloc(sizeof(uint32_t) * (indices + 1));
   t->node_count = nodes;
-  // Per mesh (the nodes', then each level's copies): its first vertex.
-  uint32_t* base = bk_alloc(sizeof(uint32_t) * ((COARSE_LEVELS + 1) * nodes + 1));
+  uint32_t* base = bk_alloc(sizeof(uint32_t) * (mesh_count + 1)); // per mesh: its first vertex
   uint32_t v = 0, k = 0;
-  for (uint32_t i = 0; i < (COARSE_LEVELS + 1) * nodes; ++i) {
+  for (uint32_t i = 0; i < mesh_count; ++i) {
     base[i] = v;
-    v += add_vertices(&vertices[v], i < nodes ? &tree->nodes[i].mesh : &coarse[i - nodes], i % nodes);
+    v += add_vertices(&vertices[v], meshes[i], i % nodes);
   }
-  t->spheres = bk_alloc(sizeof(float[4]) * (tree->node_count + 1));
-  for (uint32_t i = 0; i < tree->node_count; ++i) {
+  t->spheres = bk_alloc(sizeof(float[4]) * (nodes + 1));
+  for (uint32_t i = 0; i < nodes; ++i) {
     const bk_mesh* m = &tree->nodes[i].mesh;
     const bk_aabb* box = &tree->nodes[i].bounds;
     bk_vec3 c = bk_v3_scale(bk_v3_add(box->min, box->max), 0.5);
@@ -593,31 +603,18 @@ bk_render_tree bk_renderer_upload_tree(bk_renderer* r, const bk_mesh_tree* tree)
     t->spheres[i][0] = (float)c.x, t->spheres[i][1] = (float)c.y, t->spheres[i][2] = (float)c.z;
     t->spheres[i][3] = (float)radius;
   }
-  // Outer triangles of every node, then cut faces of every node; the same for the coarse copies.
-  for (int section = 0; section < SECTIONS; ++section) {
-    t->first_index[section] = bk_alloc(sizeof(uint32_t) * tree->node_count);
-    t->index_count[section] = bk_alloc(sizeof(uint32_t) * tree->node_count);
-    for (uint32_t i = 0; i < tree->node_count; ++i) {
-      t->first_index[section][i] = k;
-      t->index_count[section][i] =
-          add_indices(&index_data[k], &tree->nodes[i].mesh, section == INTERIOR, base[i]);
-      k += t->index_count[section][i];
-    }
-  }
-  for (int level = 0; level < COARSE_LEVELS; ++level)
-    for (int section = 0; section < SECTIONS; ++section) {
-      uint32_t* first = t->coarse_first[level][section] = bk_alloc(sizeof(uint32_t) * nodes);
-      uint32_t* count = t->coarse_count[level][section] = bk_alloc(sizeof(uint32_t) * nodes);
-      for (uint32_t i = 0; i < nodes; ++i) {
-        uint32_t mesh = (uint32_t)level * nodes + i;
-        first[i] = k;
-        count[i] = add_indices(&index_data[k], &coarse[mesh], section == INTERIOR, base[nodes + mesh]);
-        k += count[i];
-      }
-    }
+  // Outer triangles of every node, then cut faces of every node; the same for each level's copies.
+  for (int section = 0; section < SECTIONS; ++section)
+    add_section(index_data, &k, meshes, base, nodes, section == INTERIOR, &t->first_index[section],
+                &t->index_count[section]);
+  for (uint32_t level = 0; level < COARSE_LEVELS; ++level)
+    for (int section = 0; section < SECTIONS; ++section)
+      add_section(index_data, &k, &meshes[(level + 1) * nodes], &base[(level + 1) * nodes], nodes,
+                  section == INTERIOR, &t->coarse_first[level][section], &t->coarse_count[level][section]);
   for (uint32_t i = 0; i < COARSE_LEVELS * nodes; ++i)
     bk_mesh_free(&coarse[i]);
   free(coarse);
+  free(meshes);
   free(base);
   glGenVertexArrays(1, &t->vao);
   glGenBuffers(1, &t->vbo);

@@ -17,13 +17,17 @@ GLuint bk_texture_load(const char* path, bool srgb, float mean_rgb[3], bk_error*
   if (mean_rgb) {
     // In linear light, as the shaders light it: what the texture looks like
     // from far away (its last mipmap level).
-    double sum[3] = {0, 0, 0};
-    size_t count = (size_t)width * (size_t)height;
+    // Counted per byte value first: 768 decodes instead of three a pixel.
+    size_t count = (size_t)width * (size_t)height, histogram[3][256] = {{0}};
     for (size_t i = 0; i < count; ++i)
       for (int k = 0; k < 3; ++k)
-        sum[k] += srgb ? decode_srgb(pixels[3 * i + k]) : pixels[3 * i + k] / 255.0;
-    for (int k = 0; k < 3; ++k)
-      mean_rgb[k] = count ? (float)(sum[k] / (double)count) : 0.0f;
+        histogram[k][pixels[3 * i + k]]++;
+    for (int k = 0; k < 3; ++k) {
+      double sum = 0.0;
+      for (int value = 0; value < 256; ++value)
+        sum += (double)histogram[k][value] * (srgb ? decode_srgb((unsigned char)value) : value / 255.0);
+      mean_rgb[k] = count ? (float)(sum / (double)count) : 0.0f;
+    }
   }
   GLuint texture = 0;
   glGenTextures(1, &texture);
