@@ -38,17 +38,17 @@ void main() {
 #if GROUND
   // Flat and facing up: the sun and the sky light are the same everywhere.
   // One hardware-filtered shadow tap is already a 2x2 comparison.
-  vec3 albedo = texture(u_albedo, v_uv).rgb * u_tint;
+  vec3 albedo = decode_srgb(texture(u_albedo, v_uv).rgb) * u_tint;
   vec3 up = vec3(0.0, 1.0, 0.0);
   float lit = max(u_sun_direction.y, 0.0) * texture(u_shadow_map, shadow_point(v_light_position, up, u_sun_direction));
   vec3 color = albedo * (u_sky_color * 0.55 + u_sun_color * lit);
 #else
   vec3 geometric = normalize(v_normal);
 #if INTERIOR
-  vec3 albedo = texture(u_albedo, v_uv * u_interior_scale).rgb * u_tint;
+  vec3 albedo = decode_srgb(texture(u_albedo, v_uv * u_interior_scale).rgb) * u_tint;
   vec3 n = geometric;
 #else
-  vec3 albedo = texture(u_albedo, v_uv).rgb * u_tint;
+  vec3 albedo = decode_srgb(texture(u_albedo, v_uv).rgb) * u_tint;
   vec3 t = normalize(v_tangent.xyz - geometric * dot(geometric, v_tangent.xyz));
   vec3 b = cross(geometric, t) * v_tangent.w;
   vec3 m = texture(u_normal_map, v_uv).xyz * 2.0 - 1.0;

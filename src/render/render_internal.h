@@ -9,7 +9,8 @@
 /// `<dir>/common.glsl` and, if non-NULL, `variant` defined as a macro (to 1). 0 with err holding the file
 /// name, the variant and the GL info log on failure.
 GLuint bk_shader_load(const char* dir, const char* name, const char* variant, bk_error* err);
-/// Loads a PNG into a mipmapped, repeating texture (sRGB for colour maps);
+/// Loads a PNG into a mipmapped, repeating texture; colour maps (`srgb`) keep
+/// their sRGB bytes for the shader to decode, with levels averaged in linear light;
 /// `mean_rgb` (may be NULL) gets its mean colour, linear for colour maps.
 GLuint bk_texture_load(const char* path, bool srgb, float mean_rgb[3], bk_error* err);
 /// A 1x1 texture of one colour (stands in for an optional map).
