@@ -23,14 +23,16 @@ float haze_amount(float d) {
 }
 
 // Where to look up the shadow map (compare mode, less-or-equal) for a point
-// with light-space position `light`, facing `n`: with a slope-scaled bias,
-// and never shadowed beyond the light's far plane.
-vec3 shadow_point(vec4 light, vec3 n, vec3 sun) {
-  vec3 p = light.xyz / light.w * 0.5 + 0.5;
+// at `light` in the sun's clip space, facing `n`: with a slope-scaled bias.
+// The sun's box is orthographic (w = 1), so for a plane this is linear in
+// the position and may be interpolated; shadow_clip is not.
+vec3 shadow_coord(vec3 light, vec3 n, vec3 sun) {
   float slope = clamp(1.0 - dot(n, sun), 0.0, 1.0);
-  p.z = p.z > 1.0 ? -1.0 : p.z - (0.0006 + 0.002 * slope);
-  return p;
+  return light * 0.5 + 0.5 - vec3(0.0, 0.0, 0.0006 + 0.002 * slope);
 }
+
+// Never shadowed beyond the light's far plane.
+vec3 shadow_clip(vec3 p) { return vec3(p.xy, p.z > 1.0 ? -1.0 : p.z); }
 
 // Sun (diffuse and Schlick's rational stand-in for a pow() highlight: one
 // division instead of a log and an exp), hemisphere ambient from the sky and
@@ -42,4 +44,15 @@ vec3 light_surface(vec3 albedo, vec3 n, vec3 view, float shadow, float gloss, ve
   float specular = x / (e - e * x + x) * mix(0.04, 0.5, gloss);
   vec3 ambient = mix(ground, sky, n.y * 0.5 + 0.5) * 0.55;
   return albedo * (ambient + sun_color * diffuse * shadow) + sun_color * specular * shadow;
+}
+
+// The sky's colour along the normalised `ray`: a gradient up from the
+// horizon and the sun's glow (its 12th power without pow(), which costs on
+// software renderers).
+vec3 sky_radiance(vec3 ray, vec3 sun, vec3 sky, vec3 horizon) {
+  vec3 color = mix(horizon, sky, sqrt(max(ray.y, 0.0)));
+  float s = max(dot(ray, sun), 0.0);
+  float s4 = s * s;
+  s4 *= s4;
+  return color + vec3(1.0, 0.9, 0.7) * (s4 * s4 * s4 * 0.25);
 }

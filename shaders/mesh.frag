@@ -8,12 +8,24 @@
 // each program holds only the work its pixels need.
 #if SIMPLE
 in vec3 v_color; // lit, hazed and encoded per vertex
+#elif GROUND
+in vec2 v_uv;
+in vec3 v_shadow;
+
+uniform sampler2D u_albedo;
+uniform sampler2DShadow u_shadow_map;
+uniform vec3 u_sun_direction;
+uniform vec3 u_sun_color;
+uniform vec3 u_sky_color;
+uniform vec3 u_eye;
+uniform vec3 u_tint;
+uniform float u_uv_scale;
 #else
 in vec3 v_position;
 in vec3 v_normal;
 in vec4 v_tangent;
 in vec2 v_uv;
-in vec4 v_light_position;
+in vec3 v_light_position;
 flat in vec4 v_highlight; // overlay colour of the node: rgb, strength (0 = none)
 
 uniform sampler2D u_albedo; // the interior texture in INTERIOR
@@ -34,14 +46,15 @@ out vec4 out_color;
 void main() {
 #if SIMPLE
   out_color = vec4(v_color, 1.0);
-#else
-#if GROUND
+#elif GROUND
   // Flat and facing up: the sun and the sky light are the same everywhere.
   // One hardware-filtered shadow tap is already a 2x2 comparison.
   vec3 albedo = decode_srgb(texture(u_albedo, v_uv).rgb) * u_tint;
-  vec3 up = vec3(0.0, 1.0, 0.0);
-  float lit = max(u_sun_direction.y, 0.0) * texture(u_shadow_map, shadow_point(v_light_position, up, u_sun_direction));
+  float lit = max(u_sun_direction.y, 0.0) * texture(u_shadow_map, shadow_clip(v_shadow));
   vec3 color = albedo * (u_sky_color * 0.55 + u_sun_color * lit);
+  vec2 ground = v_uv / u_uv_scale;
+  color = mix(color, u_sky_color * 0.9, haze_amount(length(u_eye - vec3(ground.x, 0.0, ground.y))));
+  out_color = vec4(encode_srgb(color), 1.0);
 #else
   vec3 geometric = normalize(v_normal);
 #if INTERIOR
@@ -54,11 +67,10 @@ void main() {
   vec3 m = texture(u_normal_map, v_uv).xyz * 2.0 - 1.0;
   vec3 n = normalize(mat3(t, b, geometric) * m);
 #endif
-  float shadow = texture(u_shadow_map, shadow_point(v_light_position, geometric, u_sun_direction));
+  float shadow = texture(u_shadow_map, shadow_clip(shadow_coord(v_light_position, geometric, u_sun_direction)));
   vec3 color = light_surface(albedo, n, normalize(u_eye - v_position), shadow, u_gloss, u_sun_direction,
                              u_sun_color, u_sky_color, u_ground_color);
   color = mix(color, v_highlight.rgb, v_highlight.a);
-#endif
   color = mix(color, u_sky_color * 0.9, haze_amount(length(u_eye - v_position)));
   out_color = vec4(encode_srgb(color), 1.0);
 #endif

@@ -120,8 +120,12 @@ typedef struct mesh_uniforms {
 } mesh_uniforms;
 
 typedef struct sky_uniforms {
-  GLint inverse_view_projection, sun_direction, sky_color, horizon_color, below_horizon;
+  GLint view_projection, sun_direction, sky_color, horizon_color, heading, below_horizon;
 } sky_uniforms;
+
+enum { SKY_DOME, SKY_SUN, SKY_PROGRAMS }; // sky.vert's variants
+// The dome's cells (sky.vert: 48 segments, 19 bands), two triangles each.
+static const GLsizei sky_dome_vertices = 48 * 19 * 6;
 
 typedef struct particle_uniforms {
   GLint view_projection, camera_right, camera_up;
@@ -133,10 +137,11 @@ typedef struct line_vertex {
 } line_vertex;
 
 struct bk_renderer {
-  GLuint mesh_programs[MESH_PROGRAMS], shadow_program, sky_program, particle_program, line_program;
+  GLuint mesh_programs[MESH_PROGRAMS], shadow_program, sky_programs[SKY_PROGRAMS], particle_program,
+      line_program;
   mesh_uniforms mesh_u[MESH_PROGRAMS];
   GLint shadow_light_view_projection, line_view_projection;
-  sky_uniforms sky_u;
+  sky_uniforms sky_u[SKY_PROGRAMS];
   particle_uniforms particle_u;
   GLuint shadow_fbo, shadow_texture;
   int shadow_size;
@@ -227,7 +232,8 @@ static bool load_material(const char* dir, material* m, bool has_interior, bk_er
 static const float ground_half_size = 60.0f; // metres
 
 static void make_ground(bk_renderer* r) {
-  // A large quad; uvs in metres so the paving keeps its size.
+  // A large quad; uvs in metres so the paving keeps its size (and the
+  // ground shader takes its position from them).
   const float s = ground_half_size;
   vertex quad[4] = {{{-s, 0, -s}, {0, 1, 0}, {-s, -s}, {1, 0, 0, 1}, 0},
                     {{-s, 0, s}, {0, 1, 0}, {-s, s}, {1, 0, 0, 1}, 0},
@@ -377,13 +383,12 @@ bk_renderer* bk_renderer_create(const bk_renderer_desc* desc, bk_error* err) {
   bk_renderer* r = bk_calloc(1, sizeof *r);
   r->shadow_size = desc->shadow_size > 0 ? desc->shadow_size : 1024;
   r->max_particles = desc->max_particles ? desc->max_particles : 16384;
-  const char* programs[8] = {"mesh", "mesh", "mesh", "mesh", "shadow", "sky", "particle", "line"};
-  const char* variants[8] = {"SURFACE", "INTERIOR", "SIMPLE", "GROUND"};
-  GLuint* slots[8] = {&r->mesh_programs[SURFACE], &r->mesh_programs[INTERIOR],
-                      &r->mesh_programs[SIMPLE],  &r->mesh_programs[GROUND],
-                      &r->shadow_program,         &r->sky_program,
-                      &r->particle_program,       &r->line_program};
-  for (int i = 0; i < 8; ++i)
+  const char* programs[9] = {"mesh", "mesh", "mesh", "mesh", "shadow", "sky", "sky", "particle", "line"};
+  const char* variants[9] = {"SURFACE", "INTERIOR", "SIMPLE", "GROUND", NULL, "DOME", "SUN"};
+  GLuint* slots[9] = {&r->mesh_programs[SURFACE], &r->mesh_programs[INTERIOR], &r->mesh_programs[SIMPLE],
+                      &r->mesh_programs[GROUND],  &r->shadow_program,          &r->sky_programs[SKY_DOME],
+                      &r->sky_programs[SKY_SUN],  &r->particle_program,        &r->line_program};
+  for (int i = 0; i < 9; ++i)
     if (!(*slots[i] = bk_shader_load(desc->shader_dir, programs[i], variants[i], err))) {
       bk_renderer_destroy(r);
       return NULL;
@@ -415,12 +420,15 @@ bk_renderer* bk_renderer_create(const bk_renderer_desc* desc, bk_error* err) {
   glUseProgram(0);
   r->shadow_light_view_projection = uniform(r->shadow_program, "u_light_view_projection");
   r->line_view_projection = uniform(r->line_program, "u_view_projection");
-  p = r->sky_program;
-  r->sky_u = (sky_uniforms){.inverse_view_projection = uniform(p, "u_inverse_view_projection"),
-                            .sun_direction = uniform(p, "u_sun_direction"),
-                            .sky_color = uniform(p, "u_sky_color"),
-                            .horizon_color = uniform(p, "u_horizon_color"),
-                            .below_horizon = uniform(p, "u_below_horizon")};
+  for (int i = 0; i < SKY_PROGRAMS; ++i) {
+    p = r->sky_programs[i];
+    r->sky_u[i] = (sky_uniforms){.view_projection = uniform(p, "u_view_projection"),
+                                 .sun_direction = uniform(p, "u_sun_direction"),
+                                 .sky_color = uniform(p, "u_sky_color"),
+                                 .horizon_color = uniform(p, "u_horizon_color"),
+                                 .heading = uniform(p, "u_heading"),
+                                 .below_horizon = uniform(p, "u_below_horizon")};
+  }
   p = r->particle_program;
   r->particle_u = (particle_uniforms){.view_projection = uniform(p, "u_view_projection"),
                                       .camera_right = uniform(p, "u_camera_right"),
@@ -464,8 +472,9 @@ void bk_renderer_destroy(bk_renderer* r) {
   for (uint32_t i = 0; i < r->tree_count; ++i)
     if (r->trees[i].used) bk_renderer_release_tree(r, (bk_render_tree){i, r->trees[i].generation});
   free(r->trees);
-  GLuint programs[4] = {r->shadow_program, r->sky_program, r->particle_program, r->line_program};
-  for (int i = 0; i < 4; ++i)
+  GLuint programs[5] = {r->shadow_program, r->sky_programs[SKY_DOME], r->sky_programs[SKY_SUN],
+                        r->particle_program, r->line_program};
+  for (int i = 0; i < 5; ++i)
     if (programs[i]) glDeleteProgram(programs[i]);
   for (int i = 0; i < MESH_PROGRAMS; ++i)
     if (r->mesh_programs[i]) glDeleteProgram(r->mesh_programs[i]);
@@ -1075,13 +1084,12 @@ unsigned bk_renderer_end_frame(bk_renderer* r) {
   while (glGetError() != GL_NO_ERROR) {
   } // errors from before this frame are not ours
   bk_camera* c = &r->camera;
-  mat4 view, projection, view_projection, inverse_view_projection;
+  mat4 view, projection, view_projection;
   glm_lookat((vec3){(float)c->eye.x, (float)c->eye.y, (float)c->eye.z},
              (vec3){(float)c->target.x, (float)c->target.y, (float)c->target.z}, (vec3){0, 1, 0}, view);
   glm_perspective((float)c->fov_y, (float)r->width / (float)r->height, (float)c->near_plane,
                   (float)c->far_plane, projection);
   glm_mat4_mul(projection, view, view_projection);
-  glm_mat4_inv(view_projection, inverse_view_projection);
   // The sun's box follows the point the camera looks at.
   vec3 sun = {sun_direction[0], sun_direction[1], sun_direction[2]};
   glm_vec3_normalize(sun);
@@ -1148,20 +1156,30 @@ unsigned bk_renderer_end_frame(bk_renderer* r) {
   // Sky last, only where nothing was drawn (depth still at the far plane).
   glDepthMask(GL_FALSE);
   glDepthFunc(GL_LEQUAL);
-  glUseProgram(r->sky_program);
-  glUniformMatrix4fv(r->sky_u.inverse_view_projection, 1, GL_FALSE, (const float*)inverse_view_projection);
-  glUniform3fv(r->sky_u.sun_direction, 1, sun);
-  glUniform3fv(r->sky_u.sky_color, 1, sky_color);
-  glUniform3fv(r->sky_u.horizon_color, 1, horizon_color);
-  glBindVertexArray(r->empty_vao);
   // The sky stops below the horizon where the ground's far edge is seen:
   // the edge's slope from the eye, doubled because sky.vert measures it
   // along the view's heading (rays at the screen's sides, up to 60 degrees
   // off, see only half of it).
   double reach = fmax(1.0, ground_half_size - fmax(fabs(c->eye.x), fabs(c->eye.z)));
-  glUniform1f(r->sky_u.below_horizon, (float)fmax(0.05, 2.0 * (fabs(c->eye.y) + 1.0) / reach));
+  float below_horizon = (float)fmax(0.05, 2.0 * (fabs(c->eye.y) + 1.0) / reach);
+  vec3 heading = {(float)(c->target.x - c->eye.x), 0.0f, (float)(c->target.z - c->eye.z)};
+  if (glm_vec3_norm(heading) < 1e-6f) heading[0] = 1.0f; // looking straight up or down
+  glm_vec3_normalize(heading);
+  glBindVertexArray(r->empty_vao);
   glEnable(GL_CLIP_DISTANCE0);
-  glDrawArrays(GL_TRIANGLES, 0, 3);
+  for (int program = 0; program < SKY_PROGRAMS; ++program) {
+    // The dome, then the sun's square over it (the clipper drops it when
+    // the sun is behind the eye).
+    const sky_uniforms* u = &r->sky_u[program];
+    glUseProgram(r->sky_programs[program]);
+    glUniformMatrix4fv(u->view_projection, 1, GL_FALSE, (const float*)view_projection);
+    glUniform3fv(u->sun_direction, 1, sun);
+    glUniform3fv(u->sky_color, 1, sky_color);
+    glUniform3fv(u->horizon_color, 1, horizon_color);
+    glUniform3fv(u->heading, 1, heading);
+    glUniform1f(u->below_horizon, below_horizon);
+    glDrawArrays(GL_TRIANGLES, 0, program == SKY_DOME ? sky_dome_vertices : 6);
+  }
   glDisable(GL_CLIP_DISTANCE0);
   glDepthFunc(GL_LESS);
   glDepthMask(GL_TRUE);
