@@ -1,6 +1,6 @@
 #version 330 core
-// The sky, drawn last where nothing else is (depth at the far plane), from
-// gl_VertexID alone. DOME: a closed sphere of directions, coloured per
+// The sky, drawn first on the far plane without depth writes (everything
+// after covers it), from gl_VertexID alone. DOME: a closed sphere of directions, coloured per
 // vertex, so the gradient and the sun's glow cost nothing per pixel; its
 // rings crowd near the horizon, where the gradient bends most. SUN: a small
 // square around the sun, shaded per pixel for its sharp disc.
@@ -41,8 +41,8 @@ void main() {
   v_ray = ray;
 #endif
   // Clipped below the horizon where the ground's far edge lies: the ground
-  // covers the rest, and a software renderer would still test each of its
-  // pixels.
+  // covers the rest, and a software renderer would shade each of its pixels
+  // twice.
   gl_ClipDistance[0] = ray.y + u_below_horizon * dot(ray.xz, u_heading.xz);
   gl_Position = (u_view_projection * vec4(ray, 0.0)).xyww; // z = w: on the far plane
 }

@@ -1080,6 +1080,41 @@ static void draw_scene(bk_renderer* r, int pass) {
   }
 }
 
+// The sky where the ground is not: drawn first, on the far plane, without
+// depth writes, so that everything after covers it.
+static void draw_sky(bk_renderer* r, mat4 view_projection, const vec3 sun) {
+  const bk_camera* c = &r->camera;
+  glDepthMask(GL_FALSE);
+  glDepthFunc(GL_LEQUAL);
+  // It stops below the horizon where the ground's far edge is seen:
+  // the edge's slope from the eye, doubled because sky.vert measures it
+  // along the view's heading (rays at the screen's sides, up to 60 degrees
+  // off, see only half of it).
+  double reach = fmax(1.0, ground_half_size - fmax(fabs(c->eye.x), fabs(c->eye.z)));
+  float below_horizon = (float)fmax(0.05, 2.0 * (fabs(c->eye.y) + 1.0) / reach);
+  vec3 heading = {(float)(c->target.x - c->eye.x), 0.0f, (float)(c->target.z - c->eye.z)};
+  if (glm_vec3_norm(heading) < 1e-6f) heading[0] = 1.0f; // looking straight up or down
+  glm_vec3_normalize(heading);
+  glBindVertexArray(r->empty_vao);
+  glEnable(GL_CLIP_DISTANCE0);
+  for (int program = 0; program < SKY_PROGRAMS; ++program) {
+    // The dome, then the sun's square over it (the clipper drops it when
+    // the sun is behind the eye).
+    const sky_uniforms* u = &r->sky_u[program];
+    glUseProgram(r->sky_programs[program]);
+    glUniformMatrix4fv(u->view_projection, 1, GL_FALSE, (const float*)view_projection);
+    glUniform3fv(u->sun_direction, 1, sun);
+    glUniform3fv(u->sky_color, 1, sky_color);
+    glUniform3fv(u->horizon_color, 1, horizon_color);
+    glUniform3fv(u->heading, 1, heading);
+    glUniform1f(u->below_horizon, below_horizon);
+    glDrawArrays(GL_TRIANGLES, 0, program == SKY_DOME ? sky_dome_vertices : 6);
+  }
+  glDisable(GL_CLIP_DISTANCE0);
+  glDepthFunc(GL_LESS);
+  glDepthMask(GL_TRUE);
+}
+
 unsigned bk_renderer_end_frame(bk_renderer* r) {
   while (glGetError() != GL_NO_ERROR) {
   } // errors from before this frame are not ours
@@ -1126,10 +1161,18 @@ unsigned bk_renderer_end_frame(bk_renderer* r) {
   glViewport(0, 0, r->width, r->height);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
 
-  // Lit passes: outer surfaces, cut faces, then the ground.
+  // The sky and the ground first, then a flush: llvmpipe rasterizes what
+  // is flushed on its own threads while this one sets up the objects'
+  // triangles, instead of one after the other at the swap. The price is the
+  // ground and sky pixels that objects cover, shaded for nothing (early
+  // depth tests skipped them when objects came first): less than the
+  // overlap gains.
   glActiveTexture(GL_TEXTURE3);
   glBindTexture(GL_TEXTURE_2D, r->shadow_texture);
-  for (int program = 0; program < MESH_PROGRAMS; ++program) {
+  draw_sky(r, view_projection, sun);
+  const int order[MESH_PROGRAMS] = {GROUND, SURFACE, INTERIOR, SIMPLE};
+  for (int i = 0; i < MESH_PROGRAMS; ++i) {
+    int program = order[i];
     const mesh_uniforms* u = &r->mesh_u[program];
     glUseProgram(r->mesh_programs[program]);
     glUniformMatrix4fv(u->view_projection, 1, GL_FALSE, (const float*)view_projection);
@@ -1140,8 +1183,6 @@ unsigned bk_renderer_end_frame(bk_renderer* r) {
     glUniform3fv(u->ground_color, 1, ground_bounce);
     glUniform3f(u->eye, (float)c->eye.x, (float)c->eye.y, (float)c->eye.z);
     if (program != GROUND) {
-      // Objects before the ground and the sky: on a software renderer every
-      // shaded pixel counts, and early depth tests skip what they hide.
       draw_scene(r, program);
       continue;
     }
@@ -1151,38 +1192,8 @@ unsigned bk_renderer_end_frame(bk_renderer* r) {
     use_material(r, GROUND, &r->ground, 1.0f);
     glBindVertexArray(r->ground_vao);
     glDrawArrays(GL_TRIANGLES, 0, 6);
+    glFlush();
   }
-
-  // Sky last, only where nothing was drawn (depth still at the far plane).
-  glDepthMask(GL_FALSE);
-  glDepthFunc(GL_LEQUAL);
-  // The sky stops below the horizon where the ground's far edge is seen:
-  // the edge's slope from the eye, doubled because sky.vert measures it
-  // along the view's heading (rays at the screen's sides, up to 60 degrees
-  // off, see only half of it).
-  double reach = fmax(1.0, ground_half_size - fmax(fabs(c->eye.x), fabs(c->eye.z)));
-  float below_horizon = (float)fmax(0.05, 2.0 * (fabs(c->eye.y) + 1.0) / reach);
-  vec3 heading = {(float)(c->target.x - c->eye.x), 0.0f, (float)(c->target.z - c->eye.z)};
-  if (glm_vec3_norm(heading) < 1e-6f) heading[0] = 1.0f; // looking straight up or down
-  glm_vec3_normalize(heading);
-  glBindVertexArray(r->empty_vao);
-  glEnable(GL_CLIP_DISTANCE0);
-  for (int program = 0; program < SKY_PROGRAMS; ++program) {
-    // The dome, then the sun's square over it (the clipper drops it when
-    // the sun is behind the eye).
-    const sky_uniforms* u = &r->sky_u[program];
-    glUseProgram(r->sky_programs[program]);
-    glUniformMatrix4fv(u->view_projection, 1, GL_FALSE, (const float*)view_projection);
-    glUniform3fv(u->sun_direction, 1, sun);
-    glUniform3fv(u->sky_color, 1, sky_color);
-    glUniform3fv(u->horizon_color, 1, horizon_color);
-    glUniform3fv(u->heading, 1, heading);
-    glUniform1f(u->below_horizon, below_horizon);
-    glDrawArrays(GL_TRIANGLES, 0, program == SKY_DOME ? sky_dome_vertices : 6);
-  }
-  glDisable(GL_CLIP_DISTANCE0);
-  glDepthFunc(GL_LESS);
-  glDepthMask(GL_TRUE);
 
   // Debug lines, then blended particles (no depth writes, so puffs overlap softly).
   if (r->line_count) {
