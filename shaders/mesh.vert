@@ -2,9 +2,10 @@
 // Fragments, projectiles and the ground (every program of mesh.frag):
 // world-space lighting inputs plus the light-space position for the shadow
 // lookup; SIMPLE lights the vertex here instead, and GROUND passes only what
-// its pixels need (each interpolated value costs a software renderer). Each vertex names its row
-// in a node table (per node: the three rows of its body's model matrix and
-// an overlay colour), so every body of a tree draws in one call.
+// its pixels need (each interpolated value costs a software renderer). Each
+// vertex names its row in a node table (per node: the three rows of its
+// body's model matrix and an overlay colour), so every body of a tree draws
+// in one call.
 layout(location = 0) in vec3 in_position;
 layout(location = 1) in vec3 in_normal;
 layout(location = 2) in vec2 in_uv;
@@ -29,7 +30,7 @@ uniform float u_gloss;
 out vec3 v_color;
 #elif GROUND
 uniform vec3 u_sun_direction;
-out vec2 v_uv; // also the position: the ground's uvs are its x and z
+out vec2 v_uv;     // also the position: the ground's uvs are its x and z, scaled
 out vec3 v_shadow; // shadow_coord, linear across the plane
 #else
 out vec3 v_position;
