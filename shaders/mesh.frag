@@ -9,7 +9,7 @@
 #if SIMPLE
 in vec3 v_color; // lit, hazed and encoded per vertex
 #elif GROUND
-in vec2 v_uv;
+in vec2 v_ground;
 in vec3 v_shadow;
 
 uniform sampler2D u_albedo;
@@ -49,11 +49,10 @@ void main() {
 #elif GROUND
   // Flat and facing up: the sun and the sky light are the same everywhere.
   // One hardware-filtered shadow tap is already a 2x2 comparison.
-  vec3 albedo = decode_srgb(texture(u_albedo, v_uv).rgb) * u_tint;
+  vec3 albedo = decode_srgb(texture(u_albedo, v_ground * u_uv_scale).rgb) * u_tint;
   float lit = max(u_sun_direction.y, 0.0) * texture(u_shadow_map, shadow_clip(v_shadow));
   vec3 color = albedo * (u_sky_color * 0.55 + u_sun_color * lit);
-  vec2 ground = v_uv / u_uv_scale;
-  color = mix(color, u_sky_color * 0.9, haze_amount(length(u_eye - vec3(ground.x, 0.0, ground.y))));
+  color = mix(color, u_sky_color * 0.9, haze_amount(length(u_eye - vec3(v_ground.x, 0.0, v_ground.y))));
   out_color = vec4(encode_srgb(color), 1.0);
 #else
   vec3 geometric = normalize(v_normal);

@@ -30,7 +30,7 @@ uniform float u_gloss;
 out vec3 v_color;
 #elif GROUND
 uniform vec3 u_sun_direction;
-out vec2 v_uv;     // also the position: the ground's uvs are its x and z, scaled
+out vec2 v_ground; // x and z in metres: the position, and the uvs before scaling
 out vec3 v_shadow; // shadow_coord, linear across the plane
 #else
 out vec3 v_position;
@@ -60,7 +60,7 @@ void main() {
   color = mix(color, u_sky_color * 0.9, haze_amount(length(to_eye)));
   v_color = encode_srgb(color);
 #elif GROUND
-  v_uv = in_uv * u_uv_scale;
+  v_ground = world.xz;
   v_shadow = shadow_coord((u_light_view_projection * world).xyz, vec3(0.0, 1.0, 0.0), u_sun_direction);
 #else
   v_position = world.xyz;

@@ -232,8 +232,7 @@ static bool load_material(const char* dir, material* m, bool has_interior, bk_er
 static const float ground_half_size = 60.0f; // metres
 
 static void make_ground(bk_renderer* r) {
-  // A large quad; uvs in metres so the paving keeps its size (and the
-  // ground shader takes its position from them).
+  // A large quad; uvs in metres so the paving keeps its size.
   const float s = ground_half_size;
   vertex quad[4] = {{{-s, 0, -s}, {0, 1, 0}, {-s, -s}, {1, 0, 0, 1}, 0},
                     {{-s, 0, s}, {0, 1, 0}, {-s, s}, {1, 0, 0, 1}, 0},
