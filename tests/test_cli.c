@@ -134,12 +134,13 @@ static void expect_error(const char* args, int status, const char* message) {
 }
 
 static void test_errors(void) {
-  expect_error("fracture --pieces 0", 2, "--pieces must be a whole number from 1 to 1048576");
-  expect_error("fracture --pieces 12abc", 2, "--pieces must be");
+  expect_error("fracture --pieces 0", 2, "--pieces '0' is out of range (1..1048576)");
+  expect_error("fracture --pieces 12abc", 2, "--pieces '12abc' is not a whole number (1..1048576)");
   expect_error("fracture --pieces", 2, "--pieces needs a value");
-  expect_error("fracture --texture-scale nan", 2, "--texture-scale must be a positive finite number");
-  expect_error("fracture --texture-scale -1", 2, "--texture-scale must be");
-  expect_error("fracture --seed -3", 2, "--seed must be");
+  expect_error("fracture --texture-scale nan", 2,
+               "--texture-scale 'nan' is not a decimal number (1e-6..1e6)");
+  expect_error("fracture --texture-scale -1", 2, "--texture-scale '-1' is out of range (1e-6..1e6)");
+  expect_error("fracture --seed -3", 2, "--seed '-3' is not a whole number");
   expect_error("fracture --bogus", 2, "unknown option '--bogus'");
   expect_error("fracture --mesh sphere", 1, "unknown mesh 'sphere'");
   expect_error("fracture --mesh '" BK_TEST_TMP "/missing.obj'", 1, "cannot open");
@@ -216,11 +217,136 @@ static void test_sim(void) {
   for (size_t i = 0; i < sizeof options / sizeof *options; ++i)
     ENSURE_MSG(strstr(r->out, options[i]) != NULL, "sim help does not describe %s", options[i]);
   expect_error("sim --scene castle", 2, "unknown scene 'castle'");
-  expect_error("sim --steps 0", 2, "--steps must be a whole number from 1 to 1000000");
-  expect_error("sim --volley 0", 2, "--volley must be a whole number from 1 to 1000000");
-  expect_error("sim --frailty nan", 2, "--frailty must be a positive number");
-  expect_error("sim --density -5", 2, "--density must be a positive number");
+  expect_error("sim --steps 0", 2, "--steps '0' is out of range (1..1000000)");
+  expect_error("sim --volley 0", 2, "--volley '0' is out of range (1..1000000)");
+  expect_error("sim --frailty nan", 2, "--frailty 'nan' is not a decimal number (1e-6..1e6)");
+  expect_error("sim --density -5", 2, "--density '-5' is out of range (1..1e5)");
   expect_error("sim --explode", 2, "unknown option '--explode'");
+}
+
+// ---------------------------------------------------------------- number options
+
+// Every number option of every command takes exactly a number of its kind
+// within its range; the rest exits 2 with one line naming the option, the
+// text and the range. Refusals come before any window opens, so play and
+// editor are checked without a display.
+static void test_number_options(void) {
+  setenv("BREAKABLES_CACHE_DIR", BK_TEST_TMP "/cache", 1);
+  static const struct {
+    const char* args;
+    const char* message;
+  } refused[] = {
+      // Blanks, signs, hex and trailing text: not a number of the option's kind.
+      {"fracture --seed ' -1'",
+       "breakables fracture: --seed ' -1' is not a whole number (0..18446744073709551615)"},
+      {"fracture --pieces ' -18446744073709551615'",
+       "--pieces ' -18446744073709551615' is not a whole number (1..1048576)"},
+      {"fracture --pieces ' 8'", "--pieces ' 8' is not a whole number"},
+      {"fracture --pieces '8 '", "--pieces '8 ' is not a whole number"},
+      {"fracture --pieces +8", "--pieces '+8' is not a whole number"},
+      {"fracture --pieces 0x10", "--pieces '0x10' is not a whole number"},
+      {"fracture --pieces 1e3", "--pieces '1e3' is not a whole number"},
+      {"fracture --seed \"$(printf '1\\n2')\"", "--seed '1\\x0a2' is not a whole number"},
+      {"fracture --seed 18446744073709551616",
+       "--seed '18446744073709551616' is out of range (0..18446744073709551615)"},
+      {"fracture --pieces 1048577", "--pieces '1048577' is out of range (1..1048576)"},
+      {"fracture --texture-scale ' 0.5'", "--texture-scale ' 0.5' is not a decimal number (1e-6..1e6)"},
+      {"fracture --texture-scale '0.5 '", "--texture-scale '0.5 ' is not a decimal number"},
+      {"fracture --texture-scale 0x1p-3", "--texture-scale '0x1p-3' is not a decimal number"},
+      {"fracture --texture-scale inf", "--texture-scale 'inf' is not a decimal number"},
+      {"fracture --texture-scale 1e999", "--texture-scale '1e999' is out of range (1e-6..1e6)"},
+      // Finite but tiny: cut-face UVs would overflow a float.
+      {"fracture --texture-scale 1e-300",
+       "breakables fracture: --texture-scale '1e-300' is out of range (1e-6..1e6)"},
+      {"fracture --texture-scale 9.9e-7", "--texture-scale '9.9e-7' is out of range (1e-6..1e6)"},
+      {"fracture --texture-scale 1000001", "--texture-scale '1000001' is out of range (1e-6..1e6)"},
+      {"sim --pieces 65537", "breakables sim: --pieces '65537' is out of range (1..65536)"},
+      {"sim --seed ' 1'", "breakables sim: --seed ' 1' is not a whole number (0..18446744073709551615)"},
+      {"sim --shots 1001", "--shots '1001' is out of range (0..1000)"},
+      {"sim --shots -1", "--shots '-1' is not a whole number (0..1000)"},
+      {"sim --steps ' 5'", "--steps ' 5' is not a whole number (1..1000000)"},
+      {"sim --volley 1e3", "--volley '1e3' is not a whole number (1..1000000)"},
+      {"sim --speed 0.09", "--speed '0.09' is out of range (0.1..2000)"},
+      {"sim --speed 2000.5", "--speed '2000.5' is out of range (0.1..2000)"},
+      {"sim --speed -inf", "--speed '-inf' is not a decimal number (0.1..2000)"},
+      {"sim --frailty 1e-300", "--frailty '1e-300' is out of range (1e-6..1e6)"},
+      {"sim --frailty 2e6", "--frailty '2e6' is out of range (1e-6..1e6)"},
+      {"sim --density 0.5", "--density '0.5' is out of range (1..1e5)"},
+      {"sim --density 1e300", "--density '1e300' is out of range (1..1e5)"},
+      {"sim --density 2,5", "--density '2,5' is not a decimal number (1..1e5)"},
+      {"play --pieces 0", "breakables play: --pieces '0' is out of range (1..65536)"},
+      {"play --seed ' -1'", "breakables play: --seed ' -1' is not a whole number (0..18446744073709551615)"},
+      {"play --volley +5", "breakables play: --volley '+5' is not a whole number (1..10000000)"},
+      {"play --frames 0x10", "breakables play: --frames '0x10' is not a whole number (1..10000000)"},
+      {"play --autofire 10001", "breakables play: --autofire '10001' is out of range (0..10000)"},
+      {"play --width 63", "breakables play: --width '63' is out of range (64..8192)"},
+      {"play --height ' 720'", "breakables play: --height ' 720' is not a whole number (64..8192)"},
+      {"editor --pieces 65537", "breakables editor: --pieces '65537' is out of range (1..65536)"},
+      {"editor --seed 2147483648", "breakables editor: --seed '2147483648' is out of range (0..2147483647)"},
+      {"editor --texture-scale 1e-300",
+       "breakables editor: --texture-scale '1e-300' is out of range (1e-6..1e6)"},
+      {"editor --explode 3.01", "breakables editor: --explode '3.01' is out of range (0..3)"},
+      {"editor --explode -0.1", "breakables editor: --explode '-0.1' is out of range (0..3)"},
+      {"editor --width 8193", "breakables editor: --width '8193' is out of range (64..8192)"},
+      {"bench --seed ' -1'",
+       "breakables bench: --seed ' -1' is not a whole number (0..18446744073709551615)"},
+  };
+  for (size_t i = 0; i < sizeof refused / sizeof *refused; ++i)
+    expect_error(refused[i].args, 2, refused[i].message);
+
+  // The edges of the ranges are accepted and reach the output.
+  run_result* r =
+      run("fracture --mesh cube --pieces 2 --seed 18446744073709551615 --texture-scale 1e-6 --json");
+  ENSURE_MSG(r->status == 0, "%s", r->err);
+  ENSURE(strstr(r->out, "\"seed\": 18446744073709551615") && json_number(r->out, "texture_scale") == 1e-6);
+  r = run("fracture --mesh cube --pieces 1 --seed 0 --texture-scale 1e6 --json");
+  ENSURE_MSG(r->status == 0, "%s", r->err);
+  ENSURE(strstr(r->out, "\"seed\": 0,") && json_number(r->out, "texture_scale") == 1e6);
+  r = run("fracture --mesh cube --pieces 0002 --texture-scale .25 --json");
+  ENSURE_MSG(r->status == 0 && json_number(r->out, "texture_scale") == 0.25, "%s", r->err);
+  const char* sims[] = {
+      "sim --scene wall --pieces 1 --shots 1 --steps 30 --speed 0.1 --frailty 1e-6 --density 1 --json",
+      "sim --scene wall --pieces 1 --shots 1 --steps 30 --speed 2000 --frailty 1e6 --density 1e5 --json",
+      "sim --scene wall --pieces 1 --shots 0 --steps 1 --volley 1000000 --json",
+  };
+  for (size_t i = 0; i < sizeof sims / sizeof *sims; ++i) {
+    r = run(sims[i]);
+    ENSURE_MSG(r->status == 0, "'%s': %s", sims[i], r->err);
+    ENSURE_MSG(strstr(r->out, "\"nan\": false") != NULL, "'%s': %s", sims[i], r->out);
+  }
+
+  // Each help states the ranges it enforces.
+  static const struct {
+    const char* command;
+    const char* range;
+  } helps[] = {
+      {"fracture", "1..1048576"},
+      {"fracture", "0..18446744073709551615"},
+      {"fracture", "1e-6..1e6"},
+      {"sim", "1..65536"},
+      {"sim", "0..1000"},
+      {"sim", "1..1000000"},
+      {"sim", "0.1..2000"},
+      {"sim", "1e-6..1e6"},
+      {"sim", "1..1e5"},
+      {"play", "1..65536"},
+      {"play", "1..10000000"},
+      {"play", "0..10000"},
+      {"play", "64..8192"},
+      {"editor", "1..65536"},
+      {"editor", "0..2147483647"},
+      {"editor", "1e-6..1e6"},
+      {"editor", "0..3"},
+      {"editor", "64..8192"},
+      {"bench", "0..18446744073709551615"},
+  };
+  for (size_t i = 0; i < sizeof helps / sizeof *helps; ++i) {
+    char args[64];
+    snprintf(args, sizeof args, "%s --help", helps[i].command);
+    r = run(args);
+    ENSURE_MSG(r->status == 0 && strstr(r->out, helps[i].range), "%s --help does not state %s",
+               helps[i].command, helps[i].range);
+  }
 }
 
 // ---------------------------------------------------------------- bench
@@ -403,7 +529,7 @@ static void test_bench_quick(void) {
     ENSURE_MSG(strstr(r->out, options[i]) != NULL, "bench help does not describe %s", options[i]);
   write_file("not_a_dir", "x");
   expect_error("bench --quick --out '" BK_TEST_TMP "/not_a_dir/bench'", 1, "cannot create directory");
-  expect_error("bench --seed x", 2, "--seed must be a whole number");
+  expect_error("bench --seed x", 2, "--seed 'x' is not a whole number (0..18446744073709551615)");
   expect_error("bench --out", 2, "--out needs a value");
   expect_error("bench --slow", 2, "unknown option '--slow'");
 }
@@ -416,6 +542,7 @@ int main(void) {
   RUN(test_errors);
   RUN(test_repairs_simple_hole);
   RUN(test_sim);
+  RUN(test_number_options);
   RUN(test_bench_quick);
   return 0;
 }

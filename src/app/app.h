@@ -27,14 +27,38 @@ bool bk_app_load_tree(const char* mesh_spec, double scale, const bk_fracture_des
                       bool* from_cache, bk_error* err);
 /// Directory holding assets/ content (next to the executable, or the source tree).
 const char* bk_app_asset_dir(void);
-/// Parses a whole unsigned number in [min, max]; false on junk or overflow.
+/// Parses a whole number in [min, max]: exactly [0-9]+ (no sign, blank, hex
+/// or trailing text); false otherwise or on overflow. `out` is set only on success.
 bool bk_parse_u64(const char* text, uint64_t min, uint64_t max, uint64_t* out);
-/// Parses a finite double in (min, max]; false on junk, NaN or out of range.
-bool bk_parse_double(const char* text, double min_exclusive, double max_inclusive, double* out);
+/// Parses a plain decimal number in [min, max]: exactly
+/// [+-]?(D+[.D*]|.D+)([eE][+-]?D+)? (no blank, hex, inf or nan); false
+/// otherwise, or when it is beyond a double or rounds out of the range (a
+/// value that underflows to 0 is refused when min > 0). `out` is set only on success.
+bool bk_parse_double(const char* text, double min, double max, double* out);
+/// bk_parse_u64 for the value of a command's option; on failure prints one
+/// line naming the option, its text and the range, e.g. "breakables fracture:
+/// --seed ' -1' is not a whole number (0..18446744073709551615)".
+bool bk_option_u64(const char* command, const char* option, const char* text, uint64_t min, uint64_t max,
+                   uint64_t* out);
+/// bk_parse_double for the value of a command's option, with the same kind of message.
+bool bk_option_double(const char* command, const char* option, const char* text, double min, double max,
+                      double* out);
 /// Monotonic clock in milliseconds.
 double bk_now_ms(void);
 /// Peak resident memory of this process in MiB.
 double bk_peak_rss_mb(void);
+
+/// Parses the value of --max-memory (MiB) for `command` and makes it the
+/// limit bk_app_check_fracture_memory uses; prints one line and returns false
+/// on a bad value.
+bool bk_app_parse_max_memory(const char* command, const char* text);
+/// Refuses a fracture of `source` by `desc` whose estimated memory
+/// (bk_mesh_tree_estimate_bytes, plus the file when `saving`) exceeds the
+/// limit: --max-memory when given, else MemAvailable from /proc/meminfo (no
+/// check when that is unknown). err gets one line with the estimate and the
+/// limit, naming the request by its pieces and `mesh_spec`.
+bool bk_app_check_fracture_memory(const char* mesh_spec, const bk_mesh* source, const bk_fracture_desc* desc,
+                                  bool saving, bk_error* err);
 
 /// Overrides for a scene's defaults (zero = the scene's or material's value).
 typedef struct bk_scene_options {

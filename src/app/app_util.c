@@ -1,6 +1,7 @@
 // Small helpers shared by the subcommands: number parsing, clocks, memory, assets.
 #include <errno.h>
 #include <limits.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -10,24 +11,142 @@
 
 #include "app.h"
 
-bool bk_parse_u64(const char* text, uint64_t min, uint64_t max, uint64_t* out) {
-  if (!text || !*text || *text == '-' || *text == '+') return false;
-  char* end = NULL;
-  errno = 0;
-  unsigned long long v = strtoull(text, &end, 10);
-  if (errno || *end || v < min || v > max) return false;
-  *out = v;
-  return true;
+// Option values are parsed strictly: strtoull and strtod skip leading blanks,
+// take a sign (strtoull then negates: " -1" becomes 2^64 - 1), hex, "inf" and
+// "nan", all of which a command line should refuse rather than reinterpret.
+
+typedef enum number_status {
+  NUMBER_OK,
+  NUMBER_MALFORMED,    // not exactly a number of the option's kind
+  NUMBER_OUT_OF_RANGE, // a number, but outside the range (or beyond a double)
+} number_status;
+
+static bool is_digit(char c) { return c >= '0' && c <= '9'; }
+
+static number_status scan_u64(const char* text, uint64_t min, uint64_t max, uint64_t* out) {
+  if (!text || !is_digit(*text)) return NUMBER_MALFORMED;
+  uint64_t value = 0;
+  bool overflow = false;
+  const char* p = text;
+  for (; is_digit(*p); ++p) {
+    uint64_t digit = (uint64_t)(*p - '0');
+    if (value > (UINT64_MAX - digit) / 10) overflow = true;
+    value = overflow ? UINT64_MAX : value * 10 + digit;
+  }
+  if (*p) return NUMBER_MALFORMED;
+  if (overflow || value < min || value > max) return NUMBER_OUT_OF_RANGE;
+  *out = value;
+  return NUMBER_OK;
 }
 
-bool bk_parse_double(const char* text, double min_exclusive, double max_inclusive, double* out) {
-  if (!text || !*text) return false;
+// Skips [0-9]* and says whether a digit was seen.
+static bool skip_digits(const char** p) {
+  const char* start = *p;
+  while (is_digit(**p))
+    ++*p;
+  return *p != start;
+}
+
+static number_status scan_double(const char* text, double min, double max, double* out) {
+  // [+-]? (digits [. digits?] | . digits) ([eE] [+-]? digits)?, nothing else.
+  if (!text) return NUMBER_MALFORMED;
+  const char* p = text;
+  if (*p == '+' || *p == '-') ++p;
+  bool whole = skip_digits(&p), fraction = false;
+  if (*p == '.') {
+    ++p;
+    fraction = skip_digits(&p);
+  }
+  if (!whole && !fraction) return NUMBER_MALFORMED;
+  if (*p == 'e' || *p == 'E') {
+    ++p;
+    if (*p == '+' || *p == '-') ++p;
+    if (!skip_digits(&p)) return NUMBER_MALFORMED;
+  }
+  if (*p) return NUMBER_MALFORMED;
+  // The text is plain decimal, which strtod reads the same in every locale
+  // that keeps '.' as the radix (the program never calls setlocale).
   char* end = NULL;
-  errno = 0;
-  double v = strtod(text, &end);
-  if (errno || *end || !isfinite(v) || v <= min_exclusive || v > max_inclusive) return false;
-  *out = v;
-  return true;
+  double value = strtod(text, &end);
+  if (end != p || !isfinite(value)) return NUMBER_OUT_OF_RANGE;
+  // Underflow rounds to 0 or a denormal; the range check below refuses it
+  // whenever 0 is not allowed (min > 0).
+  if (value == 0.0) value = 0.0; // -0 reads as 0
+  if (!(value >= min && value <= max)) return NUMBER_OUT_OF_RANGE;
+  *out = value;
+  return NUMBER_OK;
+}
+
+bool bk_parse_u64(const char* text, uint64_t min, uint64_t max, uint64_t* out) {
+  return scan_u64(text, min, max, out) == NUMBER_OK;
+}
+
+bool bk_parse_double(const char* text, double min, double max, double* out) {
+  return scan_double(text, min, max, out) == NUMBER_OK;
+}
+
+// Shortest form of a range bound that reads back exactly: plain from 0.0001
+// to 9999 (0.1, 2000), else with a bare exponent (1e-6, 1e5).
+static void format_bound(double value, char* out, size_t size) {
+  char text[64] = "";
+  int digits = 1;
+  for (; digits < 17; ++digits) {
+    snprintf(text, sizeof text, "%.*e", digits - 1, value);
+    if (strtod(text, NULL) == value) break;
+  }
+  snprintf(text, sizeof text, "%.*e", digits - 1, value);
+  char* e = strchr(text, 'e');
+  int exponent = e ? atoi(e + 1) : 0;
+  if (value == 0.0 || (exponent >= -4 && exponent < 4)) {
+    int decimals = digits - 1 - exponent;
+    snprintf(out, size, "%.*f", decimals > 0 ? decimals : 0, value);
+  } else {
+    *e = 0;
+    snprintf(out, size, "%se%d", text, exponent);
+  }
+}
+
+// The option's text as it can be shown on one line: control characters as
+// \xNN, long text cut short.
+static void quote_text(const char* text, char* out, size_t size) {
+  size_t used = 0;
+  for (const char* p = text; *p && used + 8 < size; ++p) {
+    unsigned char c = (unsigned char)*p;
+    if (used >= 60) {
+      used += (size_t)snprintf(out + used, size - used, "...");
+      break;
+    }
+    if (c < 0x20 || c == 0x7f)
+      used += (size_t)snprintf(out + used, size - used, "\\x%02x", c);
+    else
+      out[used++] = (char)c;
+  }
+  out[used] = 0;
+}
+
+bool bk_option_u64(const char* command, const char* option, const char* text, uint64_t min, uint64_t max,
+                   uint64_t* out) {
+  number_status status = scan_u64(text, min, max, out);
+  if (status == NUMBER_OK) return true;
+  char shown[96] = "";
+  quote_text(text ? text : "", shown, sizeof shown);
+  fprintf(stderr, "breakables %s: %s '%s' is %s (%llu..%llu)\n", command, option, shown,
+          status == NUMBER_MALFORMED ? "not a whole number" : "out of range", (unsigned long long)min,
+          (unsigned long long)max);
+  return false;
+}
+
+bool bk_option_double(const char* command, const char* option, const char* text, double min, double max,
+                      double* out) {
+  number_status status = scan_double(text, min, max, out);
+  if (status == NUMBER_OK) return true;
+  char shown[96] = "", low[32] = "", high[32] = "";
+  quote_text(text ? text : "", shown, sizeof shown);
+  format_bound(min, low, sizeof low);
+  format_bound(max, high, sizeof high);
+  fprintf(stderr, "breakables %s: %s '%s' is %s (%s..%s)\n", command, option, shown,
+          status == NUMBER_MALFORMED ? "not a decimal number" : "out of range", low, high);
+  return false;
 }
 
 double bk_now_ms(void) {

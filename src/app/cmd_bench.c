@@ -40,7 +40,7 @@ static const char* const bench_usage =
     "              The full run goes to 65536, 65536, 4096 and 16 walls (minutes).\n"
     "  --out DIR   output directory, created if missing (default: bench-out);\n"
     "              files of the same names in it are replaced\n"
-    "  --seed S    fracture seed of every mesh (default: 3000)\n"
+    "  --seed S    fracture seed of every mesh, 0..18446744073709551615 (default: 3000)\n"
     "  -h, --help  show this help\n"
     "\n"
     "Mesh trees of sections 4 and 5 are cached like those of 'breakables sim'.\n";
@@ -1070,8 +1070,8 @@ int bk_cmd_bench(int argc, char** argv) {
       if (strcmp(arg, "--out") == 0) {
         if (!*value) return usage_error(arg, "must not be empty");
         b.dir = value;
-      } else if (!bk_parse_u64(value, 0, UINT64_MAX, &b.seed)) {
-        return usage_error(arg, "must be a whole number >= 0");
+      } else if (!bk_option_u64("bench", arg, value, 0, UINT64_MAX, &b.seed)) {
+        return 2;
       }
     } else {
       fprintf(stderr, "breakables bench: unknown option '%s' (see 'breakables bench --help')\n", arg);

@@ -9,6 +9,7 @@
 static const char* const fracture_usage =
     "usage: breakables fracture [--mesh NAME|PATH.obj] [--pieces N] [--seed S]\n"
     "                           [--texture-scale X] [--out FILE.mtree] [--export-obj FILE.obj] [--json]\n"
+    "                           [--max-memory MIB]\n"
     "\n"
     "Cuts a closed mesh by random planes through the centroid of the largest\n"
     "piece, recursively, closing every cut with a triangulated cap, and keeps\n"
@@ -19,17 +20,23 @@ static const char* const fracture_usage =
     "                        OBJ file (default: bunny). An OBJ with simple holes is\n"
     "                        repaired with a warning; other open meshes are refused.\n"
     "  --pieces N            number of fragments, 1..1048576 (default: 256). Exactly N\n"
-    "                        unless a cut separates a piece into several hulls.\n"
-    "  --seed S              random seed; the same seed gives the same tree (default: 3000)\n"
-    "  --texture-scale X     world size of one interior texture tile on cut faces\n"
-    "                        (default: 0.1)\n"
+    "                        unless a cut separates a piece into several hulls (more), or\n"
+    "                        no cut of a piece keeps it closed with its volume (fewer: a\n"
+    "                        warning on stderr and in --json says why).\n"
+    "  --seed S              random seed, 0..18446744073709551615; the same seed gives the\n"
+    "                        same tree (default: 3000)\n"
+    "  --texture-scale X     world size of one interior texture tile on cut faces, in\n"
+    "                        metres, 1e-6..1e6 (default: 0.1)\n"
     "  --out FILE.mtree      save the mesh tree (with bonds and parameters) as a cache file\n"
     "  --export-obj FILE.obj write the fragments as OBJ, one 'o fragment_<i>' each, in the\n"
     "                        source mesh's frame (--pieces 1 exports the source itself)\n"
     "  --json                print one JSON object instead of the summary: mesh, pieces,\n"
     "                        nodes, max_depth, ms, leaf_triangles, bonds, watertight,\n"
     "                        volume_rel_error, child_volume_rel_error, seed, texture_scale,\n"
-    "                        source_triangles, peak_rss_mb\n"
+    "                        source_triangles, peak_rss_mb, pieces_requested, pieces_made and\n"
+    "                        warnings (why fewer pieces were made than asked for)\n"
+    "  --max-memory MIB      memory the fracture may use, 1..1073741824 MiB (default: the\n"
+    "                        available memory); a request estimated to need more is refused\n"
     "  -h, --help            show this help\n"
     "\n"
     "A progress bar is drawn on stderr when it is a terminal.\n";
@@ -49,6 +56,20 @@ static bool draw_progress(void* user, uint32_t leaves, uint32_t target) {
           leaves, target);
   fflush(stderr);
   return true;
+}
+
+// A JSON string literal: quotes, backslashes and control characters escaped.
+static void print_json_string(const char* text) {
+  putchar('"');
+  for (const unsigned char* c = (const unsigned char*)text; *c; ++c) {
+    if (*c == '"' || *c == '\\')
+      printf("\\%c", *c);
+    else if (*c < 0x20)
+      printf("\\u%04x", *c);
+    else
+      putchar(*c);
+  }
+  putchar('"');
 }
 
 static int fail(const char* message) {
@@ -77,27 +98,30 @@ int bk_cmd_fracture(int argc, char** argv) {
     } else if (strcmp(arg, "--json") == 0) {
       json = true;
       takes_value = false;
-    } else if (!value && (strcmp(arg, "--mesh") == 0 || strcmp(arg, "--pieces") == 0 ||
-                          strcmp(arg, "--seed") == 0 || strcmp(arg, "--texture-scale") == 0 ||
-                          strcmp(arg, "--out") == 0 || strcmp(arg, "--export-obj") == 0)) {
+    } else if (!value &&
+               (strcmp(arg, "--mesh") == 0 || strcmp(arg, "--pieces") == 0 || strcmp(arg, "--seed") == 0 ||
+                strcmp(arg, "--texture-scale") == 0 || strcmp(arg, "--out") == 0 ||
+                strcmp(arg, "--export-obj") == 0 || strcmp(arg, "--max-memory") == 0)) {
       return usage_error(arg, "needs a value");
     } else if (strcmp(arg, "--mesh") == 0) {
       mesh_spec = value;
     } else if (strcmp(arg, "--pieces") == 0) {
       uint64_t pieces = 0;
-      if (!bk_parse_u64(value, 1, 1u << 20, &pieces))
-        return usage_error("--pieces", "must be a whole number from 1 to 1048576");
+      if (!bk_option_u64("fracture", arg, value, 1, 1u << 20, &pieces)) return 2;
       desc.pieces = (uint32_t)pieces;
     } else if (strcmp(arg, "--seed") == 0) {
-      if (!bk_parse_u64(value, 0, UINT64_MAX, &desc.seed))
-        return usage_error("--seed", "must be a whole number >= 0");
+      if (!bk_option_u64("fracture", arg, value, 0, UINT64_MAX, &desc.seed)) return 2;
     } else if (strcmp(arg, "--texture-scale") == 0) {
-      if (!bk_parse_double(value, 0.0, 1e6, &desc.texture_scale))
-        return usage_error("--texture-scale", "must be a positive finite number");
+      // Cut-face UVs are floats equal to coordinate / texture_scale: a micrometre
+      // to a thousand kilometres covers any real tile and keeps them finite for
+      // coordinates under 1e32 (the fracture checks the scale against the mesh).
+      if (!bk_option_double("fracture", arg, value, 1e-6, 1e6, &desc.texture_scale)) return 2;
     } else if (strcmp(arg, "--out") == 0) {
       out_path = value;
     } else if (strcmp(arg, "--export-obj") == 0) {
       obj_path = value;
+    } else if (strcmp(arg, "--max-memory") == 0) {
+      if (!bk_app_parse_max_memory("fracture", value)) return 2;
     } else {
       fprintf(stderr, "breakables fracture: unknown option '%s' (see 'breakables fracture --help')\n", arg);
       return 2;
@@ -108,6 +132,10 @@ int bk_cmd_fracture(int argc, char** argv) {
   bk_error err = {0};
   bk_mesh source = {0};
   if (!bk_app_load_mesh(mesh_spec, &source, &err)) return fail(err.message);
+  if (!bk_app_check_fracture_memory(mesh_spec, &source, &desc, out_path != NULL, &err)) {
+    bk_mesh_free(&source);
+    return fail(err.message);
+  }
 
   progress_state progress = {bk_now_ms()};
   if (isatty(STDERR_FILENO)) {
@@ -130,6 +158,18 @@ int bk_cmd_fracture(int argc, char** argv) {
   bk_mesh_tree_stats st = bk_mesh_tree_measure(&tree);
   double volume_error = fabs(st.leaf_volume_sum - st.source_volume) / st.source_volume;
   int status = 0;
+  // The builder keeps only cuts whose pieces are closed; an open node here
+  // would be a broken invariant, and a broken tree is never written.
+  if (st.open_nodes) {
+    char message[160];
+    snprintf(message, sizeof message, "%u of %u nodes came out open; nothing was written", st.open_nodes,
+             tree.node_count);
+    bk_mesh_tree_free(&tree);
+    return fail(message);
+  }
+  char shortfall[400];
+  bool short_of_pieces = bk_mesh_tree_shortfall_text(&tree, shortfall, sizeof shortfall);
+  if (short_of_pieces) fprintf(stderr, "breakables fracture: warning: %s: %s\n", mesh_spec, shortfall);
   if (out_path && !bk_mesh_tree_save(&tree, out_path, &err)) status = fail(err.message);
   if (status == 0 && obj_path) {
     bk_mesh* leaves = bk_alloc(sizeof(bk_mesh) * tree.leaf_count);
@@ -140,14 +180,19 @@ int bk_cmd_fracture(int argc, char** argv) {
   }
 
   if (json) {
-    printf(
-        "{\"mesh\": \"%s\", \"pieces\": %u, \"nodes\": %u, \"max_depth\": %u, \"ms\": %.3f, "
-        "\"leaf_triangles\": %u, \"bonds\": %u, \"watertight\": %s, \"volume_rel_error\": %.3e, "
-        "\"child_volume_rel_error\": %.3e, \"seed\": %llu, \"texture_scale\": %g, \"source_triangles\": %u, "
-        "\"peak_rss_mb\": %.1f}\n",
-        mesh_spec, tree.leaf_count, tree.node_count, tree.max_depth, ms, st.leaf_triangles, tree.bond_count,
-        st.open_nodes == 0 ? "true" : "false", volume_error, st.max_child_rel_error,
-        (unsigned long long)tree.desc.seed, tree.desc.texture_scale, source_triangles, bk_peak_rss_mb());
+    fputs("{\"mesh\": ", stdout);
+    print_json_string(mesh_spec);
+    printf(", \"pieces\": %u, \"pieces_requested\": %u, \"pieces_made\": %u, \"nodes\": %u, "
+           "\"max_depth\": %u, \"ms\": %.3f, "
+           "\"leaf_triangles\": %u, \"bonds\": %u, \"watertight\": %s, \"volume_rel_error\": %.3e, "
+           "\"child_volume_rel_error\": %.3e, \"seed\": %llu, \"texture_scale\": %g, "
+           "\"source_triangles\": %u, \"peak_rss_mb\": %.1f, \"warnings\": [",
+           tree.leaf_count, desc.pieces, tree.leaf_count, tree.node_count, tree.max_depth, ms,
+           st.leaf_triangles, tree.bond_count, st.open_nodes == 0 ? "true" : "false", volume_error,
+           st.max_child_rel_error, (unsigned long long)tree.desc.seed, tree.desc.texture_scale,
+           source_triangles, bk_peak_rss_mb());
+    if (short_of_pieces) print_json_string(shortfall);
+    fputs("]}\n", stdout);
   } else {
     printf("%s: %u fragments (%u nodes, depth %u) in %.1f ms\n", mesh_spec, tree.leaf_count, tree.node_count,
            tree.max_depth, ms);
@@ -157,8 +202,6 @@ int bk_cmd_fracture(int argc, char** argv) {
     if (out_path && status == 0) printf("  saved %s\n", out_path);
     if (obj_path && status == 0) printf("  exported %s\n", obj_path);
   }
-  if (status == 0 && st.open_nodes)
-    status = fail("some nodes are not watertight (this is a bug; please report it)");
   bk_mesh_tree_free(&tree);
   return status;
 }

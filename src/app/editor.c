@@ -12,18 +12,21 @@
 static const char* const editor_usage =
     "usage: breakables editor [--mesh NAME|PATH.obj] [--pieces N] [--seed S] [--texture-scale X]\n"
     "                         [--explode X] [--frames N] [--screenshot FILE.png] [--width W] [--height H]\n"
+    "                         [--max-memory MIB]\n"
     "\n"
     "Preview the fragments of a mesh and export them.\n"
     "\n"
     "options:\n"
     "  --mesh NAME|PATH.obj  cube, torus, eggshell, bunny, wall, slab, pillar or an OBJ (default: bunny)\n"
     "  --pieces N            fragments, 1..65536 (default: 64)\n"
-    "  --seed S              fracture seed (default: 3000)\n"
-    "  --texture-scale X     world size of one interior texture tile (default: 0.1)\n"
+    "  --seed S              fracture seed, 0..2147483647 (default: 3000)\n"
+    "  --texture-scale X     world size of one interior texture tile, 1e-6..1e6 (default: 0.1)\n"
     "  --explode X           pull fragments apart, 0..3 (default: 0)\n"
-    "  --frames N            run N frames, then exit with a one-line summary\n"
+    "  --frames N            run N frames, 1..10000000, then exit with a one-line summary\n"
     "  --screenshot FILE.png save the last frame\n"
-    "  --width W --height H  window size (default: 1280x720)\n"
+    "  --width W --height H  window size, each 64..8192 (default: 1280x720)\n"
+    "  --max-memory MIB      memory a fracture may use, 1..1073741824 MiB (default: the\n"
+    "                        available memory); a tree estimated to need more is refused\n"
     "  -h, --help            show this help\n"
     "\n"
     "controls: Alt + left drag = orbit, Alt + right drag = zoom, Shift + drag = explode,\n"
@@ -64,11 +67,11 @@ static bool rebuild(editor* e, bk_error* err) {
   }
   e->tree = tree;
   e->render_tree = bk_renderer_upload_tree(e->renderer, &e->tree);
-  bk_vec3 centre = bk_moments_to_mass(e->tree.nodes[0].moments).centroid;
+  bk_vec3 centre = bk_mesh_tree_mass(&e->tree, e->tree.nodes[0].moments).centroid;
   e->leaf_offsets = bk_alloc(sizeof(bk_vec3) * e->tree.leaf_count);
   for (uint32_t l = 0; l < e->tree.leaf_count; ++l)
     e->leaf_offsets[l] =
-        bk_v3_sub(bk_moments_to_mass(bk_mesh_tree_leaf(&e->tree, l)->moments).centroid, centre);
+        bk_v3_sub(bk_mesh_tree_mass(&e->tree, bk_mesh_tree_leaf(&e->tree, l)->moments).centroid, centre);
   e->target = centre;
   bk_aabb box = e->tree.nodes[0].bounds;
   e->distance = 2.2 * bk_v3_length(bk_v3_sub(box.max, box.min)) + 0.5;
@@ -154,24 +157,22 @@ int bk_cmd_editor(int argc, char** argv) {
     if (ok && strcmp(arg, "--mesh") == 0)
       snprintf(e->mesh, sizeof e->mesh, "%s", value);
     else if (ok && strcmp(arg, "--pieces") == 0)
-      ok = bk_parse_u64(value, 1, 65536, &number), e->pieces = (int)number;
-    else if (ok && strcmp(arg, "--seed") == 0)
-      ok = bk_parse_u64(value, 0, 2147483647, &number), e->seed = (int)number;
-    else if (ok && strcmp(arg, "--texture-scale") == 0)
-      ok = bk_parse_double(value, 0.0, 1e6, &e->texture_scale);
+      ok = bk_option_u64("editor", arg, value, 1, 65536, &number), e->pieces = (int)number;
+    else if (ok && strcmp(arg, "--seed") == 0) // the panel's seed is an int
+      ok = bk_option_u64("editor", arg, value, 0, 2147483647, &number), e->seed = (int)number;
+    else if (ok && strcmp(arg, "--texture-scale") == 0) // as in 'breakables fracture'
+      ok = bk_option_double("editor", arg, value, 1e-6, 1e6, &e->texture_scale);
+    else if (ok && strcmp(arg, "--max-memory") == 0)
+      ok = bk_app_parse_max_memory("editor", value);
     else if (ok && strcmp(arg, "--explode") == 0)
-      ok = bk_parse_double(value, -1e-9, 3.0, &e->explode);
+      ok = bk_option_double("editor", arg, value, 0.0, 3.0, &e->explode);
     else {
       fprintf(stderr,
               "breakables editor: unknown option or missing value '%s' (see 'breakables editor --help')\n",
               arg);
       return free(e), 2;
     }
-    if (!ok) {
-      fprintf(stderr, "breakables editor: bad value for %s: '%s' (see 'breakables editor --help')\n", arg,
-              value);
-      return free(e), 2;
-    }
+    if (!ok) return free(e), 2;
     ++i;
   }
   for (int i = 0; i < (int)(sizeof mesh_names / sizeof *mesh_names); ++i)

@@ -11,23 +11,26 @@
 static const char* const play_usage =
     "usage: breakables [play] [--scene NAME] [--pieces N] [--seed S] [--frames N] [--autofire K]\n"
     "                  [--screenshot FILE.png] [--width W] [--height H] [--hide-panel] [--overlay NAME]\n"
-    "                  [--volley V] [--benchmark]\n"
+    "                  [--volley V] [--benchmark] [--max-memory MIB]\n"
     "\n"
     "The demo game: shoot projectiles at breakable objects and tune them live.\n"
     "\n"
     "options:\n"
     "  --scene NAME          wall, eggshell, pillar, slab, bunny, torus, showcase (default: showcase)\n"
-    "  --pieces N            fragments per object (default: the scene's)\n"
-    "  --seed S              fracture seed (default: 3000)\n"
-    "  --frames N            run N frames, then exit with a one-line summary\n"
-    "  --autofire K          fire K projectiles at the scene's target at regular intervals\n"
-    "  --volley V            fire them within the first V frames (default: all N)\n"
+    "  --pieces N            fragments per object, 1..65536 (default: the scene's)\n"
+    "  --seed S              fracture seed, 0..18446744073709551615 (default: 3000)\n"
+    "  --frames N            run N frames, 1..10000000, then exit with a one-line summary\n"
+    "  --autofire K          fire K projectiles, 0..10000, at the scene's target at regular\n"
+    "                        intervals\n"
+    "  --volley V            fire them within the first V frames, 1..10000000 (default: all N)\n"
     "  --screenshot FILE.png save the last frame\n"
-    "  --width W --height H  window size (default: 1280x720)\n"
+    "  --width W --height H  window size, each 64..8192 (default: 1280x720)\n"
     "  --hide-panel          start with the tuning panel hidden (F1 shows it)\n"
     "  --overlay NAME        start with a debug overlay on: bonds, nodes or hulls (repeatable)\n"
     "  --benchmark           start the panel's runtime sweep (16..512 fragments, mesh tree against\n"
     "                        plain BCRB); a scripted run waits for it before its last frame\n"
+    "  --max-memory MIB      memory each fracture may use, 1..1073741824 MiB (default: the\n"
+    "                        available memory); a tree estimated to need more is refused\n"
     "  -h, --help            show this help\n"
     "\n"
     "controls: right mouse drag = look, W A S D Q E = move (Shift = fast), left click or\n"
@@ -233,8 +236,8 @@ static void draw_world(bk_game* g, double alpha) {
         const bk_bond* bond = &v.tree->bonds[b];
         double initial = 0.0, left = bk_world_bond_health(w, v.breakable, b, &initial);
         if (left <= 0.0 || bond->leaf_a < v.leaves[0] || bond->leaf_a > v.leaves[v.leaf_count - 1]) continue;
-        bk_vec3 a = bk_moments_to_mass(bk_mesh_tree_leaf(v.tree, bond->leaf_a)->moments).centroid;
-        bk_vec3 c = bk_moments_to_mass(bk_mesh_tree_leaf(v.tree, bond->leaf_b)->moments).centroid;
+        bk_vec3 a = bk_mesh_tree_mass(v.tree, bk_mesh_tree_leaf(v.tree, bond->leaf_a)->moments).centroid;
+        bk_vec3 c = bk_mesh_tree_mass(v.tree, bk_mesh_tree_leaf(v.tree, bond->leaf_b)->moments).centroid;
         float health = (float)(left / initial);
         const float color[4] = {1.0f - health, health, 0.1f, 0.9f};
         bk_renderer_draw_line(g->renderer, bk_transform_point(model, a), bk_transform_point(model, c), color);
@@ -292,22 +295,15 @@ int bk_cmd_play(int argc, char** argv) {
       }
     } else if (strcmp(arg, "--scene") == 0 && i + 1 < argc) {
       scene_name = argv[++i];
+    } else if (strcmp(arg, "--max-memory") == 0 && i + 1 < argc) {
+      if (!bk_app_parse_max_memory("play", argv[++i])) return free(g), 2;
     } else if (strcmp(arg, "--pieces") == 0 && i + 1 < argc) {
-      if (!bk_parse_u64(argv[++i], 1, 65536, &number)) {
-        fprintf(stderr, "breakables play: --pieces must be a whole number from 1 to 65536\n");
-        return free(g), 2;
-      }
+      if (!bk_option_u64("play", arg, argv[++i], 1, 65536, &number)) return free(g), 2;
       g->options.pieces = (uint32_t)number;
     } else if (strcmp(arg, "--volley") == 0 && i + 1 < argc) {
-      if (!bk_parse_u64(argv[++i], 1, 10000000, &volley)) {
-        fprintf(stderr, "breakables play: --volley must be a whole number from 1 to 10000000\n");
-        return free(g), 2;
-      }
+      if (!bk_option_u64("play", arg, argv[++i], 1, 10000000, &volley)) return free(g), 2;
     } else if (strcmp(arg, "--seed") == 0 && i + 1 < argc) {
-      if (!bk_parse_u64(argv[++i], 0, UINT64_MAX, &g->options.seed)) {
-        fprintf(stderr, "breakables play: --seed must be a whole number >= 0\n");
-        return free(g), 2;
-      }
+      if (!bk_option_u64("play", arg, argv[++i], 0, UINT64_MAX, &g->options.seed)) return free(g), 2;
     } else {
       fprintf(stderr,
               "breakables play: unknown option or missing value '%s' (see 'breakables play --help')\n", arg);

@@ -1,6 +1,8 @@
 // Mesh trees for the game and the simulator come from a cache directory, so
 // the next start with the same mesh and parameters skips fracturing.
 #include <errno.h>
+#include <stdatomic.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -8,30 +10,67 @@
 
 #include "app.h"
 
-static void cache_directory(char* out, size_t size) {
+// Every message about a cache file names it, and a bk_error holds 512 bytes:
+// paths up to this length leave room for the words and the reason around
+// them, so no message is cut. No real cache directory comes near it.
+enum { CACHE_PATH_MAX = sizeof(((bk_error*)0)->message) - 160 };
+
+// Where the cache file of one tree lives, and where that came from.
+typedef struct cache_location {
+  char dir[CACHE_PATH_MAX + 1];
+  char path[CACHE_PATH_MAX + 1];
+  const char* source; ///< the variable the directory came from, for messages
+} cache_location;
+
+// Forms the directory and the file's path; false when either would be longer
+// than CACHE_PATH_MAX (*needed gets the length it would have).
+static bool cache_location_form(cache_location* at, const char* mesh_spec, uint64_t hash,
+                                const bk_fracture_desc* desc, size_t* needed) {
   const char* explicit_dir = getenv("BREAKABLES_CACHE_DIR");
   const char* xdg = getenv("XDG_CACHE_HOME");
   const char* home = getenv("HOME");
-  if (explicit_dir && *explicit_dir)
-    snprintf(out, size, "%s", explicit_dir);
-  else if (xdg && *xdg)
-    snprintf(out, size, "%s/breakables", xdg);
-  else if (home && *home)
-    snprintf(out, size, "%s/.cache/breakables", home);
-  else
-    snprintf(out, size, "/tmp/breakables-cache");
+  int length = 0;
+  if (explicit_dir && *explicit_dir) {
+    at->source = "$BREAKABLES_CACHE_DIR";
+    length = snprintf(at->dir, sizeof at->dir, "%s", explicit_dir);
+  } else if (xdg && *xdg) {
+    at->source = "$XDG_CACHE_HOME";
+    length = snprintf(at->dir, sizeof at->dir, "%s/breakables", xdg);
+  } else if (home && *home) {
+    at->source = "$HOME";
+    length = snprintf(at->dir, sizeof at->dir, "%s/.cache/breakables", home);
+  } else {
+    at->source = "the default";
+    length = snprintf(at->dir, sizeof at->dir, "/tmp/breakables-cache");
+  }
+  const char* base = strrchr(mesh_spec, '/');
+  base = base ? base + 1 : mesh_spec;
+  int path_length = snprintf(at->path, sizeof at->path, "%s/%.64s-%016llx-%u-%llu.mtree", at->dir, base,
+                             (unsigned long long)hash, desc->pieces, (unsigned long long)desc->seed);
+  if (length < 0 || path_length < 0) {
+    *needed = SIZE_MAX;
+    return false;
+  }
+  // at->dir holds the directory's first CACHE_PATH_MAX bytes; the file's name follows it.
+  *needed = (size_t)path_length - strlen(at->dir) + (size_t)length;
+  return *needed <= CACHE_PATH_MAX;
 }
 
-static bool make_directories(const char* path) {
-  char buffer[4096];
-  snprintf(buffer, sizeof buffer, "%s", path);
-  for (char* p = buffer + 1; *p; ++p) {
-    if (*p != '/') continue;
+// Creates the directory and its parents; false with *code = errno and the
+// failing prefix in `failed` (the same size as `path`'s buffer).
+static bool make_directories(const char* path, char* failed, size_t failed_size, int* code) {
+  snprintf(failed, failed_size, "%s", path); // path is at most CACHE_PATH_MAX: it fits
+  for (char* p = failed + 1;; ++p) {
+    if (*p != '/' && *p != 0) continue;
+    char kept = *p;
     *p = 0;
-    if (mkdir(buffer, 0755) != 0 && errno != EEXIST) return false;
-    *p = '/';
+    if (mkdir(failed, 0755) != 0 && errno != EEXIST) {
+      *code = errno;
+      return false;
+    }
+    if (kept == 0) return true;
+    *p = kept;
   }
-  return mkdir(buffer, 0755) == 0 || errno == EEXIST;
 }
 
 static bool same_parameters(const bk_mesh_tree* tree, uint64_t hash, const bk_fracture_desc* d) {
@@ -39,6 +78,9 @@ static bool same_parameters(const bk_mesh_tree* tree, uint64_t hash, const bk_fr
          tree->desc.texture_scale == d->texture_scale && tree->desc.jitter == d->jitter &&
          tree->desc.aspect_bias == d->aspect_bias;
 }
+
+// A scene fractures several objects: say once, not once per object.
+static atomic_flag warned_path_too_long = ATOMIC_FLAG_INIT;
 
 bool bk_app_load_tree(const char* mesh_spec, double scale, const bk_fracture_desc* desc, bk_mesh_tree* out,
                       bool* from_cache, bk_error* err) {
@@ -49,29 +91,47 @@ bool bk_app_load_tree(const char* mesh_spec, double scale, const bk_fracture_des
     for (uint32_t i = 0; i < source.position_count; ++i)
       source.positions[i] = bk_v3_scale(source.positions[i], scale);
   uint64_t hash = bk_mesh_hash(&source);
-  char dir[4096], path[4400];
-  cache_directory(dir, sizeof dir);
-  const char* base = strrchr(mesh_spec, '/');
-  base = base ? base + 1 : mesh_spec;
-  snprintf(path, sizeof path, "%s/%.64s-%016llx-%u-%llu.mtree", dir, base, (unsigned long long)hash,
-           desc->pieces, (unsigned long long)desc->seed);
-  bk_error load_err = {0};
-  if (bk_mesh_tree_load(path, out, &load_err)) {
-    if (same_parameters(out, hash, desc)) {
-      bk_mesh_free(&source);
-      *from_cache = true;
-      return true;
+  cache_location at = {{0}};
+  size_t needed = 0;
+  bool cached = cache_location_form(&at, mesh_spec, hash, desc, &needed);
+  if (!cached && !atomic_flag_test_and_set(&warned_path_too_long))
+    fprintf(stderr,
+            "breakables: warning: not caching mesh trees: the cache file's path from %s would be %zu bytes "
+            "long, more than %d (set BREAKABLES_CACHE_DIR to a shorter directory)\n",
+            at.source, needed, (int)CACHE_PATH_MAX);
+
+  // Only an existing file is worth a warning when it cannot be loaded.
+  struct stat st = {0};
+  if (cached && stat(at.path, &st) == 0) {
+    bk_error load_err = {{0}};
+    if (bk_mesh_tree_load(at.path, out, &load_err)) {
+      if (same_parameters(out, hash, desc)) {
+        bk_mesh_free(&source);
+        *from_cache = true;
+        return true;
+      }
+      bk_mesh_tree_free(out);
+    } else {
+      fprintf(stderr, "breakables: warning: ignoring cache file: %s\n", load_err.message);
     }
-    bk_mesh_tree_free(out);
-  } else if (!strstr(load_err.message, "cannot open")) {
-    fprintf(stderr, "breakables: warning: ignoring cache file: %s\n", load_err.message);
+  }
+  if (!bk_app_check_fracture_memory(mesh_spec, &source, desc, cached, err)) {
+    bk_mesh_free(&source);
+    return false;
   }
   bool built = bk_mesh_tree_build(&source, desc, out, err);
   bk_mesh_free(&source);
-  if (!built) return false;
-  bk_error save_err = {0};
-  if (!make_directories(dir) || !bk_mesh_tree_save(out, path, &save_err))
-    fprintf(stderr, "breakables: warning: cannot cache the mesh tree in %s: %s\n", dir,
-            save_err.message[0] ? save_err.message : strerror(errno));
+  char shortfall[400];
+  if (built && bk_mesh_tree_shortfall_text(out, shortfall, sizeof shortfall))
+    fprintf(stderr, "breakables: warning: %s: %s\n", mesh_spec, shortfall);
+  if (!built || !cached) return built;
+  bk_error save_err = {{0}};
+  char failed[sizeof at.dir] = {0};
+  int code = 0;
+  if (!make_directories(at.dir, failed, sizeof failed, &code))
+    fprintf(stderr, "breakables: warning: not caching the mesh tree: cannot create directory %s: %s\n",
+            failed, strerror(code));
+  else if (!bk_mesh_tree_save(out, at.path, &save_err))
+    fprintf(stderr, "breakables: warning: not caching the mesh tree: %s\n", save_err.message);
   return true;
 }

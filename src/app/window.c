@@ -36,24 +36,15 @@ int bk_parse_window_option(const char* command, int argc, char** argv, int* i, b
   switch (which) {
   case 0:
   case 1:
-    if (!bk_parse_u64(value, 64, 8192, &number)) {
-      fprintf(stderr, "breakables %s: %s must be a whole number from 64 to 8192\n", command, arg);
-      return 2;
-    }
+    if (!bk_option_u64(command, arg, value, 64, 8192, &number)) return 2;
     *(which == 0 ? &o->width : &o->height) = (int)number;
     return 0;
   case 2:
-    if (!bk_parse_u64(value, 1, 10000000, &number)) {
-      fprintf(stderr, "breakables %s: --frames must be a whole number from 1 to 10000000\n", command);
-      return 2;
-    }
+    if (!bk_option_u64(command, arg, value, 1, 10000000, &number)) return 2;
     o->frames = (uint32_t)number;
     return 0;
   case 3:
-    if (!bk_parse_u64(value, 0, 10000, &number)) {
-      fprintf(stderr, "breakables %s: --autofire must be a whole number from 0 to 10000\n", command);
-      return 2;
-    }
+    if (!bk_option_u64(command, arg, value, 0, 10000, &number)) return 2;
     o->autofire = (uint32_t)number;
     return 0;
   default:

@@ -145,7 +145,7 @@ static void close_piece(scratch* s, uint32_t first) {
 // The outline of a group's triangles as one convex loop, if it is one.
 // Above-side caps face -n, so their loops are reversed to run CCW.
 static bool add_convex_outline(scratch* s, const bk_mesh* mesh, const cap_entry* entries, uint32_t count,
-                               bool flip, bk_vec3 u, bk_vec3 v) {
+                               bool flip, bk_vec3 origin, bk_vec3 u, bk_vec3 v) {
   enum { MAX_TRIANGLES = 32 };
   if (count > MAX_TRIANGLES) return false;
   uint32_t edge_count = 0;
@@ -170,10 +170,13 @@ static bool add_convex_outline(scratch* s, const bk_mesh* mesh, const cap_entry*
     out[2 * outline] = s->edges[2 * e], out[2 * outline + 1] = s->edges[2 * e + 1];
     outline++;
   }
+  // Every edge cancelled (triangles folded onto each other): the caps cover
+  // no area, so the group adds no piece.
+  if (outline < 3) return true;
   // Follow it from the first edge; it must be one loop using every edge.
   uint32_t first_point = s->point_count, used = 0, at = 0;
   for (;;) {
-    bk_vec3 p = mesh->positions[out[2 * at]];
+    bk_vec3 p = bk_v3_sub(mesh->positions[out[2 * at]], origin);
     add_point(s, bk_v3_dot(p, u), bk_v3_dot(p, v));
     used++;
     uint32_t next_vertex = out[2 * at + 1], next = UINT32_MAX;
@@ -210,11 +213,12 @@ static bool add_convex_outline(scratch* s, const bk_mesh* mesh, const cap_entry*
 }
 
 static void add_triangles(scratch* s, const bk_mesh* mesh, const cap_entry* entries, uint32_t count,
-                          bool flip, bk_vec3 u, bk_vec3 v) {
+                          bool flip, bk_vec3 origin, bk_vec3 u, bk_vec3 v) {
   for (uint32_t i = 0; i < count; ++i) {
     uint32_t first = s->point_count;
     for (uint32_t k = 0; k < 3; ++k) {
-      bk_vec3 p = mesh->positions[bk_mesh_tri_position(mesh, entries[i].triangle, flip ? 2 - k : k)];
+      bk_vec3 p = bk_v3_sub(
+          mesh->positions[bk_mesh_tri_position(mesh, entries[i].triangle, flip ? 2 - k : k)], origin);
       add_point(s, bk_v3_dot(p, u), bk_v3_dot(p, v));
     }
     close_piece(s, first);
@@ -274,7 +278,10 @@ void bk_mesh_tree_compute_bonds(bk_mesh_tree* tree) {
       entries[entry_count++] = (cap_entry){tag - 1, bk_v3_dot(e, n) > 0.0 ? 0u : 1u, leaf, t};
     }
   }
-  qsort(entries, entry_count, sizeof(cap_entry), compare_entries);
+  if (entry_count > 1) qsort(entries, entry_count, sizeof(cap_entry), compare_entries);
+  // Plane coordinates are taken relative to the tree's origin, so a mesh far
+  // from the world origin measures its contacts as precisely as one at it.
+  bk_vec3 origin = bk_mesh_tree_origin(tree);
 
   bk_aabb root_box = tree->nodes[0].bounds;
   bk_vec3 diag = bk_v3_sub(root_box.max, root_box.min);
@@ -302,8 +309,8 @@ void bk_mesh_tree_compute_bonds(bk_mesh_tree* tree) {
       const bk_mesh* mesh = &bk_mesh_tree_leaf(tree, entries[i].leaf)->mesh;
       bool flip = entries[i].side == 1;
       uint32_t first_piece = s.piece_count;
-      if (!add_convex_outline(&s, mesh, &entries[i], j - i, flip, u, v))
-        add_triangles(&s, mesh, &entries[i], j - i, flip, u, v);
+      if (!add_convex_outline(&s, mesh, &entries[i], j - i, flip, origin, u, v))
+        add_triangles(&s, mesh, &entries[i], j - i, flip, origin, u, v);
       leaf_group* g = &groups[group_count++];
       *g = (leaf_group){entries[i].leaf,
                         first_piece,
@@ -318,8 +325,9 @@ void bk_mesh_tree_compute_bonds(bk_mesh_tree* tree) {
     }
     // Sweep and prune along u: both sides sorted by min u; a group is tested
     // against the other side's groups still open at its start.
-    qsort(groups, below_groups, sizeof(leaf_group), compare_groups_by_min_x);
-    qsort(groups + below_groups, group_count - below_groups, sizeof(leaf_group), compare_groups_by_min_x);
+    if (below_groups > 1) qsort(groups, below_groups, sizeof(leaf_group), compare_groups_by_min_x);
+    if (group_count - below_groups > 1)
+      qsort(groups + below_groups, group_count - below_groups, sizeof(leaf_group), compare_groups_by_min_x);
     uint32_t next[2] = {0, below_groups}, end_of[2] = {below_groups, group_count};
     uint32_t active_count[2] = {0, 0};
     while (next[0] < end_of[0] || next[1] < end_of[1]) {
@@ -336,6 +344,9 @@ void bk_mesh_tree_compute_bonds(bk_mesh_tree* tree) {
         if (o->max[0] < g->min[0]) continue;
         other[kept++] = other[i];
         if (o->min[1] > g->max[1] || g->min[1] > o->max[1]) continue;
+        // A leaf on both sides of one cut (a shell that wraps round the cut,
+        // or a crafted file) touches itself there: that is no bond.
+        if (o->leaf == g->leaf) continue;
         const leaf_group* gb = side == 0 ? g : o;
         const leaf_group* ga = side == 0 ? o : g;
         double area = 0.0, cx = 0.0, cy = 0.0;
@@ -344,7 +355,8 @@ void bk_mesh_tree_compute_bonds(bk_mesh_tree* tree) {
             if (boxes_overlap(s.pieces[a].min, s.pieces[a].max, s.pieces[b].min, s.pieces[b].max))
               area += overlap(&s, &s.pieces[a], &s.pieces[b], &cx, &cy);
         if (area <= min_area) continue;
-        bk_vec3 centroid = bk_v3_add(bk_v3_scale(n, tree->nodes[cut].plane.offset),
+        double height = tree->nodes[cut].plane.offset - bk_v3_dot(n, origin);
+        bk_vec3 centroid = bk_v3_add(bk_v3_add(origin, bk_v3_scale(n, height)),
                                      bk_v3_add(bk_v3_scale(u, cx / area), bk_v3_scale(v, cy / area)));
         add_contact(&list, gb->leaf, ga->leaf, area, centroid, n);
       }
@@ -363,7 +375,7 @@ void bk_mesh_tree_compute_bonds(bk_mesh_tree* tree) {
   free(active[1]);
   free(entries);
   bk_index_map_free(&list.index_of_pair);
-  qsort(list.items, list.count, sizeof(bk_bond), compare_bonds);
+  if (list.count > 1) qsort(list.items, list.count, sizeof(bk_bond), compare_bonds);
   tree->bonds = list.items;
   tree->bond_count = list.count;
 }

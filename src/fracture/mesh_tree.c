@@ -2,12 +2,12 @@
 // fragments at the leaves. The largest leaf is split next, so pieces stay
 // even-sized instead of clustering (the thesis saw clusters of tiny pieces
 // from depth-first splitting).
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "cap.h"
-
-enum { MAX_SPLIT_ATTEMPTS = 8 };
+#include "tree_frame.h"
 
 bk_fracture_desc bk_default_fracture_desc(void) {
   return (bk_fracture_desc){.pieces = 256, .seed = 3000, .texture_scale = 0.1, .jitter = 0.05};
@@ -53,11 +53,53 @@ static uint32_t add_node(bk_mesh_tree* tree, uint32_t* capacity, bk_mesh* mesh, 
   return index;
 }
 
+typedef enum split_failure {
+  SPLIT_MISSED,
+  SPLIT_CAP_FAILED,
+  SPLIT_NOT_CLOSED,
+  SPLIT_VOLUME_CHANGED,
+} split_failure;
+
+static void free_pieces(bk_mesh* pieces, uint32_t count) {
+  for (uint32_t i = 0; i < count; ++i)
+    bk_mesh_free(&pieces[i]);
+  free(pieces);
+}
+
+// A cut holds when every piece is a closed solid and the pieces' volumes add
+// up to the whole's within 1e-11 of it. Rounding in cut points and
+// re-triangulated faces stays far below that (about 1e-15 on ordinary
+// pieces), while a cap that overlaps itself or a sliver whose sides crossed
+// after snapping to the plane is far above it. A tree is at most a few dozen
+// levels deep, so its leaves add up to the source within 1e-9.
+static bool pieces_hold(const bk_mesh_tree_node* node, const bk_mesh* pieces, uint32_t count,
+                        split_failure* why) {
+  double sum = 0.0;
+  for (uint32_t i = 0; i < count; ++i) {
+    if (!bk_mesh_is_closed(&pieces[i])) {
+      *why = SPLIT_NOT_CLOSED;
+      return false;
+    }
+    double v = bk_mesh_volume(&pieces[i]);
+    if (!(v > 0.0)) {
+      *why = SPLIT_VOLUME_CHANGED;
+      return false;
+    }
+    sum += v;
+  }
+  if (!(fabs(sum - node->moments.v) <= BK_FRACTURE_SPLIT_VOLUME_TOLERANCE * node->moments.v)) {
+    *why = SPLIT_VOLUME_CHANGED;
+    return false;
+  }
+  return true;
+}
+
 // Tries random planes through the centroid until one splits the node into
-// two non-empty sides with closed caps; returns the hulls of both sides.
+// pieces that hold (closed, volume kept); returns them, or 0 with *why set to
+// how the last attempt failed. Works in the tree's local frame.
 static uint32_t split_node(bk_slicer* slicer, bk_face_simplifier* simplifier, const bk_mesh_tree_node* node,
-                           uint32_t node_index, const bk_fracture_desc* d, bk_rng* rng, bk_plane* plane,
-                           bk_mesh** pieces) {
+                           uint32_t node_index, const bk_fracture_desc* d, const bk_tree_frame* frame,
+                           bk_rng* rng, bk_plane* plane, bk_mesh** pieces, split_failure* why) {
   bk_mass_properties mass = bk_moments_to_mass(node->moments);
   bk_vec3 size = bk_v3_sub(node->bounds.max, node->bounds.min);
   bk_vec3 longest = {0};
@@ -68,7 +110,8 @@ static uint32_t split_node(bk_slicer* slicer, bk_face_simplifier* simplifier, co
     int k = values[0] <= values[1] && values[0] <= values[2] ? 0 : (values[1] <= values[2] ? 1 : 2);
     longest = bk_v3(axes[0][k], axes[1][k], axes[2][k]);
   }
-  for (int attempt = 0; attempt < MAX_SPLIT_ATTEMPTS; ++attempt) {
+  *why = SPLIT_MISSED;
+  for (int attempt = 0; attempt < BK_FRACTURE_SPLIT_ATTEMPTS; ++attempt) {
     bk_vec3 n = bk_rng_direction(rng);
     if (d->aspect_bias > 0.0) {
       bk_vec3 tilt = bk_v3_scale(longest, bk_v3_dot(n, longest) < 0.0 ? -d->aspect_bias : d->aspect_bias);
@@ -78,28 +121,60 @@ static uint32_t split_node(bk_slicer* slicer, bk_face_simplifier* simplifier, co
     double extent = fabs(n.x) * size.x + fabs(n.y) * size.y + fabs(n.z) * size.z;
     double shift = d->jitter * extent * (bk_rng_unit(rng) - 0.5);
     *plane = (bk_plane){n, bk_v3_dot(n, mass.centroid) + shift};
+    // Cap uvs are world plane coordinates over the tile size; the local
+    // origin's own uv (whole tiles dropped) keeps them so.
+    bk_vec3 u, v;
+    bk_plane_basis(n, &u, &v);
+    double origin_u = bk_v3_dot(frame->origin, u) / d->texture_scale;
+    double origin_v = bk_v3_dot(frame->origin, v) / d->texture_scale;
     bk_slice_desc slice = {.plane = *plane,
                            .tolerance = 1e-9 * bk_v3_length(size),
-                           .texture_scale = d->texture_scale,
+                           .texture_scale = ldexp(d->texture_scale, -frame->exponent),
+                           .uv_origin = {origin_u - floor(origin_u), origin_v - floor(origin_v)},
                            .cap_tag = node_index + 1};
     bk_mesh below = {0}, above = {0};
-    if (!bk_slicer_slice(slicer, &node->mesh, &slice, &below, &above, NULL)) continue;
+    if (!bk_slicer_slice(slicer, &node->mesh, &slice, &below, &above, NULL)) {
+      *why = SPLIT_CAP_FAILED;
+      continue;
+    }
     if (below.triangle_count == 0 || above.triangle_count == 0) {
       bk_mesh_free(&below);
       bk_mesh_free(&above);
+      *why = SPLIT_MISSED;
       continue;
     }
     bk_mesh *below_hulls = NULL, *above_hulls = NULL;
     uint32_t below_count = bk_mesh_split_hulls(&below, &below_hulls);
     uint32_t above_count = bk_mesh_split_hulls(&above, &above_hulls);
-    *pieces = bk_realloc(below_hulls, sizeof(bk_mesh) * (below_count + above_count));
+    uint32_t count = below_count + above_count;
+    *pieces = bk_realloc(below_hulls, sizeof(bk_mesh) * count);
     memcpy(*pieces + below_count, above_hulls, sizeof(bk_mesh) * above_count);
     free(above_hulls);
-    for (uint32_t i = 0; i < below_count + above_count; ++i)
+    for (uint32_t i = 0; i < count; ++i)
       bk_face_simplifier_run(simplifier, &(*pieces)[i]);
-    return below_count + above_count;
+    if (pieces_hold(node, *pieces, count, why)) return count;
+    free_pieces(*pieces, count);
+    *pieces = NULL;
   }
   return 0;
+}
+
+static void count_shortfall(bk_fracture_shortfall* s, split_failure why) {
+  s->uncut++;
+  switch (why) {
+  case SPLIT_MISSED:
+    s->missed++;
+    break;
+  case SPLIT_CAP_FAILED:
+    s->cap_failed++;
+    break;
+  case SPLIT_NOT_CLOSED:
+    s->not_closed++;
+    break;
+  case SPLIT_VOLUME_CHANGED:
+    s->volume_changed++;
+    break;
+  }
 }
 
 // Leaves are numbered in depth-first order so each subtree is a contiguous range.
@@ -132,10 +207,9 @@ static void number_leaves(bk_mesh_tree* tree) {
   free(visited);
 }
 
-bool bk_mesh_tree_build(const bk_mesh* source, const bk_fracture_desc* desc_in, bk_mesh_tree* tree,
-                        bk_error* err) {
-  memset(tree, 0, sizeof *tree);
-  if (!bk_fracture_desc_validate(desc_in, err)) return false;
+// The source must have a size whose moments fit doubles, a volume, and cut
+// faces whose uvs floats can hold.
+static bool check_source(const bk_mesh* source, const bk_fracture_desc* d, bk_error* err) {
   if (!bk_mesh_validate(source, err)) return false;
   bk_closure closure = bk_mesh_check_closure(source);
   if (closure.open_edges || closure.overused_edges || closure.degenerate_edges)
@@ -143,19 +217,58 @@ bool bk_mesh_tree_build(const bk_mesh* source, const bk_fracture_desc* desc_in, 
                         "mesh is not watertight: %u open edges, %u edges used twice in one direction, %u "
                         "degenerate triangle edges",
                         closure.open_edges, closure.overused_edges, closure.degenerate_edges);
-  double volume = bk_mesh_volume(source);
-  if (!(volume > 0.0))
-    return bk_error_set(err, "mesh encloses no volume (signed volume %g): are its triangles wound inward?",
-                        volume);
+  bk_aabb box = bk_mesh_bounds(source);
+  bk_vec3 size = bk_v3_sub(box.max, box.min);
+  double largest = fmax(size.x, fmax(size.y, size.z));
+  if (!(largest >= BK_FRACTURE_MIN_SIZE && largest <= BK_FRACTURE_MAX_SIZE))
+    return bk_error_set(err,
+                        "mesh is %g across; fracture takes meshes %g to %g across (volume moments grow "
+                        "with size^5 and must fit double precision): scale it",
+                        largest, BK_FRACTURE_MIN_SIZE, BK_FRACTURE_MAX_SIZE);
+  if (largest / d->texture_scale > BK_FRACTURE_MAX_UV_TILES)
+    return bk_error_set(err,
+                        "texture_scale %g is too small for a mesh %g across: cut faces would span %.3g "
+                        "texture tiles (at most %g)",
+                        d->texture_scale, largest, largest / d->texture_scale, BK_FRACTURE_MAX_UV_TILES);
+  return true;
+}
 
+bool bk_mesh_tree_build(const bk_mesh* source, const bk_fracture_desc* desc_in, bk_mesh_tree* tree,
+                        bk_error* err) {
+  memset(tree, 0, sizeof *tree);
+  if (!bk_fracture_desc_validate(desc_in, err)) return false;
   bk_fracture_desc d = resolve_defaults(desc_in);
+  if (!check_source(source, &d, err)) return false;
+
+  // Everything is cut in the local frame (centred, about unit size) and moved
+  // back to the source's coordinates at the end.
+  bk_tree_frame frame = bk_tree_frame_of(bk_mesh_bounds(source));
+  bk_mesh root = {0};
+  bk_mesh_copy(&root, source);
+  bk_tree_frame_to_local(frame, &root);
+  double volume = bk_mesh_volume(&root);
+  if (!(volume > 0.0)) {
+    bk_mesh_free(&root);
+    return bk_error_set(err, "mesh encloses no volume (signed volume %g): are its triangles wound inward?",
+                        ldexp(volume, 3 * frame.exponent));
+  }
+  bk_aabb local_box = bk_mesh_bounds(&root);
+  double area = bk_mesh_area(&root), size = bk_v3_length(bk_v3_sub(local_box.max, local_box.min));
+  if (volume < BK_FRACTURE_MIN_THICKNESS * area * size) {
+    bk_mesh_free(&root);
+    return bk_error_set(err,
+                        "mesh encloses almost no volume (%g for a surface of area %g): is it flat, or a "
+                        "surface closed against its own back?",
+                        ldexp(volume, 3 * frame.exponent), ldexp(area, 2 * frame.exponent));
+  }
   bk_slicer* slicer = bk_slicer_create();
-  if (!slicer) return bk_error_set(err, "fracture: cannot create the cap tessellator");
+  if (!slicer) {
+    bk_mesh_free(&root);
+    return bk_error_set(err, "fracture: cannot create the cap tessellator");
+  }
   bk_face_simplifier* simplifier = bk_face_simplifier_create();
   bk_rng rng = bk_rng_seed(d.seed, 0x62726b62u);
   uint32_t capacity = 0;
-  bk_mesh root = {0};
-  bk_mesh_copy(&root, source);
   // Tags identify cuts of this tree and planar faces of the source, which
   // lets each piece's faces be re-triangulated over their true corners.
   bk_label_planar_faces(&root);
@@ -170,8 +283,13 @@ bool bk_mesh_tree_build(const bk_mesh* source, const bk_fracture_desc* desc_in, 
     uint32_t split = bk_heap_pop(&heap).value;
     bk_plane plane = {0};
     bk_mesh* pieces = NULL;
-    uint32_t count = split_node(slicer, simplifier, &tree->nodes[split], split, &d, &rng, &plane, &pieces);
-    if (count == 0) continue; // unsplittable (degenerate sliver): stays a leaf
+    split_failure why = SPLIT_MISSED;
+    uint32_t count =
+        split_node(slicer, simplifier, &tree->nodes[split], split, &d, &frame, &rng, &plane, &pieces, &why);
+    if (count == 0) { // no cut held: stays a leaf
+      count_shortfall(&tree->shortfall, why);
+      continue;
+    }
     uint32_t first = tree->node_count;
     for (uint32_t i = 0; i < count; ++i)
       add_node(tree, &capacity, &pieces[i], split);
@@ -195,12 +313,57 @@ bool bk_mesh_tree_build(const bk_mesh* source, const bk_fracture_desc* desc_in, 
     bk_mesh_tree_free(tree);
     return bk_error_set(err, "fracture cancelled");
   }
+  // Back to the source's coordinates; the root keeps the source's own.
+  for (uint32_t i = 0; i < tree->node_count; ++i) {
+    bk_mesh_tree_node* node = &tree->nodes[i];
+    if (i == 0)
+      memcpy(node->mesh.positions, source->positions, sizeof(bk_vec3) * source->position_count);
+    else
+      bk_tree_frame_to_world(frame, &node->mesh);
+    node->bounds = bk_mesh_bounds(&node->mesh);
+    node->moments = bk_tree_frame_moments_to_world(frame, node->moments);
+    if (node->child_count) node->plane = bk_tree_frame_plane_to_world(frame, node->plane);
+  }
   number_leaves(tree);
   tree->source_hash = bk_mesh_hash(source);
   d.progress = NULL;
   d.progress_user = NULL;
   tree->desc = d;
   bk_mesh_tree_compute_bonds(tree);
+  return true;
+}
+
+bk_vec3 bk_mesh_tree_origin(const bk_mesh_tree* tree) {
+  return tree->node_count ? bk_tree_frame_of(tree->nodes[0].bounds).origin : bk_v3(0, 0, 0);
+}
+
+bk_mass_properties bk_mesh_tree_mass(const bk_mesh_tree* tree, bk_moments moments) {
+  bk_mass_properties mass = bk_moments_to_mass(moments);
+  mass.centroid = bk_v3_add(mass.centroid, bk_mesh_tree_origin(tree));
+  return mass;
+}
+
+bool bk_mesh_tree_shortfall_text(const bk_mesh_tree* tree, char* text, size_t size) {
+  if (size) text[0] = 0;
+  if (tree->leaf_count >= tree->desc.pieces) return false;
+  const bk_fracture_shortfall* s = &tree->shortfall;
+  int n = snprintf(text, size, "made %u of the %u pieces asked for", tree->leaf_count, tree->desc.pieces);
+  if (s->uncut == 0) {
+    snprintf(text + n, size > (size_t)n ? size - (size_t)n : 0,
+             ": the tree was loaded from a cache file that does not record why");
+    return true;
+  }
+  const char* most = "no plane cut through them (thinner than the cut tolerance)";
+  uint32_t top = s->missed;
+  if (s->cap_failed > top)
+    top = s->cap_failed,
+    most = "their cross-sections could not be closed (overlapping or self-intersecting shells?)";
+  if (s->not_closed > top) top = s->not_closed, most = "cutting them left open pieces";
+  if (s->volume_changed > top)
+    top = s->volume_changed, most = "their cut pieces did not keep the volume (slivers too thin to cut?)";
+  snprintf(text + n, size > (size_t)n ? size - (size_t)n : 0,
+           ": %u piece%s could not be cut in %d tries each (%u of them because %s)", s->uncut,
+           s->uncut == 1 ? "" : "s", BK_FRACTURE_SPLIT_ATTEMPTS, top, most);
   return true;
 }
 

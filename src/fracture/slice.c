@@ -337,7 +337,7 @@ static uint32_t localize(bk_slicer* s, const bk_mesh* m, int side, bk_vec3 u, bk
 
 static void add_cap(bk_slicer* s, const bk_mesh* m, bk_mesh* out, int side, const uint32_t* tris,
                     uint32_t tri_count, uint32_t local_count, bool reversed, bk_vec3 n, bk_vec3 u,
-                    double texture_scale, uint32_t tag) {
+                    const bk_slice_desc* desc, double texture_scale) {
   // One corner per cap vertex: flat normal, planar uv, tangent along u. The
   // same uv on both faces of a crack makes the two halves' textures match.
   float sign = side == BELOW ? 1.0f : -1.0f;
@@ -347,8 +347,8 @@ static void add_cap(bk_slicer* s, const bk_mesh* m, bk_mesh* out, int side, cons
     bk_corner c = {0};
     c.position = side_position(s, m, out, side, s->global_of_local[i]);
     c.normal[0] = sign * (float)n.x, c.normal[1] = sign * (float)n.y, c.normal[2] = sign * (float)n.z;
-    c.uv[0] = (float)(s->xy[2 * i] / texture_scale);
-    c.uv[1] = (float)(s->xy[2 * i + 1] / texture_scale);
+    c.uv[0] = (float)(s->xy[2 * i] / texture_scale + desc->uv_origin[0]);
+    c.uv[1] = (float)(s->xy[2 * i + 1] / texture_scale + desc->uv_origin[1]);
     c.tangent[0] = (float)u.x, c.tangent[1] = (float)u.y, c.tangent[2] = (float)u.z;
     c.tangent[3] = sign; // bitangent = v = n x u below; mirrored above
     bk_mesh_add_corner(out, &c);
@@ -356,9 +356,11 @@ static void add_cap(bk_slicer* s, const bk_mesh* m, bk_mesh* out, int side, cons
   for (uint32_t t = 0; t < tri_count; ++t) {
     const uint32_t* tri = &tris[3 * t];
     if (reversed)
-      bk_mesh_add_triangle(out, first + tri[0], first + tri[2], first + tri[1], BK_MATERIAL_INTERIOR, tag);
+      bk_mesh_add_triangle(out, first + tri[0], first + tri[2], first + tri[1], BK_MATERIAL_INTERIOR,
+                           desc->cap_tag);
     else
-      bk_mesh_add_triangle(out, first + tri[0], first + tri[1], first + tri[2], BK_MATERIAL_INTERIOR, tag);
+      bk_mesh_add_triangle(out, first + tri[0], first + tri[1], first + tri[2], BK_MATERIAL_INTERIOR,
+                           desc->cap_tag);
   }
 }
 
@@ -409,12 +411,11 @@ bool bk_slicer_slice(bk_slicer* s, const bk_mesh* m, const bk_slice_desc* desc, 
       bk_mesh_free(above);
       return false;
     }
-    add_cap(s, m, out[side], side, tris, tri_count, local_count, false, n, u, texture_scale, desc->cap_tag);
+    add_cap(s, m, out[side], side, tris, tri_count, local_count, false, n, u, desc, texture_scale);
     if (mirror) {
       // The other side's boundary is this one reversed: reuse the
       // triangulation (identical cap surfaces keep volumes additive exactly).
-      add_cap(s, m, out[1 - side], 1 - side, tris, tri_count, local_count, true, n, u, texture_scale,
-              desc->cap_tag);
+      add_cap(s, m, out[1 - side], 1 - side, tris, tri_count, local_count, true, n, u, desc, texture_scale);
       break;
     }
   }

@@ -16,6 +16,8 @@
 //            leaf_count x u32 leaf_nodes
 //            bond_count x { u32 leaf_a, leaf_b | f64 area | f64 centroid[3] | f64 normal[3] }
 // Floats are stored as their IEEE-754 bits, so a round trip is bit-exact.
+// Version 3: node moments are taken about bk_mesh_tree_origin (version 2 took
+// them about the world origin, which loses all precision far from it).
 #include <inttypes.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -189,7 +191,20 @@ static bool check_tree(const bk_mesh_tree* t, bk_error* why) {
     if (!aabb_finite(n->bounds) || !moments_finite(&n->moments) || !bk_v3_is_finite(n->plane.normal) ||
         !isfinite(n->plane.offset))
       return bk_error_set(why, "node %u has a non-finite bound, moment or plane", i);
+    // Bounds are derived from the mesh (the tree's origin from the root's),
+    // and a split plane's normal is a unit vector (bonds take it as theirs).
+    bk_aabb box = bk_mesh_bounds(&n->mesh);
+    if (memcmp(&box, &n->bounds, sizeof box) != 0)
+      return bk_error_set(why, "node %u: its stored bounds are not its mesh's", i);
+    if (n->child_count && !(fabs(bk_v3_length(n->plane.normal) - 1.0) <= 1e-9))
+      return bk_error_set(why, "node %u: its split plane's normal has length %.17g, not 1", i,
+                          bk_v3_length(n->plane.normal));
     if (i == 0) {
+      bk_vec3 size = bk_v3_sub(box.max, box.min);
+      double largest = fmax(size.x, fmax(size.y, size.z));
+      if (!(largest >= BK_FRACTURE_MIN_SIZE && largest <= BK_FRACTURE_MAX_SIZE))
+        return bk_error_set(why, "the source is %g across (%g to %g allowed)", largest, BK_FRACTURE_MIN_SIZE,
+                            BK_FRACTURE_MAX_SIZE);
       if (n->parent != BK_NULL_INDEX || n->depth != 0)
         return bk_error_set(why, "the root has parent %u and depth %u", n->parent, n->depth);
       if (n->leaf_begin != 0 || n->leaf_end != t->leaf_count)
@@ -260,10 +275,10 @@ static const bk_atomic_messages mtree_write_messages = {"cannot write", "cannot 
 
 static bool write_file(const char* path, const uint8_t* data, size_t size, bk_error* err) {
   // Write beside the target and rename over it, so an existing file is never half-overwritten.
-  FILE* f = bk_file_begin_atomic(path, &mtree_write_messages, err);
-  if (!f) return false;
-  fwrite(data, 1, size, f); // a short write leaves the stream in error, which commit reports
-  return bk_file_commit_atomic(f, path, &mtree_write_messages, err);
+  bk_atomic_file file = {0};
+  if (!bk_file_begin_atomic(path, &mtree_write_messages, &file, err)) return false;
+  fwrite(data, 1, size, file.stream); // a short write leaves the stream in error, which commit reports
+  return bk_file_commit_atomic(&file, path, &mtree_write_messages, err);
 }
 
 bool bk_mesh_tree_save(const bk_mesh_tree* tree, const char* path, bk_error* err) {

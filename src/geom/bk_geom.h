@@ -263,14 +263,25 @@ typedef struct bk_atomic_messages {
   const char* rename_failed; ///< the temporary could not replace the target
 } bk_atomic_messages;
 
-/// Starts replacing `path` atomically: opens "<path>.tmp" for writing. Readers
-/// see either the old file or the complete new one, never a partial write.
-/// Returns NULL (err filled) on failure.
-FILE* bk_file_begin_atomic(const char* path, const bk_atomic_messages* messages, bk_error* err);
+/// A file being written beside its target, to replace the target atomically.
+typedef struct bk_atomic_file {
+  FILE* stream;   ///< write the new contents here
+  char* tmp_path; ///< the temporary's name (owned; released by bk_file_commit_atomic)
+} bk_atomic_file;
+
+/// Starts replacing `path` atomically: creates a temporary file with a new,
+/// unique name in the same directory, exclusively (a file or symlink already
+/// there is never opened or followed), with the permissions a new file gets
+/// (0666 less the umask). Readers see either the old file or the complete new
+/// one, never a partial write, and concurrent writers never share a
+/// temporary. Returns false (err filled, nothing created) on failure.
+bool bk_file_begin_atomic(const char* path, const bk_atomic_messages* messages, bk_atomic_file* out,
+                          bk_error* err);
 /// Finishes a write begun by bk_file_begin_atomic: checks the stream, flushes,
-/// syncs, closes and renames over `path`. Always consumes f; on any failure
-/// the temporary is removed and the target left as it was.
-bool bk_file_commit_atomic(FILE* f, const char* path, const bk_atomic_messages* messages, bk_error* err);
+/// syncs, closes and renames over `path`. Always consumes the file; on any
+/// failure the temporary is removed and the target left as it was.
+bool bk_file_commit_atomic(bk_atomic_file* file, const char* path, const bk_atomic_messages* messages,
+                           bk_error* err);
 
 #ifdef __cplusplus
 }

@@ -1,9 +1,12 @@
 // Whole-file reading and atomic replacement, shared by the OBJ and mesh-tree
 // cache code so both get the same size limit handling and crash safety.
 #include <errno.h>
+#include <fcntl.h>
+#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "bk_geom.h"
@@ -48,29 +51,77 @@ bool bk_file_read(const char* path, uint64_t max_bytes, const char* limit_text, 
 }
 
 // The temporary lives beside the target so the final rename stays within one
-// file system and is atomic.
-static char* tmp_path(const char* path) {
-  size_t path_length = strlen(path);
-  char* tmp = bk_alloc(path_length + 5);
-  memcpy(tmp, path, path_length);
-  memcpy(tmp + path_length, ".tmp", 5);
+// file system and is atomic. Its name is unique and it is created with
+// O_CREAT | O_EXCL, so a file or symlink already there (planted, or another
+// process's temporary) is never opened, followed or truncated: we pick another
+// name instead. open() applies the umask (and any default ACL) to 0666, so the
+// result has the permissions any new file would get.
+enum {
+  ATOMIC_NAME_ATTEMPTS = 64,
+  ATOMIC_BASE_MAX = 200, // bytes of the target's name kept in the temporary's (NAME_MAX is 255)
+  ATOMIC_SUFFIX_CHARS = 12,
+};
+
+static atomic_uint_fast64_t atomic_name_counter;
+
+static uint64_t mix64(uint64_t x) {
+  x += 0x9e3779b97f4a7c15ull;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+  return x ^ (x >> 31);
+}
+
+// Writes "<dir>/<base, at most ATOMIC_BASE_MAX bytes>.<12 random characters>.tmp" into a fresh buffer.
+static char* unique_tmp_path(const char* path) {
+  struct timespec now = {0};
+  clock_gettime(CLOCK_REALTIME, &now);
+  uint64_t bits = mix64((uint64_t)getpid() ^ ((uint64_t)now.tv_nsec << 20) ^ (uint64_t)now.tv_sec ^
+                        mix64(atomic_fetch_add(&atomic_name_counter, 1) + (uint64_t)(uintptr_t)&now));
+  const char* slash = strrchr(path, '/');
+  size_t dir_length = slash ? (size_t)(slash - path) + 1 : 0;
+  size_t base_length = strlen(path + dir_length);
+  if (base_length > ATOMIC_BASE_MAX) base_length = ATOMIC_BASE_MAX;
+  char* tmp = bk_alloc(dir_length + base_length + 1 + ATOMIC_SUFFIX_CHARS + 5);
+  memcpy(tmp, path, dir_length + base_length);
+  char* p = tmp + dir_length + base_length;
+  *p++ = '.';
+  for (int i = 0; i < ATOMIC_SUFFIX_CHARS; ++i, bits >>= 5)
+    *p++ = "abcdefghijklmnopqrstuvwxyz234567"[bits & 31];
+  memcpy(p, ".tmp", 5);
   return tmp;
 }
 
-FILE* bk_file_begin_atomic(const char* path, const bk_atomic_messages* messages, bk_error* err) {
-  char* tmp = tmp_path(path);
-  FILE* f = fopen(tmp, "wb");
-  int code = errno;
-  free(tmp);
-  if (!f) {
-    bk_error_set(err, "%s: %s: %s", path, messages->open_failed, strerror(code));
-    return NULL;
+bool bk_file_begin_atomic(const char* path, const bk_atomic_messages* messages, bk_atomic_file* out,
+                          bk_error* err) {
+  out->stream = NULL;
+  out->tmp_path = NULL;
+  int code = EEXIST;
+  for (int attempt = 0; attempt < ATOMIC_NAME_ATTEMPTS && code == EEXIST; ++attempt) {
+    char* tmp = unique_tmp_path(path);
+    int fd = open(tmp, O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
+    code = fd < 0 ? errno : 0;
+    if (fd >= 0) {
+      out->stream = fdopen(fd, "wb");
+      if (out->stream) {
+        out->tmp_path = tmp;
+        errno = 0; // so a stream error reported without errno is not blamed on an older failure
+        return true;
+      }
+      code = errno;
+      close(fd);
+      unlink(tmp);
+    }
+    free(tmp);
   }
-  errno = 0; // so a stream error reported without errno is not blamed on an older failure
-  return f;
+  return bk_error_set(err, "%s: %s: %s", path, messages->open_failed, strerror(code));
 }
 
-bool bk_file_commit_atomic(FILE* f, const char* path, const bk_atomic_messages* messages, bk_error* err) {
+bool bk_file_commit_atomic(bk_atomic_file* file, const char* path, const bk_atomic_messages* messages,
+                           bk_error* err) {
+  FILE* f = file->stream;
+  char* tmp = file->tmp_path;
+  file->stream = NULL;
+  file->tmp_path = NULL;
   // A failed write has already set errno; checking ferror first keeps that
   // cause instead of whatever the flush reports afterwards.
   int code = 0;
@@ -78,15 +129,14 @@ bool bk_file_commit_atomic(FILE* f, const char* path, const bk_atomic_messages* 
   // Sync before the rename so a crash cannot leave a renamed but empty file.
   if (code == 0 && fsync(fileno(f)) != 0) code = errno;
   if (fclose(f) != 0 && code == 0) code = errno ? errno : EIO;
-  char* tmp = tmp_path(path);
   if (code != 0) {
-    remove(tmp);
+    unlink(tmp);
     free(tmp);
     return bk_error_set(err, "%s: %s: %s", path, messages->write_failed, strerror(code));
   }
   if (rename(tmp, path) != 0) {
     code = errno;
-    remove(tmp);
+    unlink(tmp);
     free(tmp);
     return bk_error_set(err, "%s: %s: %s", path, messages->rename_failed, strerror(code));
   }

@@ -42,8 +42,9 @@ bool bk_obj_save(const char* path, const bk_mesh* meshes, uint32_t mesh_count, b
   // Write beside the target and rename over it, so an existing file is never half-overwritten.
   static const bk_atomic_messages messages = {"cannot open for writing", "write failed",
                                               "cannot replace file"};
-  FILE* f = bk_file_begin_atomic(path, &messages, err);
-  if (!f) return false;
+  bk_atomic_file file = {0};
+  if (!bk_file_begin_atomic(path, &messages, &file, err)) return false;
+  FILE* f = file.stream;
 
   uint64_t positions = 0, corners = 0, triangles = 0;
   for (uint32_t i = 0; i < mesh_count; ++i) {
@@ -59,5 +60,5 @@ bool bk_obj_save(const char* path, const bk_mesh* meshes, uint32_t mesh_count, b
     corners += meshes[i].corner_count;
   }
   // fprintf failures are sticky in the stream; commit checks them.
-  return bk_file_commit_atomic(f, path, &messages, err);
+  return bk_file_commit_atomic(&file, path, &messages, err);
 }

@@ -49,7 +49,7 @@ void bk_cluster_mass(const bk_world* w, const cluster* c, double* mass, bk_trans
   bk_moments sum = {0};
   for (uint32_t i = 0; i < c->node_count; ++i)
     sum = bk_moments_add(sum, b->tree->nodes[c->nodes[i]].moments);
-  bk_mass_properties mp = bk_moments_to_mass(sum);
+  bk_mass_properties mp = bk_mesh_tree_mass(b->tree, sum);
   double values[3], axes[3][3];
   bk_sym3_eigen(mp.inertia, values, axes);
   *mass = b->density * mp.volume;
@@ -64,7 +64,7 @@ void bk_cluster_mass(const bk_world* w, const cluster* c, double* mass, bk_trans
 static bk_shape_id node_body_hull(bk_world* w, breakable* b, uint32_t node) {
   if (bk_shape_is_null(b->node_body_hull[node])) {
     bk_moments moments = b->tree->nodes[node].moments;
-    bk_mass_properties mp = bk_moments_to_mass(moments);
+    bk_mass_properties mp = bk_mesh_tree_mass(b->tree, moments);
     double values[3], axes[3][3];
     bk_sym3_eigen(mp.inertia, values, axes);
     bk_transform to_body = bk_transform_inverse((bk_transform){mp.centroid, bk_quat_from_matrix(axes)});

@@ -195,13 +195,17 @@ bool bk_ui_checkbox(const char* label, bool* value) {
 bool bk_ui_slider_double(const char* label, double* value, double min, double max, const char* format,
                          bool logarithmic) {
   if (!in_frame() || value == nullptr) return false;
-  ImGuiSliderFlags flags = logarithmic ? ImGuiSliderFlags_Logarithmic : ImGuiSliderFlags_None;
+  // AlwaysClamp: a value typed with Ctrl+click stays within the slider's
+  // range too (the ranges are what keeps the simulation and the uvs finite).
+  ImGuiSliderFlags flags = ImGuiSliderFlags_AlwaysClamp;
+  if (logarithmic) flags |= ImGuiSliderFlags_Logarithmic;
   return ImGui::SliderScalar(label, ImGuiDataType_Double, value, &min, &max,
                              format != nullptr ? format : "%.3f", flags);
 }
 
 bool bk_ui_slider_int(const char* label, int* value, int min, int max) {
-  return in_frame() && value != nullptr && ImGui::SliderInt(label, value, min, max);
+  return in_frame() && value != nullptr &&
+         ImGui::SliderInt(label, value, min, max, "%d", ImGuiSliderFlags_AlwaysClamp);
 }
 
 bool bk_ui_combo(const char* label, int* current, const char* const* items, int count) {

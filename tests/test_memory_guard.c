@@ -1,0 +1,256 @@
+// The memory guard: the estimate of a fracture's memory is a real upper
+// bound of what it uses, and the commands refuse (in one line, before
+// building) a request over the limit that --max-memory sets, and let it
+// through when the limit is raised.
+#include <math.h>
+#include <stdbool.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+
+#include "bk_fracture.h"
+#include "ensure.h"
+
+// Sanitizers multiply the memory a process uses (shadow memory, redzones, a
+// quarantine of freed blocks), so measured peaks say nothing about the model there.
+#if defined(__SANITIZE_ADDRESS__)
+#define UNDER_SANITIZER 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define UNDER_SANITIZER 1
+#endif
+#endif
+#ifndef UNDER_SANITIZER
+#define UNDER_SANITIZER 0
+#endif
+
+#define STDERR_PATH BK_TEST_TMP "/memory_guard_stderr.txt"
+
+typedef struct run_result {
+  int status;
+  char out[1 << 14];
+  char err[1 << 14];
+} run_result;
+
+static run_result result;
+
+static run_result* run(const char* args) {
+  char command[2048] = {0};
+  snprintf(command, sizeof command, "'%s' %s 2>'%s'", BK_BREAKABLES_EXE, args, STDERR_PATH);
+  FILE* pipe = popen(command, "r");
+  ENSURE(pipe != NULL);
+  size_t n = fread(result.out, 1, sizeof result.out - 1, pipe);
+  result.out[n] = 0;
+  int status = pclose(pipe);
+  result.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  FILE* err = fopen(STDERR_PATH, "rb");
+  ENSURE(err != NULL);
+  n = fread(result.err, 1, sizeof result.err - 1, err);
+  result.err[n] = 0;
+  fclose(err);
+  return &result;
+}
+
+static int count_lines(const char* text) {
+  int lines = 0;
+  for (const char* p = text; *p; ++p)
+    lines += *p == '\n';
+  return lines;
+}
+
+// Bytes the built tree itself holds on the heap: a lower bound of the
+// build's peak that sanitizers do not change.
+static uint64_t tree_bytes(const bk_mesh_tree* tree) {
+  uint64_t bytes = (uint64_t)tree->node_count * sizeof(bk_mesh_tree_node) +
+                   (uint64_t)tree->leaf_count * sizeof(uint32_t) +
+                   (uint64_t)tree->bond_count * sizeof(bk_bond);
+  for (uint32_t i = 0; i < tree->node_count; ++i) {
+    const bk_mesh* m = &tree->nodes[i].mesh;
+    bytes += (uint64_t)m->position_count * sizeof(bk_vec3) + (uint64_t)m->corner_count * sizeof(bk_corner) +
+             (uint64_t)m->triangle_count * (3 * sizeof(uint32_t) + 1 + sizeof(uint32_t));
+  }
+  return bytes;
+}
+
+// Peak resident memory of `breakables fracture` building the tree (a fresh
+// process, so nothing of this one's heap is counted).
+static uint64_t measured_peak_bytes(const char* name, uint32_t pieces) {
+  char args[256] = {0};
+  snprintf(args, sizeof args, "fracture --mesh %s --pieces %u --json", name, pieces);
+  run_result* r = run(args);
+  ENSURE_MSG(r->status == 0, "%s: %s", args, r->err);
+  const char* at = strstr(r->out, "\"peak_rss_mb\": ");
+  ENSURE_MSG(at != NULL, "%s", r->out);
+  return (uint64_t)(strtod(at + strlen("\"peak_rss_mb\": "), NULL) * 1048576.0);
+}
+
+// The estimate is above what the built tree holds (and at most max_over_held
+// times that, unless 0), and, without a sanitizer, above the peak measured
+// by `breakables fracture` by less than 1.6 times.
+static void check_estimate(const char* name, const bk_mesh* source, uint32_t pieces, double max_over_held) {
+  bk_fracture_desc desc = bk_default_fracture_desc();
+  desc.pieces = pieces;
+  uint64_t estimate = bk_mesh_tree_estimate_bytes(source, &desc);
+  bk_mesh_tree tree = {0};
+  bk_error err = {{0}};
+  ENSURE_MSG(bk_mesh_tree_build(source, &desc, &tree, &err), "%s", err.message);
+  uint64_t held = tree_bytes(&tree);
+  printf("  %s, %u pieces: estimate %.1f MiB, tree holds %.1f MiB", name, pieces, estimate / 1048576.0,
+         held / 1048576.0);
+  ENSURE_MSG(estimate >= held, "the estimate is below what the tree alone holds");
+  ENSURE_MSG(max_over_held == 0.0 || estimate <= max_over_held * held,
+             "the estimate is more than %g times what the tree holds", max_over_held);
+  if (!UNDER_SANITIZER) {
+    uint64_t peak = measured_peak_bytes(name, pieces);
+    printf(", measured peak %.1f MiB (estimate / peak = %.2f)", peak / 1048576.0, (double)estimate / peak);
+    ENSURE_MSG(estimate >= peak, "the estimate is below the measured peak");
+    ENSURE_MSG(estimate <= 1.6 * peak, "the estimate is more than 1.6 times the measured peak");
+  }
+  printf("\n");
+
+  // The saved file: the estimate is above its size, by less than 1.5 times.
+  const char* path = BK_TEST_TMP "/memory_guard.mtree";
+  ENSURE_MSG(bk_mesh_tree_save(&tree, path, &err), "%s", err.message);
+  FILE* f = fopen(path, "rb");
+  ENSURE(f != NULL && fseek(f, 0, SEEK_END) == 0);
+  uint64_t file_size = (uint64_t)ftell(f);
+  fclose(f);
+  remove(path);
+  uint64_t file_estimate = bk_mesh_tree_estimate_file_bytes(source, &desc);
+  ENSURE_MSG(file_estimate >= file_size && file_estimate <= 1.5 * file_size,
+             "file estimate %llu bytes, file %llu bytes", (unsigned long long)file_estimate,
+             (unsigned long long)file_size);
+  bk_mesh_tree_free(&tree);
+}
+
+static void test_estimate(void) {
+  bk_mesh cube = {0}, bunny = {0};
+  bk_shape_build(BK_SHAPE_CUBE, &cube);
+  bk_error err = {{0}};
+  ENSURE_MSG(bk_obj_load(BK_ASSET_DIR "/meshes/bunny.obj", &bunny, &err), "%s", err.message);
+  ENSURE(bunny.triangle_count == 3674); // the mesh `breakables fracture --mesh bunny` fractures
+  check_estimate("cube", &cube, 4096, 4.0);
+  check_estimate("bunny", &bunny, 2048, 4.0);
+
+  // It grows with the pieces and with the source's triangles; NULL and 0 mean the default.
+  bk_fracture_desc small = {.pieces = 1024}, large = {.pieces = 1u << 20};
+  ENSURE(bk_mesh_tree_estimate_bytes(&cube, &large) > 256 * bk_mesh_tree_estimate_bytes(&cube, &small));
+  ENSURE(bk_mesh_tree_estimate_bytes(&bunny, &small) > bk_mesh_tree_estimate_bytes(&cube, &small));
+  // The measured 8.3 GB of a cube into 1,048,576 pieces is covered.
+  ENSURE(bk_mesh_tree_estimate_bytes(&cube, &large) > 8300000000ull);
+  bk_fracture_desc defaults = bk_default_fracture_desc();
+  ENSURE(bk_mesh_tree_estimate_bytes(&cube, NULL) == bk_mesh_tree_estimate_bytes(&cube, &defaults));
+  bk_mesh_free(&cube);
+  bk_mesh_free(&bunny);
+}
+
+// A sphere of 8 n^2 triangles: the octahedron's faces, each a grid of n^2
+// triangles pushed onto the unit sphere. Points on shared edges come from the
+// same integer coordinates, so they are bit-identical and the reader welds them.
+static void write_sphere_obj(const char* path, int n) {
+  FILE* f = fopen(path, "wb");
+  ENSURE(f != NULL);
+  int vertices = 0;
+  for (int octant = 0; octant < 8; ++octant) {
+    double sign[3] = {octant & 1 ? -1.0 : 1.0, octant & 2 ? -1.0 : 1.0, octant & 4 ? -1.0 : 1.0};
+    // An odd number of mirrored axes turns the face inside out.
+    bool flip = ((octant & 1) != 0) ^ ((octant & 2) != 0) ^ ((octant & 4) != 0);
+    int first = vertices + 1;
+    for (int i = 0; i <= n; ++i)
+      for (int j = 0; i + j <= n; ++j) {
+        double p[3] = {sign[0] * i, sign[1] * j, sign[2] * (n - i - j)};
+        double length = sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+        fprintf(f, "v %.17g %.17g %.17g\n", p[0] / length, p[1] / length, p[2] / length);
+        ++vertices;
+      }
+      // Index of grid point (i, j): rows of n + 1 - i points.
+#define GRID(i, j) (first + (i) * (n + 1) - (i) * ((i)-1) / 2 + (j))
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; i + j < n; ++j) {
+        int a = GRID(i, j), b = GRID(i + 1, j), c = GRID(i, j + 1);
+        fprintf(f, flip ? "f %d %d %d\n" : "f %d %d %d\n", a, flip ? c : b, flip ? b : c);
+        if (i + j < n - 1) {
+          int d = GRID(i + 1, j + 1);
+          fprintf(f, "f %d %d %d\n", b, flip ? c : d, flip ? d : c);
+        }
+      }
+#undef GRID
+  }
+  ENSURE(fclose(f) == 0);
+}
+
+// A large source cut into few pieces: the first cut's working set (a copy of
+// the whole source being sliced and capped) is the peak, not the tree.
+static void test_estimate_large_source(void) {
+  const char* path = BK_TEST_TMP "/memory_guard_sphere.obj";
+  write_sphere_obj(path, 100);
+  bk_mesh sphere = {0};
+  bk_error err = {{0}};
+  ENSURE_MSG(bk_obj_load(path, &sphere, &err), "%s", err.message);
+  ENSURE_MSG(sphere.triangle_count == 80000 && sphere.position_count == 40002, "%u triangles, %u positions",
+             sphere.triangle_count, sphere.position_count);
+  // The tree is a small part of that peak: no upper bound from it.
+  check_estimate(path, &sphere, 2, 0.0);
+  check_estimate(path, &sphere, 16, 0.0);
+  bk_mesh_free(&sphere);
+  remove(path);
+}
+
+static void expect_refused(const char* command, const char* args, const char* expected) {
+  run_result* r = run(args);
+  ENSURE_MSG(r->status == 1, "'%s' exited %d: %s", args, r->status, r->err);
+  ENSURE_MSG(count_lines(r->err) == 1, "'%s' printed not one line: %s", args, r->err);
+  ENSURE_MSG(strncmp(r->err, command, strlen(command)) == 0, "'%s': %s", args, r->err);
+  ENSURE_MSG(strstr(r->err, expected) != NULL, "'%s': expected \"%s\" in %s", args, expected, r->err);
+  ENSURE_MSG(strstr(r->err, "needs about ") && strstr(r->err, "more than --max-memory allows (1 MiB)"),
+             "'%s': %s", args, r->err);
+}
+
+static void test_refusal_and_override(void) {
+  setenv("BREAKABLES_CACHE_DIR", BK_TEST_TMP "/memory_guard_cache", 1); // empty: every tree is built
+  expect_refused("breakables fracture: ", "fracture --mesh bunny --pieces 64 --max-memory 1 --json",
+                 "--pieces 64 on bunny");
+  // Refused before building: a request that would take minutes returns at once.
+  expect_refused("breakables fracture: ", "fracture --mesh cube --pieces 1048576 --max-memory 1",
+                 "--pieces 1048576 on cube needs about ");
+  ENSURE_MSG(strstr(result.err, " GiB, more than") != NULL, "%s", result.err);
+  // Saving the tree counts too.
+  run_result* r = run("fracture --mesh cube --pieces 4096 --max-memory 60 --json");
+  ENSURE_MSG(r->status == 0, "%s", r->err);
+  r = run("fracture --mesh cube --pieces 4096 --max-memory 60 --out " BK_TEST_TMP "/memory_guard_out.mtree");
+  ENSURE_MSG(r->status == 1 && strstr(r->err, "with its cache file"), "%d %s", r->status, r->err);
+  // The override lets the request through.
+  r = run("fracture --mesh cube --pieces 64 --max-memory 1000 --json");
+  ENSURE_MSG(r->status == 0 && strstr(r->out, "\"pieces\": 64"), "%s", r->err);
+  // The simulator builds its trees through the cache: the same check.
+  expect_refused("breakables sim: ", "sim --scene wall --pieces 4096 --steps 1 --shots 0 --max-memory 1",
+                 "--pieces 4096 on wall");
+  r = run("sim --scene wall --pieces 16 --steps 1 --shots 0 --max-memory 1000 --json");
+  ENSURE_MSG(r->status == 0 && strstr(r->out, "\"pieces\": 16"), "%s", r->err);
+  // Bad values name the option.
+  r = run("fracture --max-memory 0");
+  ENSURE_MSG(r->status == 2 && strstr(r->err, "--max-memory"), "%s", r->err);
+  r = run("sim --max-memory lots");
+  ENSURE_MSG(r->status == 2 && strstr(r->err, "--max-memory"), "%s", r->err);
+}
+
+static void test_help(void) {
+  const char* commands[] = {"fracture", "sim", "play", "editor"};
+  for (size_t i = 0; i < sizeof commands / sizeof *commands; ++i) {
+    char args[64] = {0};
+    snprintf(args, sizeof args, "%s --help", commands[i]);
+    run_result* r = run(args);
+    ENSURE(r->status == 0);
+    ENSURE_MSG(strstr(r->out, "--max-memory MIB") != NULL, "'%s' does not describe --max-memory", args);
+  }
+}
+
+int main(void) {
+  RUN(test_estimate);
+  RUN(test_estimate_large_source);
+  RUN(test_refusal_and_override);
+  RUN(test_help);
+  return 0;
+}
