@@ -8,6 +8,10 @@ PACKAGES=(
   cmake
   pkg-config
   clang-format
+  # clang's libFuzzer for the fuzz harnesses (scripts/fuzz.sh); its runtime
+  # libraries (libFuzzer, ASan, UBSan) come in a package of their own.
+  clang
+  libclang-rt-dev
   libglu1-mesa-dev
   python3-glad
   libbullet-dev

@@ -1,0 +1,75 @@
+// Fuzzes the whole authoring path of `breakables fracture --mesh FILE.obj`:
+// OBJ bytes -> mesh (holes filled as the CLI does) -> mesh tree of a few pieces.
+//
+// Input: the first byte chooses the number of pieces (an ASCII digit '2'..'8'
+// means itself, any other byte b means 2 + b % 7), the rest is the OBJ text.
+// So a corpus file reads as a digit line followed by an OBJ, and a finding
+// replays on the command line with
+//   tail -c +2 INPUT > x.obj && breakables fracture --mesh x.obj --pieces N
+// (the seed is the CLI's default).
+//
+// Meshes the reader, the hole filler or the build refuses are fine. When a
+// tree is built it must be sound: every node closed, leaf volumes summing to
+// the root's and every node's children to their parent's within 1e-9
+// relative, valid bonds, and a recorded reason for every piece short of the
+// number asked for.
+#include <math.h>
+#include <string.h>
+
+#include "fuzz_util.h"
+
+const char bk_fuzz_harness[] = "fuzz_fracture";
+
+// Keeps each run to milliseconds: a few hundred triangles cut into 8 pieces.
+enum { FUZZ_FRACTURE_MAX_BYTES = 4096 };
+#define FUZZ_FRACTURE_REL_TOLERANCE 1e-9
+
+static uint32_t pieces_of(uint8_t b) { return b >= '2' && b <= '8' ? (uint32_t)(b - '0') : 2u + b % 7u; }
+
+// The same repair as bk_app_load_mesh: an open mesh whose edges are each used
+// once per direction gets its holes filled; anything else goes to the build as is.
+static bool repair_like_the_cli(bk_mesh* mesh) {
+  bk_closure closure = bk_mesh_check_closure(mesh);
+  if (!closure.open_edges || closure.overused_edges) return true;
+  bk_error err = {{0}};
+  return bk_mesh_fill_holes(mesh, &err) >= 0;
+}
+
+static void check_tree(const bk_mesh_tree* tree, uint32_t pieces, uint64_t seed) {
+  bk_mesh_tree_stats st = bk_mesh_tree_measure(tree);
+  if (st.open_nodes)
+    bk_fuzz_fail("--pieces %u --seed %llu: %u of %u nodes are not closed", pieces, (unsigned long long)seed,
+                 st.open_nodes, tree->node_count);
+  double leaf_error = fabs(st.leaf_volume_sum - st.source_volume) / fabs(st.source_volume);
+  if (!(leaf_error <= FUZZ_FRACTURE_REL_TOLERANCE))
+    bk_fuzz_fail("--pieces %u --seed %llu: leaf volumes sum to %.17g, the source has %.17g (%.3g relative)",
+                 pieces, (unsigned long long)seed, st.leaf_volume_sum, st.source_volume, leaf_error);
+  if (!(st.max_child_rel_error <= FUZZ_FRACTURE_REL_TOLERANCE))
+    bk_fuzz_fail("--pieces %u --seed %llu: children's volumes miss their parent's by %.3g relative", pieces,
+                 (unsigned long long)seed, st.max_child_rel_error);
+  bk_fuzz_check_bonds(tree, "built tree");
+  // Fewer pieces than asked is allowed only with the reason recorded (the CLI reports it).
+  if (tree->leaf_count < pieces && tree->shortfall.uncut == 0)
+    bk_fuzz_fail("--pieces %u --seed %llu: made %u pieces and recorded no piece that could not be cut",
+                 pieces, (unsigned long long)seed, tree->leaf_count);
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  if (size < 1 || size > FUZZ_FRACTURE_MAX_BYTES) return 0;
+  bk_fracture_desc desc = bk_default_fracture_desc();
+  desc.pieces = pieces_of(data[0]);
+  bk_mesh mesh = {0};
+  bk_error err = {{0}};
+  if (!bk_obj_parse((const char*)data + 1, size - 1, "input.obj", &mesh, &err)) return 0;
+  if (!repair_like_the_cli(&mesh)) {
+    bk_mesh_free(&mesh);
+    return 0;
+  }
+  bk_mesh_tree tree = {0};
+  bool built = bk_mesh_tree_build(&mesh, &desc, &tree, &err);
+  bk_mesh_free(&mesh);
+  if (!built) return 0;
+  check_tree(&tree, desc.pieces, desc.seed);
+  bk_mesh_tree_free(&tree);
+  return 0;
+}
