@@ -7,41 +7,10 @@
 #include <sys/wait.h>
 
 #include "ensure.h"
+#define RUN_STDERR_PATH BK_TEST_TMP "/cache_dir_stderr.txt"
+#include "run_exe.h"
 
-#define STDERR_PATH BK_TEST_TMP "/cache_dir_stderr.txt"
 #define SIM_ARGS "sim --scene wall --pieces 8 --steps 1 --shots 0 --json"
-
-typedef struct run_result {
-  int status;
-  char out[1 << 14];
-  char err[1 << 14];
-} run_result;
-
-static run_result result;
-
-static run_result* run(const char* args) {
-  char command[2048] = {0};
-  snprintf(command, sizeof command, "'%s' %s 2>'%s'", BK_BREAKABLES_EXE, args, STDERR_PATH);
-  FILE* pipe = popen(command, "r");
-  ENSURE(pipe != NULL);
-  size_t n = fread(result.out, 1, sizeof result.out - 1, pipe);
-  result.out[n] = 0;
-  int status = pclose(pipe);
-  result.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  FILE* err = fopen(STDERR_PATH, "rb");
-  ENSURE(err != NULL);
-  n = fread(result.err, 1, sizeof result.err - 1, err);
-  result.err[n] = 0;
-  fclose(err);
-  return &result;
-}
-
-static int count_lines(const char* text) {
-  int lines = 0;
-  for (const char* p = text; *p; ++p)
-    lines += *p == '\n';
-  return lines;
-}
 
 // BK_TEST_TMP/cache_dir/ followed by directories of 100 'd's up to `length` bytes in all.
 static void long_dir(char* out, size_t size, size_t length) {

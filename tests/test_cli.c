@@ -8,33 +8,8 @@
 #include "bk_fracture.h"
 #include "ensure.h"
 
-typedef struct run_result {
-  int status;
-  char out[1 << 16];
-  char err[1 << 14];
-} run_result;
-
-static run_result result;
-
-// Runs the executable with a shell argument string; captures stdout and stderr.
-static run_result* run(const char* args) {
-  char command[2048];
-  snprintf(command, sizeof command, "'%s' %s 2>'%s/stderr.txt'", BK_BREAKABLES_EXE, args, BK_TEST_TMP);
-  FILE* pipe = popen(command, "r");
-  ENSURE(pipe != NULL);
-  size_t n = fread(result.out, 1, sizeof result.out - 1, pipe);
-  result.out[n] = 0;
-  int status = pclose(pipe);
-  result.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  char path[512];
-  snprintf(path, sizeof path, "%s/stderr.txt", BK_TEST_TMP);
-  FILE* err = fopen(path, "rb");
-  ENSURE(err != NULL);
-  n = fread(result.err, 1, sizeof result.err - 1, err);
-  result.err[n] = 0;
-  fclose(err);
-  return &result;
-}
+#define RUN_STDERR_PATH BK_TEST_TMP "/cli_stderr.txt"
+#include "run_exe.h"
 
 static void write_file(const char* name, const char* text) {
   char path[512];
@@ -195,7 +170,7 @@ static void test_sim(void) {
   ENSURE(json_number(r->out, "bodies_final") > 1 && json_number(r->out, "bonds_broken") > 0);
   ENSURE(json_number(r->out, "colliders_final") < json_number(r->out, "colliders_naive_final"));
   // The second run loads the mesh tree from the cache, and gives the same result.
-  char first[sizeof result.out];
+  char first[sizeof run_result_storage.out];
   memcpy(first, r->out, sizeof first);
   r = run("sim --scene wall --pieces 64 --shots 2 --steps 150 --json");
   ENSURE(strstr(r->out, "\"from_cache\": true") != NULL);

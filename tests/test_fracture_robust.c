@@ -5,10 +5,11 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/wait.h>
 
 #include "bk_fracture.h"
 #include "ensure.h"
+#define RUN_STDERR_PATH BK_TEST_TMP "/fracture_robust_stderr.txt"
+#include "run_exe.h"
 
 static void unit_cube(bk_mesh* m, bk_vec3 offset, double scale) {
   memset(m, 0, sizeof *m);
@@ -261,17 +262,6 @@ static void test_bonds_folded_caps(void) {
 
 // The command line: fewer pieces than asked is a warning on stderr and in
 // --json (pieces_made, warnings), with exit 0; a far cube gives all 8.
-static void run(const char* args, char* out, size_t size, int* status) {
-  char command[2048];
-  snprintf(command, sizeof command, "'%s' %s 2>&1", BK_BREAKABLES_EXE, args);
-  FILE* pipe = popen(command, "r");
-  ENSURE(pipe != NULL);
-  size_t n = fread(out, 1, size - 1, pipe);
-  out[n] = 0;
-  int raw = pclose(pipe);
-  *status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-}
-
 static void write_obj(const char* path, const bk_mesh* m) {
   bk_error err = {0};
   ENSURE_MSG(bk_obj_save(path, m, 1, &err), "%s", err.message);
@@ -285,17 +275,16 @@ static void test_cli(void) {
   unit_cube(&far_mesh, bk_v3(1e9, 0, 0), 1.0);
   write_obj(BK_TEST_TMP "/robust_nested.obj", &outer);
   write_obj(BK_TEST_TMP "/robust_far.obj", &far_mesh);
-  static char out[1 << 16];
-  int status = 0;
-  run("fracture --mesh '" BK_TEST_TMP "/robust_nested.obj' --pieces 64 --json", out, sizeof out, &status);
-  ENSURE_MSG(status == 0, "%s", out);
-  ENSURE_MSG(strstr(out, "warning:") && strstr(out, "made 1 of the 64 pieces"), "%s", out);
-  ENSURE_MSG(strstr(out, "\"pieces_requested\": 64") && strstr(out, "\"pieces_made\": 1"), "%s", out);
-  ENSURE_MSG(strstr(out, "\"warnings\": [\"made 1 of the 64 pieces"), "%s", out);
-  run("fracture --mesh '" BK_TEST_TMP "/robust_far.obj' --pieces 8 --json", out, sizeof out, &status);
-  ENSURE_MSG(status == 0 && strstr(out, "\"pieces_made\": 8") && strstr(out, "\"warnings\": []") &&
-                 !strstr(out, "\"bonds\": 0,"),
-             "%s", out);
+  run_result* r = run("fracture --mesh '" BK_TEST_TMP "/robust_nested.obj' --pieces 64 --json");
+  ENSURE_MSG(r->status == 0, "%s", r->err);
+  ENSURE_MSG(strstr(r->err, "warning:") && strstr(r->err, "made 1 of the 64 pieces"), "%s", r->err);
+  ENSURE_MSG(strstr(r->out, "\"pieces_requested\": 64") && strstr(r->out, "\"pieces_made\": 1"), "%s",
+             r->out);
+  ENSURE_MSG(strstr(r->out, "\"warnings\": [\"made 1 of the 64 pieces"), "%s", r->out);
+  r = run("fracture --mesh '" BK_TEST_TMP "/robust_far.obj' --pieces 8 --json");
+  ENSURE_MSG(r->status == 0 && strstr(r->out, "\"pieces_made\": 8") && strstr(r->out, "\"warnings\": []") &&
+                 !strstr(r->out, "\"bonds\": 0,") && r->err[0] == 0,
+             "%s%s", r->out, r->err);
   bk_mesh_free(&outer);
   bk_mesh_free(&inner);
   bk_mesh_free(&far_mesh);

@@ -26,39 +26,8 @@
 #define UNDER_SANITIZER 0
 #endif
 
-#define STDERR_PATH BK_TEST_TMP "/memory_guard_stderr.txt"
-
-typedef struct run_result {
-  int status;
-  char out[1 << 14];
-  char err[1 << 14];
-} run_result;
-
-static run_result result;
-
-static run_result* run(const char* args) {
-  char command[2048] = {0};
-  snprintf(command, sizeof command, "'%s' %s 2>'%s'", BK_BREAKABLES_EXE, args, STDERR_PATH);
-  FILE* pipe = popen(command, "r");
-  ENSURE(pipe != NULL);
-  size_t n = fread(result.out, 1, sizeof result.out - 1, pipe);
-  result.out[n] = 0;
-  int status = pclose(pipe);
-  result.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  FILE* err = fopen(STDERR_PATH, "rb");
-  ENSURE(err != NULL);
-  n = fread(result.err, 1, sizeof result.err - 1, err);
-  result.err[n] = 0;
-  fclose(err);
-  return &result;
-}
-
-static int count_lines(const char* text) {
-  int lines = 0;
-  for (const char* p = text; *p; ++p)
-    lines += *p == '\n';
-  return lines;
-}
+#define RUN_STDERR_PATH BK_TEST_TMP "/memory_guard_stderr.txt"
+#include "run_exe.h"
 
 // Bytes the built tree itself holds on the heap: a lower bound of the
 // build's peak that sanitizers do not change.
@@ -215,7 +184,7 @@ static void test_refusal_and_override(void) {
   // Refused before building: a request that would take minutes returns at once.
   expect_refused("breakables fracture: ", "fracture --mesh cube --pieces 1048576 --max-memory 1",
                  "--pieces 1048576 on cube needs about ");
-  ENSURE_MSG(strstr(result.err, " GiB, more than") != NULL, "%s", result.err);
+  ENSURE_MSG(strstr(run_result_storage.err, " GiB, more than") != NULL, "%s", run_result_storage.err);
   // Saving the tree counts too.
   run_result* r = run("fracture --mesh cube --pieces 4096 --max-memory 60 --json");
   ENSURE_MSG(r->status == 0, "%s", r->err);
