@@ -228,6 +228,42 @@ static void test_discrete_vs_accumulating(void) {
   bk_mesh_tree_free(&tree);
 }
 
+// Live parameters matter: doubling frailty turns a hit of 60% of a bond's hit
+// points into a break, and density scales a body's mass and inertia.
+static void test_live_frailty_and_density(void) {
+  bk_mesh_tree tree = make_tree(BK_SHAPE_CUBE, 2, 4);
+  ENSURE(tree.bond_count == 1);
+  for (int doubled = 0; doubled < 2; ++doubled) {
+    bk_world* world = make_world();
+    bk_breakable_desc desc = bk_default_breakable_desc();
+    desc.transform.position = bk_v3(0, 0.5, 0);
+    bk_breakable_id id = add(world, &tree, desc);
+    bk_body_view view = {0};
+    ENSURE(bk_world_body_view(world, 0, &view));
+    const bk_physics* physics = bk_world_physics(world);
+    double mass = bk_physics_body_mass(physics, view.body);
+    bk_vec3 inertia = bk_physics_body_inertia(physics, view.body);
+    ENSURE_REL(mass, desc.density * tree.nodes[0].moments.v, 1e-9);
+    if (doubled) {
+      bk_world_set_frailty(world, id, 2.0 * desc.frailty);
+      bk_world_set_density(world, id, 2.0 * desc.density);
+      ENSURE(bk_world_body_view(world, 0, &view));
+      ENSURE_REL(bk_physics_body_mass(physics, view.body), 2.0 * mass, 1e-9);
+      ENSURE_REL(bk_physics_body_inertia(physics, view.body).x, 2.0 * inertia.x, 1e-9);
+    }
+    double initial = 0.0;
+    bk_world_bond_health(world, id, 0, &initial);
+    double s_min = bk_default_world_desc().damage_min_distance;
+    double impulse = 0.6 * initial * s_min * s_min * s_min / desc.frailty;
+    bk_world_impact(world, bk_v3_add(tree.bonds[0].centroid, bk_v3(0, 0.5, 0)), impulse);
+    bk_world_step(world);
+    ENSURE_MSG(bk_world_get_stats(world).bodies == (doubled ? 2u : 1u), "frailty x%d: %u bodies", 1 + doubled,
+               bk_world_get_stats(world).bodies);
+    bk_world_destroy(world);
+  }
+  bk_mesh_tree_free(&tree);
+}
+
 // Left alone for two simulated minutes, a standing object keeps every bond.
 static void test_resting_keeps_bonds(void) {
   bk_mesh_tree wall = make_tree(BK_SHAPE_WALL, 64, 6), pillar = make_tree(BK_SHAPE_PILLAR, 64, 7);
@@ -436,6 +472,7 @@ int main(void) {
   RUN(test_torus_principal_inertia);
   RUN(test_eggshell_not_solid);
   RUN(test_discrete_vs_accumulating);
+  RUN(test_live_frailty_and_density);
   RUN(test_naive_same_clusters);
   RUN(test_split_keeps_motion);
   RUN(test_split_budget);
