@@ -35,7 +35,8 @@ static bk_fracture_desc resolve_defaults(const bk_fracture_desc* in) {
 
 // ---------------------------------------------------------------- building
 
-static uint32_t add_node(bk_mesh_tree* tree, uint32_t* capacity, bk_mesh* mesh, uint32_t parent) {
+static uint32_t add_node(bk_mesh_tree* tree, uint32_t* capacity, bk_mesh* mesh, bk_moments moments,
+                         uint32_t parent) {
   if (tree->node_count == *capacity) {
     *capacity = bk_grow_capacity(*capacity, tree->node_count + 1);
     tree->nodes = bk_realloc(tree->nodes, sizeof(bk_mesh_tree_node) * *capacity);
@@ -45,7 +46,7 @@ static uint32_t add_node(bk_mesh_tree* tree, uint32_t* capacity, bk_mesh* mesh, 
   memset(node, 0, sizeof *node);
   node->mesh = *mesh; // takes ownership
   node->bounds = bk_mesh_bounds(mesh);
-  node->moments = bk_mesh_moments(mesh);
+  node->moments = moments;
   node->parent = parent;
   node->first_child = BK_NULL_INDEX;
   node->depth = parent == BK_NULL_INDEX ? 0 : tree->nodes[parent].depth + 1;
@@ -72,15 +73,17 @@ static void free_pieces(bk_mesh* pieces, uint32_t count) {
 // pieces), while a cap that overlaps itself or a sliver whose sides crossed
 // after snapping to the plane is far above it. A tree is at most a few dozen
 // levels deep, so its leaves add up to the source within 1e-9.
+// Fills each piece's moments on the way (the node keeps them).
 static bool pieces_hold(const bk_mesh_tree_node* node, const bk_mesh* pieces, uint32_t count,
-                        split_failure* why) {
+                        bk_moments* moments, split_failure* why) {
   double sum = 0.0;
   for (uint32_t i = 0; i < count; ++i) {
     if (!bk_mesh_is_closed(&pieces[i])) {
       *why = SPLIT_NOT_CLOSED;
       return false;
     }
-    double v = bk_mesh_volume(&pieces[i]);
+    moments[i] = bk_mesh_moments(&pieces[i]);
+    double v = moments[i].v;
     if (!(v > 0.0)) {
       *why = SPLIT_VOLUME_CHANGED;
       return false;
@@ -99,7 +102,8 @@ static bool pieces_hold(const bk_mesh_tree_node* node, const bk_mesh* pieces, ui
 // how the last attempt failed. Works in the tree's local frame.
 static uint32_t split_node(bk_slicer* slicer, bk_face_simplifier* simplifier, const bk_mesh_tree_node* node,
                            uint32_t node_index, const bk_fracture_desc* d, const bk_tree_frame* frame,
-                           bk_rng* rng, bk_plane* plane, bk_mesh** pieces, split_failure* why) {
+                           bk_rng* rng, bk_plane* plane, bk_mesh** pieces, bk_moments** moments,
+                           split_failure* why) {
   bk_mass_properties mass = bk_moments_to_mass(node->moments);
   bk_vec3 size = bk_v3_sub(node->bounds.max, node->bounds.min);
   bk_vec3 longest = {0};
@@ -152,7 +156,8 @@ static uint32_t split_node(bk_slicer* slicer, bk_face_simplifier* simplifier, co
     free(above_hulls);
     for (uint32_t i = 0; i < count; ++i)
       bk_face_simplifier_run(simplifier, &(*pieces)[i]);
-    if (pieces_hold(node, *pieces, count, why)) return count;
+    *moments = bk_realloc(*moments, sizeof(bk_moments) * count);
+    if (pieces_hold(node, *pieces, count, *moments, why)) return count;
     free_pieces(*pieces, count);
     *pieces = NULL;
   }
@@ -272,27 +277,28 @@ bool bk_mesh_tree_build(const bk_mesh* source, const bk_fracture_desc* desc_in, 
   // Tags identify cuts of this tree and planar faces of the source, which
   // lets each piece's faces be re-triangulated over their true corners.
   bk_label_planar_faces(&root);
-  add_node(tree, &capacity, &root, BK_NULL_INDEX);
+  add_node(tree, &capacity, &root, bk_mesh_moments(&root), BK_NULL_INDEX);
 
   // Largest volume first (keys negated), ties by lower node index.
   bk_heap heap = {0};
   bk_heap_push(&heap, -tree->nodes[0].moments.v, 0);
   uint32_t leaves = 1;
   bool cancelled = false;
+  bk_moments* moments = NULL; // of the pieces of the last cut, grown as needed
   while (leaves < d.pieces && heap.count) {
     uint32_t split = bk_heap_pop(&heap).value;
     bk_plane plane = {0};
     bk_mesh* pieces = NULL;
     split_failure why = SPLIT_MISSED;
-    uint32_t count =
-        split_node(slicer, simplifier, &tree->nodes[split], split, &d, &frame, &rng, &plane, &pieces, &why);
+    uint32_t count = split_node(slicer, simplifier, &tree->nodes[split], split, &d, &frame, &rng, &plane,
+                                &pieces, &moments, &why);
     if (count == 0) { // no cut held: stays a leaf
       count_shortfall(&tree->shortfall, why);
       continue;
     }
     uint32_t first = tree->node_count;
     for (uint32_t i = 0; i < count; ++i)
-      add_node(tree, &capacity, &pieces[i], split);
+      add_node(tree, &capacity, &pieces[i], moments[i], split);
     free(pieces);
     bk_mesh_tree_node* node = &tree->nodes[split];
     node->plane = plane;
@@ -306,6 +312,7 @@ bool bk_mesh_tree_build(const bk_mesh* source, const bk_fracture_desc* desc_in, 
       break;
     }
   }
+  free(moments);
   bk_heap_free(&heap);
   bk_slicer_destroy(slicer);
   bk_face_simplifier_destroy(simplifier);
