@@ -48,7 +48,7 @@ static void ensure_closed(const bk_mesh* m, const char* what) {
 /// side's normal.
 static void slice(const bk_mesh* m, bk_plane plane, uint32_t tag, bk_mesh* below, bk_mesh* above,
                   const char* what) {
-  bk_slice_desc d = {0};
+  bk_slice_def d = {0};
   d.plane = plane;
   d.cap_tag = tag;
   bk_error err = {{0}};
@@ -237,7 +237,7 @@ static void check_egg_cut(bk_plane plane, uint32_t tag) {
   extract(&egg, half, egg.triangle_count, &inner);
   ENSURE(bk_mesh_is_closed(&outer) && bk_mesh_is_closed(&inner));
   ENSURE(bk_mesh_volume(&outer) > 0.0 && bk_mesh_volume(&inner) < 0.0);
-  bk_slice_desc d = {0};
+  bk_slice_def d = {0};
   d.plane = plane;
   d.cap_tag = tag;
   bk_error err = {{0}};

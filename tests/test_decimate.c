@@ -145,7 +145,7 @@ static void test_fragments(void) {
   for (size_t i = 0; i < sizeof shapes / sizeof shapes[0]; ++i) {
     bk_mesh source = {0};
     bk_shape_build(shapes[i], &source);
-    bk_fracture_desc desc = bk_default_fracture_desc();
+    bk_fracture_def desc = bk_default_fracture_def();
     desc.pieces = 48;
     bk_mesh_tree tree = {0};
     bk_error err = {{0}};

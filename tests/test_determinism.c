@@ -63,7 +63,7 @@ static const char* run(const char* args) {
 // ---------------------------------------------------------------- .mtree
 
 static void build_and_save(const bk_mesh* mesh, uint64_t seed, const char* path) {
-  bk_fracture_desc desc = bk_default_fracture_desc();
+  bk_fracture_def desc = bk_default_fracture_def();
   desc.pieces = 64;
   desc.seed = seed;
   bk_mesh_tree tree = {0};

@@ -21,7 +21,7 @@ static void unit_cube(bk_mesh* m, bk_vec3 offset, double scale) {
 
 // Builds with the default parameters, the texture tile scaled with the mesh.
 static bk_mesh_tree build_scaled(const bk_mesh* m, uint32_t pieces, double scale) {
-  bk_fracture_desc desc = bk_default_fracture_desc();
+  bk_fracture_def desc = bk_default_fracture_def();
   desc.pieces = pieces;
   desc.texture_scale *= scale;
   bk_mesh_tree tree = {0};
@@ -120,7 +120,7 @@ static void test_scale(void) {
   for (size_t i = 0; i < sizeof refused / sizeof *refused; ++i) {
     bk_mesh m = {0};
     unit_cube(&m, bk_v3(0, 0, 0), refused[i]);
-    bk_fracture_desc desc = bk_default_fracture_desc();
+    bk_fracture_def desc = bk_default_fracture_def();
     bk_mesh_tree tree = {0};
     bk_error err = {0};
     ENSURE(!bk_mesh_tree_build(&m, &desc, &tree, &err));
@@ -129,7 +129,7 @@ static void test_scale(void) {
     bk_mesh_free(&m);
   }
   // A texture tile so small that cut-face uvs would lose all precision.
-  bk_fracture_desc desc = bk_default_fracture_desc();
+  bk_fracture_def desc = bk_default_fracture_def();
   desc.texture_scale = 1e-7;
   bk_mesh_tree tree = {0};
   bk_error err = {0};
@@ -177,7 +177,7 @@ static void test_slivers(void) {
   }
   bk_mesh_add_triangle(&flat, 0, 1, 2, BK_MATERIAL_OUTER, 0);
   bk_mesh_add_triangle(&flat, 2, 1, 0, BK_MATERIAL_OUTER, 0);
-  bk_fracture_desc desc = bk_default_fracture_desc();
+  bk_fracture_def desc = bk_default_fracture_def();
   bk_mesh_tree tree = {0};
   bk_error err = {0};
   bool built = bk_mesh_tree_build(&flat, &desc, &tree, &err);

@@ -59,7 +59,7 @@ static uint64_t measured_peak_bytes(const char* name, uint32_t pieces) {
 // times that, unless 0), and, without a sanitizer, above the peak measured
 // by `breakables fracture` by less than 1.6 times.
 static void check_estimate(const char* name, const bk_mesh* source, uint32_t pieces, double max_over_held) {
-  bk_fracture_desc desc = bk_default_fracture_desc();
+  bk_fracture_def desc = bk_default_fracture_def();
   desc.pieces = pieces;
   uint64_t estimate = bk_mesh_tree_estimate_bytes(source, &desc);
   bk_mesh_tree tree = {0};
@@ -104,12 +104,12 @@ static void test_estimate(void) {
   check_estimate("bunny", &bunny, 2048, 4.0);
 
   // It grows with the pieces and with the source's triangles; NULL and 0 mean the default.
-  bk_fracture_desc small = {.pieces = 1024}, large = {.pieces = 1u << 20};
+  bk_fracture_def small = {.pieces = 1024}, large = {.pieces = 1u << 20};
   ENSURE(bk_mesh_tree_estimate_bytes(&cube, &large) > 256 * bk_mesh_tree_estimate_bytes(&cube, &small));
   ENSURE(bk_mesh_tree_estimate_bytes(&bunny, &small) > bk_mesh_tree_estimate_bytes(&cube, &small));
   // The measured 8.3 GB of a cube into 1,048,576 pieces is covered.
   ENSURE(bk_mesh_tree_estimate_bytes(&cube, &large) > 8300000000ull);
-  bk_fracture_desc defaults = bk_default_fracture_desc();
+  bk_fracture_def defaults = bk_default_fracture_def();
   ENSURE(bk_mesh_tree_estimate_bytes(&cube, NULL) == bk_mesh_tree_estimate_bytes(&cube, &defaults));
   bk_mesh_free(&cube);
   bk_mesh_free(&bunny);

@@ -8,7 +8,7 @@
 #include "ensure.h"
 
 static bk_mesh_tree build(bk_mesh* mesh, uint32_t pieces, uint64_t seed) {
-  bk_fracture_desc desc = bk_default_fracture_desc();
+  bk_fracture_def desc = bk_default_fracture_def();
   desc.pieces = pieces;
   desc.seed = seed;
   bk_mesh_tree tree = {0};
@@ -132,7 +132,7 @@ static void test_one_piece_is_the_source(void) {
 static void test_single_cut_bond(void) {
   bk_mesh mesh = load_shape("cube");
   for (uint64_t seed = 1; seed <= 20; ++seed) {
-    bk_fracture_desc desc = bk_default_fracture_desc();
+    bk_fracture_def desc = bk_default_fracture_def();
     desc.pieces = 2;
     desc.seed = seed;
     bk_mesh_tree tree = {0};
@@ -210,7 +210,7 @@ static void test_bonds_are_true_contacts(void) {
 static void test_refuses_open_mesh(void) {
   bk_mesh mesh = load_shape("cube");
   mesh.triangle_count -= 1; // drop one triangle: three open edges
-  bk_fracture_desc desc = bk_default_fracture_desc();
+  bk_fracture_def desc = bk_default_fracture_def();
   bk_mesh_tree tree = {0};
   bk_error err = {0};
   ENSURE(!bk_mesh_tree_build(&mesh, &desc, &tree, &err));
@@ -225,17 +225,17 @@ static void test_refuses_open_mesh(void) {
 
 static void test_rejects_bad_desc(void) {
   bk_mesh mesh = load_shape("cube");
-  bk_fracture_desc desc = bk_default_fracture_desc();
+  bk_fracture_def desc = bk_default_fracture_def();
   bk_mesh_tree tree = {0};
   bk_error err = {0};
   desc.texture_scale = NAN;
   ENSURE(!bk_mesh_tree_build(&mesh, &desc, &tree, &err));
   ENSURE_MSG(strstr(err.message, "texture_scale") != NULL, "%s", err.message);
-  desc = bk_default_fracture_desc();
+  desc = bk_default_fracture_def();
   desc.jitter = -1.0;
   ENSURE(!bk_mesh_tree_build(&mesh, &desc, &tree, &err));
   ENSURE_MSG(strstr(err.message, "jitter") != NULL, "%s", err.message);
-  desc = bk_default_fracture_desc();
+  desc = bk_default_fracture_def();
   desc.pieces = 5000000;
   ENSURE(!bk_mesh_tree_build(&mesh, &desc, &tree, &err));
   ENSURE_MSG(strstr(err.message, "pieces") != NULL, "%s", err.message);

@@ -4,7 +4,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "bk_sim.h"
+#include <breakables/runtime.h>
+
+#include "bk_geom.h"
 #include "ensure.h"
 
 static bool range_inside(const uint8_t* in_set, uint32_t begin, uint32_t end) {
@@ -70,7 +72,7 @@ static void test_trees(void) {
   for (int i = 0; i < 4; ++i) {
     bk_mesh mesh = {0};
     bk_shape_build(shapes[i], &mesh);
-    bk_fracture_desc desc = bk_default_fracture_desc();
+    bk_fracture_def desc = bk_default_fracture_def();
     desc.pieces = pieces[i];
     desc.seed = 17 + (uint64_t)i;
     bk_mesh_tree tree = {0};
@@ -85,7 +87,7 @@ static void test_trees(void) {
 static void test_empty_and_single(void) {
   bk_mesh mesh = {0};
   bk_shape_build(BK_SHAPE_CUBE, &mesh);
-  bk_fracture_desc desc = bk_default_fracture_desc();
+  bk_fracture_def desc = bk_default_fracture_def();
   desc.pieces = 8;
   bk_mesh_tree tree = {0};
   ENSURE(bk_mesh_tree_build(&mesh, &desc, &tree, NULL));

@@ -5,7 +5,9 @@
 #include <stdint.h>
 #include <string.h>
 
-#include "bk_physics.h"
+#include <breakables/bullet.h>
+
+#include "bk_geom.h"
 #include "ensure.h"
 
 static const double g = 9.81;
@@ -19,14 +21,14 @@ static bk_contact contacts[MAX_CONTACTS];
 
 static bk_physics* make_world(void) {
   bk_error err = {{0}};
-  bk_physics_desc desc = bk_default_physics_desc();
+  bk_physics_def desc = bk_default_physics_def();
   bk_physics* w = bk_physics_create(&desc, &err);
   ENSURE_MSG(w, "%s", err.message);
   return w;
 }
 
 static bk_body_id make_ground(bk_physics* w) {
-  bk_body_desc d = bk_default_body_desc();
+  bk_body_def d = bk_default_body_def();
   d.shape = bk_physics_create_plane(w, bk_v3(0, 1, 0), 0.0);
   ENSURE(!bk_shape_is_null(d.shape));
   bk_error err = {{0}};
@@ -44,7 +46,7 @@ static bk_vec3 box_inertia(double mass, bk_vec3 h) {
 /// A 1 kg cube of side 0.5 m with its centre at (0, y, 0).
 static bk_body_id make_box(bk_physics* w, double y, bool disable_sleep) {
   bk_vec3 h = bk_v3(0.25, 0.25, 0.25);
-  bk_body_desc d = bk_default_body_desc();
+  bk_body_def d = bk_default_body_def();
   d.shape = bk_physics_create_box(w, h);
   d.mass = 1.0;
   d.inertia = box_inertia(1.0, h);
@@ -65,29 +67,28 @@ static uint32_t step_and_get_contacts(bk_physics* w, double step_dt, int max_sub
 }
 
 static void test_defaults(void) {
-  bk_physics_desc d = bk_default_physics_desc();
+  bk_physics_def d = bk_default_physics_def();
   ENSURE(d.gravity.x == 0.0 && d.gravity.y == -9.81 && d.gravity.z == 0.0);
   ENSURE_SMALL(d.fixed_dt, 1.0 / 60.0, 1e-15);
   ENSURE(d.contact_capacity == 65536);
   ENSURE(d.default_margin == 0.004);
 
-  // All-zero description: the defaults apply.
-  bk_physics_desc zero = {0};
+  // Values are taken as given: zero gravity is zero gravity, and a zero
+  // fixed_dt is refused by name rather than replaced by a default.
+  bk_physics_def zero = bk_default_physics_def();
+  zero.gravity = bk_v3(0, 0, 0);
   bk_physics* w = bk_physics_create(&zero, NULL);
-  ENSURE(w);
-  ENSURE(bk_physics_gravity(w).y == -9.81);
-  bk_physics_destroy(w);
-
-  // Zero gravity on request.
-  zero.use_zero_gravity = true;
-  w = bk_physics_create(&zero, NULL);
   ENSURE(w);
   ENSURE(bk_v3_length(bk_physics_gravity(w)) == 0.0);
   bk_physics_set_gravity(w, bk_v3(0, 0, -1));
   ENSURE(bk_physics_gravity(w).z == -1.0);
   bk_physics_destroy(w);
+  bk_physics_def all_zero = {0};
+  bk_error zero_err = {{0}};
+  ENSURE(bk_physics_create(&all_zero, &zero_err) == NULL);
+  ENSURE_MSG(strstr(zero_err.message, "fixed_dt"), "%s", zero_err.message);
 
-  bk_body_desc b = bk_default_body_desc();
+  bk_body_def b = bk_default_body_def();
   ENSURE(b.friction == 0.6 && b.restitution == 0.1);
   ENSURE(b.transform.rotation.w == 1.0 && b.mass == 0.0);
 }
@@ -164,7 +165,7 @@ static void test_contacts(void) {
 }
 
 static void test_contact_capacity(void) {
-  bk_physics_desc desc = bk_default_physics_desc();
+  bk_physics_def desc = bk_default_physics_def();
   desc.contact_capacity = 2;
   bk_physics* w = bk_physics_create(&desc, NULL);
   ENSURE(w);
@@ -208,17 +209,16 @@ static void test_substep_contacts(void) {
 
 /// Shoots a small fast sphere at a thin static wall at x = 0; returns its final x.
 static double shoot_at_wall(bool ccd) {
-  bk_physics_desc desc = bk_default_physics_desc();
-  desc.use_zero_gravity = true;
+  bk_physics_def desc = bk_default_physics_def();
   desc.gravity = bk_v3(0, 0, 0);
   bk_physics* w = bk_physics_create(&desc, NULL);
   ENSURE(w);
-  bk_body_desc wall = bk_default_body_desc();
+  bk_body_def wall = bk_default_body_def();
   wall.shape = bk_physics_create_box(w, bk_v3(0.01, 1.0, 1.0));
   ENSURE(!bk_body_is_null(bk_physics_create_body(w, &wall, NULL)));
 
   double r = 0.02, m = 0.1;
-  bk_body_desc d = bk_default_body_desc();
+  bk_body_def d = bk_default_body_def();
   d.shape = bk_physics_create_sphere(w, r);
   d.mass = m;
   double I = 0.4 * m * r * r;
@@ -267,7 +267,7 @@ static void test_hulls(void) {
   bk_vec3 vertices[64];
   ENSURE(bk_physics_hull_vertices(w, cube, vertices, 64) == 8);
   // The core is the cube shrunk by the collision margin (the margin grows it back).
-  double core = 0.5 - bk_default_physics_desc().default_margin;
+  double core = 0.5 - bk_default_physics_def().default_margin;
   for (int i = 0; i < 8; ++i) {
     ENSURE_SMALL(fabs(vertices[i].x), core, 2e-4); // Bullet quantizes while shrinking
     ENSURE_SMALL(fabs(vertices[i].y), core, 2e-4); // Bullet quantizes while shrinking
@@ -286,7 +286,7 @@ static void test_hulls(void) {
   // Core vertices lie just inside the sphere (shrunk by the margin).
   for (uint32_t i = 0; i < count; ++i) {
     ENSURE(bk_v3_length(vertices[i]) <= 1.0 + 1e-6);
-    ENSURE(bk_v3_length(vertices[i]) >= 1.0 - 3.0 * bk_default_physics_desc().default_margin);
+    ENSURE(bk_v3_length(vertices[i]) >= 1.0 - 3.0 * bk_default_physics_def().default_margin);
   }
   double sphere_volume = 4.0 / 3.0 * pi;
   ENSURE_REL(bk_physics_hull_volume(w, ball), sphere_volume, 0.10);
@@ -351,7 +351,7 @@ static void test_compounds(void) {
   }
   bk_body_id bodies[2];
   for (int k = 0; k < 2; ++k) {
-    bk_body_desc d = bk_default_body_desc();
+    bk_body_def d = bk_default_body_def();
     d.shape = pair[k];
     d.mass = 2.0;
     d.inertia = box_inertia(2.0, bk_v3(1.0, 0.5, 0.5));
@@ -404,7 +404,7 @@ static void test_compounds(void) {
   // The world takes whatever is left, compounds and children included.
   bk_shape_id cube2 = unit_cube_hull(w);
   bk_physics_compound_add(w, outer, cube2, bk_transform_identity());
-  bk_body_desc d = bk_default_body_desc();
+  bk_body_def d = bk_default_body_def();
   d.shape = outer;
   d.mass = 1.0;
   d.inertia = bk_v3(1, 1, 1);
@@ -462,13 +462,17 @@ static void test_ids(void) {
   bk_physics_destroy(NULL);
 
   // Body state round trips.
-  bk_body_desc d = bk_default_body_desc();
+  bk_body_def d = bk_default_body_def();
   d.shape = bk_physics_create_sphere(w, 0.1);
   d.mass = 2.0;
   d.inertia = bk_v3(0.008, 0.008, 0.008);
   d.user_data = UINT64_C(0x1234567890abcdef);
   d.transform.position = bk_v3(5, 5, 5);
-  d.transform.rotation = (bk_quat){0, 0, 0, 0}; // identity
+  d.transform.rotation = (bk_quat){0, 0, 0, 0}; // not a rotation: refused by name
+  bk_error rotation_err = {{0}};
+  ENSURE(bk_body_is_null(bk_physics_create_body(w, &d, &rotation_err)));
+  ENSURE_MSG(strstr(rotation_err.message, "transform.rotation"), "%s", rotation_err.message);
+  d.transform.rotation = bk_quat_identity();
   bk_body_id ball = bk_physics_create_body(w, &d, NULL);
   ENSURE(!bk_body_is_null(ball));
   ENSURE(bk_physics_body_user_data(w, ball) == UINT64_C(0x1234567890abcdef));
@@ -495,7 +499,7 @@ static void test_ids(void) {
   bk_physics_destroy(w);
 }
 
-static void expect_body_error(bk_physics* w, const bk_body_desc* d, const char* field) {
+static void expect_body_error(bk_physics* w, const bk_body_def* d, const char* field) {
   bk_error err = {{0}};
   bk_body_id id = bk_physics_create_body(w, d, &err);
   ENSURE(bk_body_is_null(id));
@@ -504,12 +508,12 @@ static void expect_body_error(bk_physics* w, const bk_body_desc* d, const char* 
 
 static void test_validation(void) {
   bk_physics* w = make_world();
-  bk_body_desc good = bk_default_body_desc();
+  bk_body_def good = bk_default_body_def();
   good.shape = bk_physics_create_box(w, bk_v3(0.5, 0.5, 0.5));
   good.mass = 1.0;
   good.inertia = bk_v3(1, 1, 1);
 
-  bk_body_desc d = good;
+  bk_body_def d = good;
   d.mass = NAN;
   expect_body_error(w, &d, "mass");
   d = good;
@@ -548,7 +552,7 @@ static void test_validation(void) {
   bk_physics_destroy(w);
 
   bk_error err = {{0}};
-  bk_physics_desc desc = bk_default_physics_desc();
+  bk_physics_def desc = bk_default_physics_def();
   desc.fixed_dt = -0.01;
   ENSURE(bk_physics_create(&desc, &err) == NULL);
   ENSURE_MSG(strstr(err.message, "fixed_dt"), "%s", err.message);
@@ -558,17 +562,22 @@ static void test_validation(void) {
   desc.fixed_dt = NAN;
   ENSURE(bk_physics_create(&desc, &err) == NULL);
   ENSURE_MSG(strstr(err.message, "fixed_dt"), "%s", err.message);
-  desc = bk_default_physics_desc();
+  desc = bk_default_physics_def();
   desc.gravity.y = NAN;
   ENSURE(bk_physics_create(&desc, &err) == NULL);
   ENSURE_MSG(strstr(err.message, "gravity"), "%s", err.message);
-  desc = bk_default_physics_desc();
+  desc = bk_default_physics_def();
   desc.default_margin = -0.1;
   ENSURE(bk_physics_create(&desc, &err) == NULL);
   ENSURE_MSG(strstr(err.message, "default_margin"), "%s", err.message);
-  // fixed_dt = 0 means the default, like every zero field of the description.
-  desc = bk_default_physics_desc();
+  // fixed_dt = 0 is taken as given (and refused), not replaced by a default;
+  // a zero margin is a real value.
+  desc = bk_default_physics_def();
   desc.fixed_dt = 0.0;
+  ENSURE(bk_physics_create(&desc, &err) == NULL);
+  ENSURE_MSG(strstr(err.message, "fixed_dt"), "%s", err.message);
+  desc = bk_default_physics_def();
+  desc.default_margin = 0.0;
   w = bk_physics_create(&desc, &err);
   ENSURE(w);
   ENSURE(bk_physics_step(w, 1.0 / 60.0, 1) == 1);
@@ -615,7 +624,7 @@ static void test_churn(void) {
                 : i % 3 == 1 ? bk_physics_create_box(w, bk_v3(0.05, 0.05, 0.05))
                              : bk_physics_create_sphere(w, 0.05);
     ENSURE(!bk_shape_is_null(shapes[i]));
-    bk_body_desc d = bk_default_body_desc();
+    bk_body_def d = bk_default_body_def();
     d.shape = shapes[i];
     d.mass = 0.1;
     d.inertia = bk_v3(1e-3, 1e-3, 1e-3);
@@ -639,8 +648,8 @@ static void test_churn(void) {
 }
 
 /// A dynamic box (half extents h) at p.
-static bk_body_desc box_desc(bk_physics* w, bk_vec3 h, double mass, bk_vec3 p) {
-  bk_body_desc d = bk_default_body_desc();
+static bk_body_def box_desc(bk_physics* w, bk_vec3 h, double mass, bk_vec3 p) {
+  bk_body_def d = bk_default_body_def();
   d.shape = bk_physics_create_box(w, h);
   d.mass = mass;
   d.inertia = box_inertia(mass, h);
@@ -648,7 +657,7 @@ static bk_body_desc box_desc(bk_physics* w, bk_vec3 h, double mass, bk_vec3 p) {
   return d;
 }
 
-static bk_body_id create_body(bk_physics* w, const bk_body_desc* d) {
+static bk_body_id create_body(bk_physics* w, const bk_body_def* d) {
   bk_error err = {{0}};
   bk_body_id body = bk_physics_create_body(w, d, &err);
   ENSURE_MSG(!bk_body_is_null(body), "%s", err.message);
@@ -657,7 +666,7 @@ static bk_body_id create_body(bk_physics* w, const bk_body_desc* d) {
 
 /// A small stone box (half extents h) at p.
 static bk_body_id make_small_box(bk_physics* w, bk_vec3 h, bk_vec3 p, double friction, double rolling) {
-  bk_body_desc d = box_desc(w, h, 8.0 * h.x * h.y * h.z * 2400.0, p);
+  bk_body_def d = box_desc(w, h, 8.0 * h.x * h.y * h.z * 2400.0, p);
   d.friction = friction;
   d.rolling_friction = rolling;
   return create_body(w, &d);
@@ -666,8 +675,7 @@ static bk_body_id make_small_box(bk_physics* w, bk_vec3 h, bk_vec3 p, double fri
 /// A world without gravity.
 static bk_physics* make_weightless_world(void) {
   bk_error err = {{0}};
-  bk_physics_desc desc = bk_default_physics_desc();
-  desc.use_zero_gravity = true;
+  bk_physics_def desc = bk_default_physics_def();
   desc.gravity = bk_v3(0, 0, 0);
   bk_physics* w = bk_physics_create(&desc, &err);
   ENSURE_MSG(w, "%s", err.message);
@@ -720,7 +728,7 @@ static bk_body_id make_hull_box(bk_physics* w, bk_vec3 h, double mass, bk_vec3 p
   bk_vec3 corners[8];
   for (int i = 0; i < 8; ++i)
     corners[i] = bk_v3(i & 1 ? h.x : -h.x, i & 2 ? h.y : -h.y, i & 4 ? h.z : -h.z);
-  bk_body_desc d = bk_default_body_desc();
+  bk_body_def d = bk_default_body_def();
   d.shape = bk_physics_create_hull(w, corners, 8, 0);
   ENSURE(!bk_shape_is_null(d.shape));
   d.mass = mass;
@@ -834,7 +842,7 @@ static bk_physics* make_heap_world(uint64_t seed, double x_max, bk_body_id shard
 
 /// A box (half extents h) that never sleeps, spinning about y at `spin` rad/s.
 static bk_body_id make_sleepless_box(bk_physics* w, bk_vec3 h, double mass, bk_vec3 p, double spin) {
-  bk_body_desc d = box_desc(w, h, mass, p);
+  bk_body_def d = box_desc(w, h, mass, p);
   d.angular_velocity = bk_v3(0.0, spin, 0.0);
   d.disable_sleep = true;
   return create_body(w, &d);

@@ -42,8 +42,8 @@ static bk_plane plane_through(bk_vec3 normal, bk_vec3 point) {
   return (bk_plane){n, bk_v3_dot(n, point)};
 }
 
-static bk_slice_desc make_desc(bk_plane plane, uint32_t tag) {
-  bk_slice_desc d = {0};
+static bk_slice_def make_desc(bk_plane plane, uint32_t tag) {
+  bk_slice_def d = {0};
   d.plane = plane;
   d.cap_tag = tag;
   return d;
@@ -68,7 +68,7 @@ typedef struct side_report {
 
 /// Checks one non-empty side (0 = below, 1 = above) of a cut. Source meshes
 /// have OUTER triangles with tag 0 and caps of earlier cuts with smaller tags.
-static side_report check_side(const bk_mesh* m, const bk_slice_desc* d, int side, const char* what) {
+static side_report check_side(const bk_mesh* m, const bk_slice_def* d, int side, const char* what) {
   side_report r = {0};
   const char* name = side == 0 ? "below" : "above";
   bk_error err = {{0}};
@@ -136,7 +136,7 @@ static int compare_vec3(const void* a, const void* b) { return memcmp(a, b, size
 
 /// Number of distinct position-index edges of `m` whose ends lie strictly on
 /// opposite sides of the plane (with the slicer's default tolerance).
-static uint32_t crossed_edges(const bk_mesh* m, const bk_slice_desc* d) {
+static uint32_t crossed_edges(const bk_mesh* m, const bk_slice_def* d) {
   bk_aabb box = bk_mesh_bounds(m);
   double tol = d->tolerance > 0.0 ? d->tolerance : 1e-9 * bk_v3_length(bk_v3_sub(box.max, box.min));
   bk_index_map seen = {0};
@@ -173,7 +173,7 @@ static uint32_t new_positions(const bk_vec3* sorted_source, uint32_t source_coun
 }
 
 /// Every cut edge adds exactly one position, the same bits on both sides.
-static void check_new_positions(const bk_mesh* src, const bk_slice_desc* d, const bk_mesh* below,
+static void check_new_positions(const bk_mesh* src, const bk_slice_def* d, const bk_mesh* below,
                                 const bk_mesh* above, const char* what) {
   bk_vec3* source = bk_alloc(sizeof(bk_vec3) * (src->position_count + 1u));
   memcpy(source, src->positions, sizeof(bk_vec3) * src->position_count);
@@ -196,7 +196,7 @@ static void check_new_positions(const bk_mesh* src, const bk_slice_desc* d, cons
 /// non-empty side valid and closed, caps correct, volumes and surface area
 /// conserved, cap areas equal on both sides, an untouched side empty and the
 /// other an exact copy, one new position per cut edge.
-static void slice_checked(const bk_mesh* src, const bk_slice_desc* d, const char* what, bk_mesh* below,
+static void slice_checked(const bk_mesh* src, const bk_slice_def* d, const char* what, bk_mesh* below,
                           bk_mesh* above, side_report r[2]) {
   bk_error err = {{0}};
   bool ok = bk_slicer_slice(slicer, src, d, below, above, &err);
@@ -297,7 +297,7 @@ static void check_cube_cut(bk_plane plane, double below_volume, double cap_area,
                            const char* what) {
   bk_mesh cube, below, above;
   bk_shape_build(BK_SHAPE_CUBE, &cube);
-  bk_slice_desc d = make_desc(plane, tag);
+  bk_slice_def d = make_desc(plane, tag);
   side_report r[2];
   slice_checked(&cube, &d, what, &below, &above, r);
   if (below_volume < 0.0) below_volume = cube_volume_below(plane);
@@ -358,7 +358,7 @@ static void test_axis_planes(void) {
 static void test_cut_shares_positions(void) {
   bk_mesh cube, below, above;
   bk_shape_build(BK_SHAPE_CUBE, &cube);
-  bk_slice_desc d = make_desc(plane_eq(1, 0, 0, 0.2), 7);
+  bk_slice_def d = make_desc(plane_eq(1, 0, 0, 0.2), 7);
   side_report r[2];
   slice_checked(&cube, &d, "cube x = 0.2", &below, &above, r);
   ENSURE(crossed_edges(&cube, &d) == 8);
@@ -447,7 +447,7 @@ static void test_random_planes(void) {
     snprintf(what, sizeof what, "cube random plane %d", i);
     bk_mesh cube, below, above;
     bk_shape_build(BK_SHAPE_CUBE, &cube);
-    bk_slice_desc d = make_desc(plane, 1000 + (uint32_t)i);
+    bk_slice_def d = make_desc(plane, 1000 + (uint32_t)i);
     d.texture_scale = i % 2 ? 0.25 : 0.0;
     side_report r[2];
     slice_checked(&cube, &d, what, &below, &above, r);
@@ -478,7 +478,7 @@ static void test_random_planes(void) {
 static void test_cube_attributes(void) {
   bk_mesh cube, below, above;
   bk_shape_build(BK_SHAPE_CUBE, &cube);
-  bk_slice_desc d = make_desc(plane_eq(1, 0, 0, 0.2), 9);
+  bk_slice_def d = make_desc(plane_eq(1, 0, 0, 0.2), 9);
   side_report r[2];
   slice_checked(&cube, &d, "cube x = 0.2 attributes", &below, &above, r);
   const bk_mesh* sides[2] = {&below, &above};
@@ -514,7 +514,7 @@ static void test_cube_attributes(void) {
 static void test_pillar_attributes(void) {
   bk_mesh pillar, below, above;
   bk_shape_build(BK_SHAPE_PILLAR, &pillar);
-  bk_slice_desc d = make_desc(plane_eq(0, 1, 0, 0.5), 11);
+  bk_slice_def d = make_desc(plane_eq(0, 1, 0, 0.5), 11);
   side_report r[2];
   slice_checked(&pillar, &d, "pillar y = 0.5 attributes", &below, &above, r);
   const double radius = 0.25, edge = 2.0 * radius * sin(PI / 8.0), start = PI / 8.0;
@@ -556,7 +556,7 @@ static void test_pillar_attributes(void) {
 static void test_torus_attributes(void) {
   bk_mesh torus, below, above;
   bk_shape_build(BK_SHAPE_TORUS, &torus);
-  bk_slice_desc d = make_desc(plane_eq(0, 1, 0, 0.1), 12);
+  bk_slice_def d = make_desc(plane_eq(0, 1, 0, 0.1), 12);
   side_report r[2];
   slice_checked(&torus, &d, "torus y = 0.1 attributes", &below, &above, r);
   const bk_mesh* sides[2] = {&below, &above};
@@ -600,7 +600,7 @@ static void check_shape_cut(bk_shape shape, bk_plane plane, double below_volume,
   char what[128];
   snprintf(what, sizeof what, "%s plane (%g %g %g) %g", bk_shape_name(shape), plane.normal.x, plane.normal.y,
            plane.normal.z, plane.offset);
-  bk_slice_desc d = make_desc(plane, tag);
+  bk_slice_def d = make_desc(plane, tag);
   side_report r[2];
   slice_checked(&mesh, &d, what, &below, &above, r);
   if (below_volume > 0.0) ENSURE_REL(r[0].volume, below_volume, 1e-12);
@@ -679,7 +679,7 @@ static void test_recursive_octants(void) {
   for (uint32_t axis = 0; axis < 3; ++axis) {
     double n[3] = {0, 0, 0};
     n[axis] = 1.0;
-    bk_slice_desc d = make_desc((bk_plane){bk_v3(n[0], n[1], n[2]), 0.0}, axis + 1);
+    bk_slice_def d = make_desc((bk_plane){bk_v3(n[0], n[1], n[2]), 0.0}, axis + 1);
     for (uint32_t i = 0; i < count; ++i) {
       side_report r[2];
       char what[64];
@@ -729,7 +729,7 @@ static void test_faces_in_plane(void) {
   add_box(&two, bk_v3(-1, -1, -1), bk_v3(1, 1, 0));
   add_box(&two, bk_v3(-0.5, -0.5, 0), bk_v3(0.5, 0.5, 1));
   for (int s = -1; s <= 1; s += 2) {
-    bk_slice_desc d = make_desc((bk_plane){bk_v3(0, 0, s), 0.0}, 5);
+    bk_slice_def d = make_desc((bk_plane){bk_v3(0, 0, s), 0.0}, 5);
     side_report r[2];
     slice_checked(&two, &d, "touching boxes", &below, &above, r);
     double big = 4.0, small = 1.0;
@@ -750,7 +750,7 @@ static void test_open_mesh_fails(void) {
   bk_mesh cube, below, above;
   bk_shape_build(BK_SHAPE_CUBE, &cube);
   // Find a triangle crossing x = 0.2 and drop it (swap with the last).
-  bk_slice_desc d = make_desc(plane_eq(1, 0, 0, 0.2), 3);
+  bk_slice_def d = make_desc(plane_eq(1, 0, 0, 0.2), 3);
   uint32_t victim = UINT32_MAX;
   for (uint32_t t = 0; t < cube.triangle_count && victim == UINT32_MAX; ++t) {
     double lo = 1, hi = -1;
@@ -779,7 +779,7 @@ static void test_open_mesh_fails(void) {
 static void test_deterministic(void) {
   bk_mesh torus, b1, a1, b2, a2;
   bk_shape_build(BK_SHAPE_TORUS, &torus);
-  bk_slice_desc d = make_desc(plane_eq(0.3, 0.9, -0.2, 0.05), 17);
+  bk_slice_def d = make_desc(plane_eq(0.3, 0.9, -0.2, 0.05), 17);
   bk_error err = {{0}};
   ENSURE(bk_slicer_slice(slicer, &torus, &d, &b1, &a1, &err));
   bk_slicer* fresh = bk_slicer_create();
@@ -807,7 +807,7 @@ static void test_caps_have_no_slivers(void) {
   for (int axis = 0; axis < 3; ++axis) {
     double n[3] = {0, 0, 0};
     n[axis] = 1.0;
-    bk_slice_desc d = make_desc((bk_plane){bk_v3(n[0], n[1], n[2]), 0.0}, 1);
+    bk_slice_def d = make_desc((bk_plane){bk_v3(n[0], n[1], n[2]), 0.0}, 1);
     side_report r[2];
     slice_checked(&cube, &d, "cube through the centre", &below, &above, r);
     const bk_mesh* sides[2] = {&below, &above};
@@ -831,7 +831,7 @@ static void test_random_recursive(void) {
     bk_vec3 point = bk_v3(lcg_range(-0.4, 0.4), lcg_range(-0.4, 0.4), lcg_range(-0.4, 0.4));
     bk_mesh cube, halves[2];
     bk_shape_build(BK_SHAPE_CUBE, &cube);
-    bk_slice_desc d = make_desc(plane_through(lcg_direction(), point), 1);
+    bk_slice_def d = make_desc(plane_through(lcg_direction(), point), 1);
     side_report r[2];
     char what[96];
     snprintf(what, sizeof what, "random recursive %d", i);
@@ -839,7 +839,7 @@ static void test_random_recursive(void) {
     for (int h = 0; h < 2; ++h)
       for (int j = 0; j < 4; ++j) {
         bk_vec3 centroid = bk_moments_to_mass(bk_mesh_moments(&halves[h])).centroid;
-        bk_slice_desc d2 = make_desc(plane_through(lcg_direction(), centroid), 2);
+        bk_slice_def d2 = make_desc(plane_through(lcg_direction(), centroid), 2);
         bk_mesh below, above;
         snprintf(what, sizeof what, "random recursive %d half %d cut %d", i, h, j);
         slice_checked(&halves[h], &d2, what, &below, &above, r);

@@ -5,7 +5,7 @@
 #include <stdint.h>
 
 #include "bk_fracture.h"
-#include "bk_sim.h"
+#include "scenes.h"
 
 /// Subcommand entry points; argv[0] is the subcommand name. Return the exit code.
 int bk_cmd_fracture(int argc, char** argv);
@@ -23,7 +23,7 @@ bool bk_app_load_mesh(const char* spec, bk_mesh* out, bk_error* err);
 /// 1), or loads it from the cache directory ($BREAKABLES_CACHE_DIR, else
 /// $XDG_CACHE_HOME/breakables, else ~/.cache/breakables) when a file made
 /// from the same mesh and parameters is there; a fresh build is cached.
-bool bk_app_load_tree(const char* mesh_spec, double scale, const bk_fracture_desc* desc, bk_mesh_tree* out,
+bool bk_app_load_tree(const char* mesh_spec, double scale, const bk_fracture_def* desc, bk_mesh_tree* out,
                       bool* from_cache, bk_error* err);
 /// Directory holding assets/ content (next to the executable, or the source tree).
 const char* bk_app_asset_dir(void);
@@ -57,7 +57,7 @@ bool bk_app_parse_max_memory(const char* command, const char* text);
 /// limit: --max-memory when given, else MemAvailable from /proc/meminfo (no
 /// check when that is unknown). err gets one line with the estimate and the
 /// limit, naming the request by its pieces and `mesh_spec`.
-bool bk_app_check_fracture_memory(const char* mesh_spec, const bk_mesh* source, const bk_fracture_desc* desc,
+bool bk_app_check_fracture_memory(const char* mesh_spec, const bk_mesh* source, const bk_fracture_def* desc,
                                   bool saving, bk_error* err);
 
 /// Overrides for a scene's defaults (zero = the scene's or material's value).
@@ -65,6 +65,7 @@ typedef struct bk_scene_options {
   uint32_t pieces;
   uint64_t seed;
   double texture_scale;
+  const char* material; ///< a preset for every object (NULL = each object's own)
   double frailty, density, bond_strength;
   int accumulate; ///< -1 = material's choice, 0 = discrete, 1 = accumulating
   bool naive, convex_colliders;
@@ -86,13 +87,19 @@ typedef struct bk_loaded_scene {
   bool from_cache; ///< a tree came from the cache directory
 } bk_loaded_scene;
 
-/// A scene object's breakable description: its placement and its material's parameters.
-bk_breakable_desc bk_scene_object_desc(const bk_scene_object* object, const bk_mesh_tree* tree);
+/// A scene object's breakable: its placement and its material (the object's
+/// preset, or options->material), with the options' overrides (options may be NULL).
+bk_world_breakable_def bk_scene_object_def(const bk_scene_object* object, const bk_mesh_tree* tree,
+                                           const bk_scene_options* options);
+/// Applies a material preset to every object of a loaded scene now, and makes
+/// it the options' choice for the next load (clearing the other overrides).
+void bk_loaded_scene_apply_material(bk_loaded_scene* scene, bk_scene_options* options,
+                                    const bk_material* material);
 bool bk_loaded_scene_create(const bk_scene* scene, const bk_scene_options* options, bk_loaded_scene* out,
                             bk_error* err);
 void bk_loaded_scene_destroy(bk_loaded_scene* scene);
 /// The i-th shot of a volley from the scene's eye towards (around) its target.
-bk_projectile_desc bk_scene_shot(const bk_scene* scene, uint32_t shot, double speed);
+bk_projectile_def bk_scene_shot(const bk_scene* scene, uint32_t shot, double speed);
 
 /// Median of values (sorted in place); 0 for none.
 double bk_median(double* values, uint32_t count);

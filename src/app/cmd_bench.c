@@ -333,7 +333,7 @@ static uint32_t fracture_runs(const bench* b, uint32_t pieces) {
 static bool timed_build(const bk_mesh* source, uint32_t pieces, uint64_t seed, uint32_t runs,
                         bk_mesh_tree* tree, double* median_ms, double* min_ms, bk_error* err) {
   double times[MAX_RUNS] = {0};
-  bk_fracture_desc desc = bk_default_fracture_desc();
+  bk_fracture_def desc = bk_default_fracture_def();
   desc.pieces = pieces;
   desc.seed = seed;
   for (uint32_t r = 0; r < runs && r < MAX_RUNS; ++r) {

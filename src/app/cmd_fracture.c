@@ -87,7 +87,7 @@ int bk_cmd_fracture(int argc, char** argv) {
   const char* out_path = NULL;
   const char* obj_path = NULL;
   bool json = false;
-  bk_fracture_desc desc = bk_default_fracture_desc();
+  bk_fracture_def desc = bk_default_fracture_def();
   for (int i = 1; i < argc; ++i) {
     const char* arg = argv[i];
     const char* value = i + 1 < argc ? argv[i + 1] : NULL;

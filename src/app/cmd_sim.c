@@ -143,8 +143,8 @@ int bk_cmd_sim(int argc, char** argv) {
     // Shots at regular intervals, leaving time after the last one.
     uint64_t span = volley && volley < steps ? volley : steps;
     while (fired < shots && step >= (fired + 1) * span / (shots + 1)) {
-      bk_projectile_desc shot = bk_scene_shot(scene, fired++, speed);
-      bk_world_fire(loaded.world, &shot);
+      bk_projectile_def shot = bk_scene_shot(scene, fired++, speed);
+      bk_world_fire(loaded.world, &shot, NULL);
     }
     uint32_t splits_before = bk_world_get_stats(loaded.world).break_events;
     bk_world_step(loaded.world);

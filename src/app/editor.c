@@ -52,7 +52,7 @@ typedef struct editor {
 static const char* const mesh_names[] = {"bunny", "cube", "torus", "eggshell", "wall", "slab", "pillar"};
 
 static bool rebuild(editor* e, bk_error* err) {
-  bk_fracture_desc desc = bk_default_fracture_desc();
+  bk_fracture_def desc = bk_default_fracture_def();
   desc.pieces = (uint32_t)e->pieces;
   desc.seed = (uint64_t)e->seed;
   desc.texture_scale = e->texture_scale;

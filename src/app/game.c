@@ -66,11 +66,6 @@ bool bk_game_load_scene(bk_game* g, uint32_t index, bk_error* err) {
     g->render_trees[i] = bk_renderer_upload_tree(g->renderer, &g->scene.trees[i]);
     const bk_scene_object* object = &scene->objects[i];
     g->looks[i] = bk_renderer_material(g->renderer, object->look ? object->look : object->material);
-    const bk_material* m = bk_material_find(object->material);
-    if (m) {
-      g->frailty[i] = m->frailty;
-      g->density[i] = m->density;
-    }
   }
   aim_camera(g, scene->eye, scene->target);
   g->projectile_speed = scene->projectile_speed;
@@ -89,11 +84,11 @@ void bk_game_unload_scene(bk_game* g) {
 }
 
 void bk_game_fire(bk_game* g, bk_vec3 from, bk_vec3 direction) {
-  bk_projectile_desc shot = {.position = from,
-                             .velocity = bk_v3_scale(bk_v3_normalize(direction), g->projectile_speed),
-                             .radius = g->projectile_radius,
-                             .mass = g->projectile_mass};
-  bk_world_fire(g->scene.world, &shot);
+  bk_projectile_def shot = {.position = from,
+                            .velocity = bk_v3_scale(bk_v3_normalize(direction), g->projectile_speed),
+                            .radius = g->projectile_radius,
+                            .mass = g->projectile_mass};
+  bk_world_fire(g->scene.world, &shot, NULL);
   g->shots++;
 }
 
@@ -379,8 +374,8 @@ int bk_cmd_play(int argc, char** argv) {
     uint64_t span = volley && volley < wo.frames ? volley : wo.frames;
     while (wo.autofire && fired < wo.autofire && wo.frames &&
            frame >= (fired + 1) * span / (wo.autofire + 1)) {
-      bk_projectile_desc shot = bk_scene_shot(g->scene.scene, fired++, g->projectile_speed);
-      bk_world_fire(g->scene.world, &shot);
+      bk_projectile_def shot = bk_scene_shot(g->scene.scene, fired++, g->projectile_speed);
+      bk_world_fire(g->scene.world, &shot, NULL);
     }
     uint32_t particles = bk_particles_update(&g->particles, g->paused ? 0.0 : dt * g->time_scale);
 

@@ -15,7 +15,6 @@ typedef struct bk_game {
   bk_scene_options options;
   bk_render_tree render_trees[8];
   int looks[8];
-  double frailty[8], density[8]; ///< live values per object (panel)
   uint32_t scene_index;
   int next_scene; ///< -1: reload the same one
   bool reload;

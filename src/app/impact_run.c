@@ -12,7 +12,7 @@ static double copy_offset(uint32_t copy, uint32_t copies) {
 
 bool bk_app_load_scene_tree(uint64_t seed, const bk_scene* scene, uint32_t pieces, bk_mesh_tree* tree,
                             bk_error* err) {
-  bk_fracture_desc desc = bk_default_fracture_desc();
+  bk_fracture_def desc = bk_default_fracture_def();
   desc.pieces = pieces;
   desc.seed = seed;
   desc.aspect_bias = scene->aspect_bias;
@@ -23,15 +23,15 @@ bool bk_app_load_scene_tree(uint64_t seed, const bk_scene* scene, uint32_t piece
 /// Adds the object as a breakable with its material, moved along x.
 static bool add_object(bk_world* world, const bk_scene_object* object, const bk_mesh_tree* tree, double x,
                        bool naive, bk_error* err) {
-  bk_breakable_desc desc = bk_scene_object_desc(object, tree);
-  desc.transform.position.x += x;
+  bk_world_breakable_def desc = bk_scene_object_def(object, tree, NULL);
+  desc.breakable.transform.position.x += x;
   desc.naive = naive;
   return bk_world_add_breakable(world, &desc, err).generation != 0;
 }
 
 bool bk_impact_run(const bk_impact* setup, bk_impact_result* out, bk_error* err) {
   memset(out, 0, sizeof *out);
-  bk_world_desc world_desc = bk_default_world_desc();
+  bk_world_def world_desc = bk_default_world_def();
   bk_world* world = bk_world_create(&world_desc, err);
   if (!world) return false;
   for (uint32_t i = 0; i < setup->copies; ++i) {
@@ -46,9 +46,9 @@ bool bk_impact_run(const bk_impact* setup, bk_impact_result* out, bk_error* err)
   double* step_ms = bk_alloc(sizeof(double) * total);
   for (uint32_t s = 0; s < total; ++s) {
     for (uint32_t i = 0; s == BK_IMPACT_STEADY_STEPS && i < setup->copies; ++i) {
-      bk_projectile_desc shot = bk_scene_shot(setup->scene, 0, 0.0);
+      bk_projectile_def shot = bk_scene_shot(setup->scene, 0, 0.0);
       shot.position.x += copy_offset(i, setup->copies);
-      bk_world_fire(world, &shot);
+      bk_world_fire(world, &shot, NULL);
     }
     bk_world_step(world);
     bk_world_stats st = bk_world_get_stats(world);

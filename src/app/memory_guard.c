@@ -47,7 +47,7 @@ static void format_bytes(uint64_t bytes, char* out, size_t size) {
     snprintf(out, size, "%.1f MiB", mib);
 }
 
-bool bk_app_check_fracture_memory(const char* mesh_spec, const bk_mesh* source, const bk_fracture_desc* desc,
+bool bk_app_check_fracture_memory(const char* mesh_spec, const bk_mesh* source, const bk_fracture_def* desc,
                                   bool saving, bk_error* err) {
   uint64_t explicit_limit = atomic_load(&max_memory_bytes);
   uint64_t limit = explicit_limit ? explicit_limit : available_bytes();
@@ -64,7 +64,7 @@ bool bk_app_check_fracture_memory(const char* mesh_spec, const bk_mesh* source, 
   const char* name = strrchr(mesh_spec, '/');
   name = name ? name + 1 : mesh_spec;
   const char* ellipsis = strlen(name) > 120 ? "..." : "";
-  uint32_t pieces = desc->pieces ? desc->pieces : bk_default_fracture_desc().pieces;
+  uint32_t pieces = desc->pieces ? desc->pieces : bk_default_fracture_def().pieces;
   if (explicit_limit)
     return bk_error_set(
         err, "--pieces %u on %.120s%s needs about %s%s, more than --max-memory allows (%" PRIu64 " MiB)",

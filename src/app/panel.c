@@ -106,8 +106,8 @@ static void sweep_window(void) {
   }
   bk_ui_end_window();
 }
-static int pieces_setting = 0, seed_setting = 3000, material_preset = -1;
-static double texture_scale_setting = 0.1, bond_strength_setting = 0.0;
+static int pieces_setting = 0, seed_setting = 3000;
+static double texture_scale_setting = 0.1;
 static char status_line[600];
 
 static bool report_progress(void* user, uint32_t leaves, uint32_t target) {
@@ -166,50 +166,59 @@ static void finish_refracture(bk_game* g) {
   g->eye = eye, g->yaw = yaw, g->pitch = pitch;
 }
 
-static void apply_live(bk_game* g) {
-  for (uint32_t i = 0; i < g->scene.tree_count; ++i) {
-    bk_world_set_frailty(g->scene.world, g->scene.ids[i], g->frailty[i]);
-    bk_world_set_density(g->scene.world, g->scene.ids[i], g->density[i]);
-  }
-}
-
+// The world's runtime owns the live values: the panel reads them back every
+// frame and writes changes to every object; the options only record what the
+// next reset builds.
 static void material_section(bk_game* g) {
   const char* names[16];
   int count = (int)bk_material_count();
   for (int i = 0; i < count && i < 16; ++i)
     names[i] = bk_material_at((uint32_t)i)->name;
-  if (bk_ui_combo("preset", &material_preset, names, count) && material_preset >= 0) {
-    const bk_material* m = bk_material_at((uint32_t)material_preset);
+  bk_world* world = g->scene.world;
+  bk_breakable_id first = g->scene.ids[0];
+  bk_material live = bk_world_material(world, first);
+  int preset = -1;
+  for (int i = 0; i < count && live.name; ++i)
+    if (strcmp(names[i], live.name) == 0) preset = i;
+  if (bk_ui_combo("preset", &preset, names, count) && preset >= 0)
+    bk_loaded_scene_apply_material(&g->scene, &g->options, bk_material_at((uint32_t)preset));
+  live = bk_world_material(world, first);
+  double frailty = live.frailty, density = live.density, strength = live.bond_strength;
+  if (bk_ui_slider_double("frailty", &frailty, 0.01, 50.0, "%.2f", true)) {
+    g->options.frailty = frailty;
     for (uint32_t i = 0; i < g->scene.tree_count; ++i)
-      g->frailty[i] = m->frailty, g->density[i] = m->density;
-    g->options.bond_strength = bond_strength_setting = m->bond_strength;
-    g->options.accumulate = m->accumulate ? 1 : 0;
-    apply_live(g);
-    g->reload = true; // bond strength and bond kind are set when bodies are made
+      bk_world_set_frailty(world, g->scene.ids[i], frailty);
   }
-  bool changed = false;
-  changed |= bk_ui_slider_double("frailty", &g->frailty[0], 0.01, 50.0, "%.2f", true);
   bk_ui_tooltip("damage = frailty x impulse / distance^3 (applies now)");
-  changed |= bk_ui_slider_double("density kg/m3", &g->density[0], 50.0, 20000.0, "%.0f", true);
+  if (bk_ui_slider_double("density kg/m3", &density, 50.0, 20000.0, "%.0f", true)) {
+    g->options.density = density;
+    for (uint32_t i = 0; i < g->scene.tree_count; ++i)
+      bk_world_set_density(world, g->scene.ids[i], density);
+  }
   bk_ui_tooltip("masses and inertia are recomputed now");
-  if (changed) {
-    for (uint32_t i = 1; i < g->scene.tree_count; ++i)
-      g->frailty[i] = g->frailty[0], g->density[i] = g->density[0];
-    apply_live(g);
+  if (bk_ui_slider_double("bond strength", &strength, 1e4, 1e8, "%.3g", true)) {
+    g->options.bond_strength = strength;
+    for (uint32_t i = 0; i < g->scene.tree_count; ++i)
+      bk_world_set_bond_strength(world, g->scene.ids[i], strength);
   }
-  if (bk_ui_slider_double("bond strength", &bond_strength_setting, 1e4, 1e8, "%.3g", true)) {
-    g->options.bond_strength = bond_strength_setting;
-  }
-  bk_ui_tooltip("hit points per m^2 of contact (applies on reset)");
-  int kind = g->options.accumulate < 0 ? 0 : g->options.accumulate;
+  bk_ui_tooltip("hit points per m^2 of contact (intact bonds keep the fraction they have left)");
+  int kind = live.accumulate ? 1 : 0;
   bool kind_changed = bk_ui_radio("discrete", &kind, 0);
   bk_ui_same_line();
   kind_changed |= bk_ui_radio("accumulating", &kind, 1);
-  if (kind_changed) g->options.accumulate = kind;
+  if (kind_changed) {
+    g->options.accumulate = kind;
+    for (uint32_t i = 0; i < g->scene.tree_count; ++i) {
+      bk_material m = bk_world_material(world, g->scene.ids[i]);
+      m.accumulate = kind == 1;
+      bk_world_set_material(world, g->scene.ids[i], &m);
+    }
+  }
   bool convex = g->options.convex_colliders, naive = g->options.naive;
   if (bk_ui_checkbox("convex colliders", &convex)) g->options.convex_colliders = convex;
   bk_ui_same_line();
   if (bk_ui_checkbox("plain BCRB", &naive)) g->options.naive = naive;
+  bk_ui_tooltip("colliders are chosen when bodies are made (applies on reset)");
   if (bk_ui_button("reset with these settings (R)")) g->reload = true;
 }
 
@@ -246,23 +255,8 @@ static void stats_section(bk_game* g) {
   bk_ui_plot("break ms", g->break_history, BK_HISTORY, offset, 0.0f, 5.0f, 40.0f, NULL);
 }
 
-// The panel starts from the material of the scene's first object.
-static void sync_with_scene(bk_game* g) {
-  static const bk_scene* synced = NULL;
-  static uint32_t synced_trees = 0;
-  if (synced == g->scene.scene && synced_trees == g->scene.tree_count) return;
-  synced = g->scene.scene;
-  synced_trees = g->scene.tree_count;
-  const char* name = g->scene.scene->objects[0].material;
-  for (uint32_t i = 0; i < bk_material_count(); ++i)
-    if (strcmp(bk_material_at(i)->name, name) == 0) material_preset = (int)i;
-  const bk_material* m = bk_material_find(name);
-  if (m && g->options.bond_strength <= 0.0) bond_strength_setting = m->bond_strength;
-}
-
 void bk_game_panel(bk_game* g) {
   finish_refracture(g);
-  sync_with_scene(g);
   if (g->start_benchmark) {
     g->start_benchmark = false;
     start_sweep(g);

@@ -9,36 +9,52 @@ bk_scene_options bk_default_scene_options(void) {
   return (bk_scene_options){.seed = 3000, .texture_scale = 0.1, .accumulate = -1};
 }
 
-bk_breakable_desc bk_scene_object_desc(const bk_scene_object* object, const bk_mesh_tree* tree) {
-  bk_breakable_desc desc = bk_default_breakable_desc();
-  desc.tree = tree;
-  desc.transform.position = object->position;
+bk_world_breakable_def bk_scene_object_def(const bk_scene_object* object, const bk_mesh_tree* tree,
+                                           const bk_scene_options* options) {
+  bk_world_breakable_def def = bk_default_world_breakable_def();
+  bk_breakable_def* b = &def.breakable;
+  b->tree = tree;
+  b->transform.position = object->position;
   if (bk_v3_length(object->axis) > 0.0)
-    desc.transform.rotation = bk_quat_axis_angle(bk_v3_normalize(object->axis), object->angle);
-  const bk_material* material = bk_material_find(object->material);
-  if (material) {
-    desc.density = material->density;
-    desc.frailty = material->frailty;
-    desc.bond_strength = material->bond_strength;
-    desc.accumulate = material->accumulate;
-    desc.friction = material->friction;
-    desc.restitution = material->restitution;
+    b->transform.rotation = bk_quat_axis_angle(bk_v3_normalize(object->axis), object->angle);
+  const bk_material* material = options && options->material ? bk_material_find(options->material) : NULL;
+  if (!material) material = bk_material_find(object->material);
+  if (material) b->material = *material;
+  if (options) {
+    if (options->frailty > 0.0) b->material.frailty = options->frailty;
+    if (options->density > 0.0) b->material.density = options->density;
+    if (options->bond_strength > 0.0) b->material.bond_strength = options->bond_strength;
+    if (options->accumulate >= 0) b->material.accumulate = options->accumulate == 1;
+    def.naive = options->naive;
+    def.convex_colliders = options->convex_colliders;
   }
-  desc.anchored = object->anchored;
-  return desc;
+  b->anchored = object->anchored;
+  return def;
+}
+
+void bk_loaded_scene_apply_material(bk_loaded_scene* s, bk_scene_options* options,
+                                    const bk_material* material) {
+  // The preset now replaces every override, in the world at once and for
+  // the next reload: the world's runtime owns the values, the options only
+  // say what to build next time.
+  options->material = material->name;
+  options->frailty = options->density = options->bond_strength = 0.0;
+  options->accumulate = -1;
+  for (uint32_t i = 0; i < s->tree_count; ++i)
+    bk_world_set_material(s->world, s->ids[i], material);
 }
 
 bool bk_loaded_scene_create(const bk_scene* scene, const bk_scene_options* options, bk_loaded_scene* out,
                             bk_error* err) {
   memset(out, 0, sizeof *out);
   out->scene = scene;
-  bk_world_desc wd = bk_default_world_desc();
+  bk_world_def wd = bk_default_world_def();
   wd.retire_volume = options->retire_volume;
   out->world = bk_world_create(&wd, err);
   if (!out->world) return false;
   for (uint32_t i = 0; i < scene->object_count; ++i) {
     const bk_scene_object* object = &scene->objects[i];
-    bk_fracture_desc fd = bk_default_fracture_desc();
+    bk_fracture_def fd = bk_default_fracture_def();
     fd.pieces = options->pieces ? options->pieces : scene->pieces;
     fd.seed = options->seed;
     fd.texture_scale = options->texture_scale > 0.0 ? options->texture_scale : fd.texture_scale;
@@ -52,13 +68,7 @@ bool bk_loaded_scene_create(const bk_scene* scene, const bk_scene_options* optio
     }
     out->tree_count = i + 1;
     out->from_cache = out->from_cache || cached;
-    bk_breakable_desc bd = bk_scene_object_desc(object, &out->trees[i]);
-    if (options->frailty > 0.0) bd.frailty = options->frailty;
-    if (options->density > 0.0) bd.density = options->density;
-    if (options->bond_strength > 0.0) bd.bond_strength = options->bond_strength;
-    if (options->accumulate >= 0) bd.accumulate = options->accumulate == 1;
-    bd.naive = options->naive;
-    bd.convex_colliders = options->convex_colliders;
+    bk_world_breakable_def bd = bk_scene_object_def(object, &out->trees[i], options);
     out->ids[i] = bk_world_add_breakable(out->world, &bd, err);
     if (out->ids[i].generation == 0) {
       bk_loaded_scene_destroy(out);
@@ -75,7 +85,7 @@ void bk_loaded_scene_destroy(bk_loaded_scene* s) {
   memset(s, 0, sizeof *s);
 }
 
-bk_projectile_desc bk_scene_shot(const bk_scene* scene, uint32_t shot, double speed) {
+bk_projectile_def bk_scene_shot(const bk_scene* scene, uint32_t shot, double speed) {
   // Later shots land around the target on a golden-angle spiral, so a volley
   // spreads its damage instead of hitting one hole.
   // With several aim points the shots take them in turn, each one keeping
@@ -89,9 +99,9 @@ bk_projectile_desc bk_scene_shot(const bk_scene* scene, uint32_t shot, double sp
   bk_vec3 aim = bk_v3_add(
       target, bk_v3_add(bk_v3_scale(right, radius * cos(angle)), bk_v3_scale(up, radius * sin(angle))));
   bk_vec3 direction = bk_v3_normalize(bk_v3_sub(aim, scene->eye));
-  return (bk_projectile_desc){.position = scene->eye,
-                              .velocity =
-                                  bk_v3_scale(direction, speed > 0.0 ? speed : scene->projectile_speed),
-                              .radius = scene->projectile_radius,
-                              .mass = scene->projectile_mass};
+  return (bk_projectile_def){.position = scene->eye,
+                             .velocity =
+                                 bk_v3_scale(direction, speed > 0.0 ? speed : scene->projectile_speed),
+                             .radius = scene->projectile_radius,
+                             .mass = scene->projectile_mass};
 }

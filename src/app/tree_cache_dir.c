@@ -25,7 +25,7 @@ typedef struct cache_location {
 // Forms the directory and the file's path; false when either would be longer
 // than CACHE_PATH_MAX (*needed gets the length it would have).
 static bool cache_location_form(cache_location* at, const char* mesh_spec, uint64_t hash,
-                                const bk_fracture_desc* desc, size_t* needed) {
+                                const bk_fracture_def* desc, size_t* needed) {
   const char* explicit_dir = getenv("BREAKABLES_CACHE_DIR");
   const char* xdg = getenv("XDG_CACHE_HOME");
   const char* home = getenv("HOME");
@@ -73,7 +73,7 @@ static bool make_directories(const char* path, char* failed, size_t failed_size,
   }
 }
 
-static bool same_parameters(const bk_mesh_tree* tree, uint64_t hash, const bk_fracture_desc* d) {
+static bool same_parameters(const bk_mesh_tree* tree, uint64_t hash, const bk_fracture_def* d) {
   return tree->source_hash == hash && tree->desc.pieces == d->pieces && tree->desc.seed == d->seed &&
          tree->desc.texture_scale == d->texture_scale && tree->desc.jitter == d->jitter &&
          tree->desc.aspect_bias == d->aspect_bias;
@@ -82,7 +82,7 @@ static bool same_parameters(const bk_mesh_tree* tree, uint64_t hash, const bk_fr
 // A scene fractures several objects: say once, not once per object.
 static atomic_flag warned_path_too_long = ATOMIC_FLAG_INIT;
 
-bool bk_app_load_tree(const char* mesh_spec, double scale, const bk_fracture_desc* desc, bk_mesh_tree* out,
+bool bk_app_load_tree(const char* mesh_spec, double scale, const bk_fracture_def* desc, bk_mesh_tree* out,
                       bool* from_cache, bk_error* err) {
   *from_cache = false;
   bk_mesh source = {0};

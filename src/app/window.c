@@ -84,7 +84,7 @@ bool bk_window_open(const char* title, const bk_window_options* o, void** window
   glfwSwapInterval(o->frames ? 0 : 1); // scripted runs go as fast as they can
   char textures[4200];
   snprintf(textures, sizeof textures, "%s/textures", bk_app_asset_dir());
-  bk_renderer_desc desc = {
+  bk_renderer_def desc = {
       .get_proc_address = glfwGetProcAddress, .shader_dir = bk_app_shader_dir(), .texture_dir = textures};
   bk_renderer* renderer = bk_renderer_create(&desc, err);
   if (!renderer) {

@@ -28,15 +28,15 @@
 #define BUILD_MARGIN 1.25
 #define FILE_MARGIN 1.1
 
-static double pieces_of(const bk_fracture_desc* desc) {
-  return desc && desc->pieces ? (double)desc->pieces : (double)bk_default_fracture_desc().pieces;
+static double pieces_of(const bk_fracture_def* desc) {
+  return desc && desc->pieces ? (double)desc->pieces : (double)bk_default_fracture_def().pieces;
 }
 
 static uint64_t to_bytes(double bytes) {
   return bytes >= 18446744073709551615.0 ? UINT64_MAX : (uint64_t)ceil(bytes);
 }
 
-uint64_t bk_mesh_tree_estimate_bytes(const bk_mesh* source, const bk_fracture_desc* desc) {
+uint64_t bk_mesh_tree_estimate_bytes(const bk_mesh* source, const bk_fracture_def* desc) {
   double t = source ? (double)source->triangle_count : 0.0, n = pieces_of(desc);
   double levels = log2(n);
   double first_cut = n > 1.0 ? 5.75e6 + 660.0 * t : 0.0;
@@ -47,7 +47,7 @@ uint64_t bk_mesh_tree_estimate_bytes(const bk_mesh* source, const bk_fracture_de
 // Fitted the same way to the sizes of 13 saved trees (4.3 KB per piece); the
 // rounded fit is 4% to 15% above each. Saving holds the whole file in memory
 // before writing it.
-uint64_t bk_mesh_tree_estimate_file_bytes(const bk_mesh* source, const bk_fracture_desc* desc) {
+uint64_t bk_mesh_tree_estimate_file_bytes(const bk_mesh* source, const bk_fracture_def* desc) {
   double t = source ? (double)source->triangle_count : 0.0, n = pieces_of(desc);
   double levels = log2(n);
   double fit = 40.0 * t + 48.0 * t * levels + 4300.0 * n + 9000.0 * sqrt(t) * cbrt(n);

@@ -9,11 +9,11 @@
 #include "cap.h"
 #include "tree_frame.h"
 
-bk_fracture_desc bk_default_fracture_desc(void) {
-  return (bk_fracture_desc){.pieces = 256, .seed = 3000, .texture_scale = 0.1, .jitter = 0.05};
+bk_fracture_def bk_default_fracture_def(void) {
+  return (bk_fracture_def){.pieces = 256, .seed = 3000, .texture_scale = 0.1, .jitter = 0.05};
 }
 
-bool bk_fracture_desc_validate(const bk_fracture_desc* d, bk_error* err) {
+bool bk_fracture_def_validate(const bk_fracture_def* d, bk_error* err) {
   if (d->pieces > (1u << 20))
     return bk_error_set(err, "fracture: pieces = %u is too many (at most %u)", d->pieces, 1u << 20);
   if (!isfinite(d->texture_scale) || d->texture_scale < 0.0)
@@ -26,8 +26,8 @@ bool bk_fracture_desc_validate(const bk_fracture_desc* d, bk_error* err) {
   return true;
 }
 
-static bk_fracture_desc resolve_defaults(const bk_fracture_desc* in) {
-  bk_fracture_desc d = *in;
+static bk_fracture_def resolve_defaults(const bk_fracture_def* in) {
+  bk_fracture_def d = *in;
   if (d.pieces == 0) d.pieces = 256;
   if (d.texture_scale == 0.0) d.texture_scale = 0.1;
   return d;
@@ -101,7 +101,7 @@ static bool pieces_hold(const bk_mesh_tree_node* node, const bk_mesh* pieces, ui
 // pieces that hold (closed, volume kept); returns them, or 0 with *why set to
 // how the last attempt failed. Works in the tree's local frame.
 static uint32_t split_node(bk_slicer* slicer, bk_face_simplifier* simplifier, const bk_mesh_tree_node* node,
-                           uint32_t node_index, const bk_fracture_desc* d, const bk_tree_frame* frame,
+                           uint32_t node_index, const bk_fracture_def* d, const bk_tree_frame* frame,
                            bk_rng* rng, bk_plane* plane, bk_mesh** pieces, bk_moments** moments,
                            split_failure* why) {
   bk_mass_properties mass = bk_moments_to_mass(node->moments);
@@ -131,7 +131,7 @@ static uint32_t split_node(bk_slicer* slicer, bk_face_simplifier* simplifier, co
     bk_plane_basis(n, &u, &v);
     double origin_u = bk_v3_dot(frame->origin, u) / d->texture_scale;
     double origin_v = bk_v3_dot(frame->origin, v) / d->texture_scale;
-    bk_slice_desc slice = {.plane = *plane,
+    bk_slice_def slice = {.plane = *plane,
                            .tolerance = 1e-9 * bk_v3_length(size),
                            .texture_scale = ldexp(d->texture_scale, -frame->exponent),
                            .uv_origin = {origin_u - floor(origin_u), origin_v - floor(origin_v)},
@@ -214,7 +214,7 @@ static void number_leaves(bk_mesh_tree* tree) {
 
 // The source must have a size whose moments fit doubles, a volume, and cut
 // faces whose uvs floats can hold.
-static bool check_source(const bk_mesh* source, const bk_fracture_desc* d, bk_error* err) {
+static bool check_source(const bk_mesh* source, const bk_fracture_def* d, bk_error* err) {
   if (!bk_mesh_validate(source, err)) return false;
   bk_closure closure = bk_mesh_check_closure(source);
   if (closure.open_edges || closure.overused_edges || closure.degenerate_edges)
@@ -238,11 +238,11 @@ static bool check_source(const bk_mesh* source, const bk_fracture_desc* d, bk_er
   return true;
 }
 
-bool bk_mesh_tree_build(const bk_mesh* source, const bk_fracture_desc* desc_in, bk_mesh_tree* tree,
+bool bk_mesh_tree_build(const bk_mesh* source, const bk_fracture_def* desc_in, bk_mesh_tree* tree,
                         bk_error* err) {
   memset(tree, 0, sizeof *tree);
-  if (!bk_fracture_desc_validate(desc_in, err)) return false;
-  bk_fracture_desc d = resolve_defaults(desc_in);
+  if (!bk_fracture_def_validate(desc_in, err)) return false;
+  bk_fracture_def d = resolve_defaults(desc_in);
   if (!check_source(source, &d, err)) return false;
 
   // Everything is cut in the local frame (centred, about unit size) and moved

@@ -337,7 +337,7 @@ static uint32_t localize(bk_slicer* s, const bk_mesh* m, int side, bk_vec3 u, bk
 
 static void add_cap(bk_slicer* s, const bk_mesh* m, bk_mesh* out, int side, const uint32_t* tris,
                     uint32_t tri_count, uint32_t local_count, bool reversed, bk_vec3 n, bk_vec3 u,
-                    const bk_slice_desc* desc, double texture_scale) {
+                    const bk_slice_def* desc, double texture_scale) {
   // One corner per cap vertex: flat normal, planar uv, tangent along u. The
   // same uv on both faces of a crack makes the two halves' textures match.
   float sign = side == BELOW ? 1.0f : -1.0f;
@@ -364,7 +364,7 @@ static void add_cap(bk_slicer* s, const bk_mesh* m, bk_mesh* out, int side, cons
   }
 }
 
-bool bk_slicer_slice(bk_slicer* s, const bk_mesh* m, const bk_slice_desc* desc, bk_mesh* below,
+bool bk_slicer_slice(bk_slicer* s, const bk_mesh* m, const bk_slice_def* desc, bk_mesh* below,
                      bk_mesh* above, bk_error* err) {
   memset(below, 0, sizeof *below);
   memset(above, 0, sizeof *above);

@@ -180,7 +180,7 @@ static bool moments_finite(const bk_moments* m) {
 // the path; the caller adds it.
 static bool check_tree(const bk_mesh_tree* t, bk_error* why) {
   bk_error inner = {{0}};
-  if (!bk_fracture_desc_validate(&t->desc, &inner)) return bk_error_set(why, "%s", inner.message);
+  if (!bk_fracture_def_validate(&t->desc, &inner)) return bk_error_set(why, "%s", inner.message);
   if (t->node_count == 0) return bk_error_set(why, "the tree has no nodes");
   if (t->leaf_count == 0 || t->leaf_count > t->node_count)
     return bk_error_set(why, "%u leaves for %u nodes", t->leaf_count, t->node_count);

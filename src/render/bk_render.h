@@ -18,18 +18,18 @@ extern "C" {
 typedef struct bk_renderer bk_renderer;
 
 /// Zero fields mean the default.
-typedef struct bk_renderer_desc {
+typedef struct bk_renderer_def {
   /// GL function loader of the window system (e.g. glfwGetProcAddress); required.
   void (*(*get_proc_address)(const char* name))(void);
   const char* shader_dir;  ///< directory with the .vert/.frag files (required)
   const char* texture_dir; ///< directory with the material PNGs (required)
   int shadow_size;         ///< shadow map resolution; default 1024
   uint32_t max_particles;  ///< default 16384
-} bk_renderer_desc;
+} bk_renderer_def;
 
 /// Loads GL entry points, shaders and textures. Fails with a message naming
 /// the file (and the GL info log for a broken shader).
-bk_renderer* bk_renderer_create(const bk_renderer_desc* desc, bk_error* err);
+bk_renderer* bk_renderer_create(const bk_renderer_def* desc, bk_error* err);
 void bk_renderer_destroy(bk_renderer* renderer);
 
 /// Uploaded mesh tree, id with a generation (zero = null).

@@ -374,7 +374,7 @@ static bool make_shadow_map(bk_renderer* r, bk_error* err) {
 
 static GLint uniform(GLuint program, const char* name) { return glGetUniformLocation(program, name); }
 
-bk_renderer* bk_renderer_create(const bk_renderer_desc* desc, bk_error* err) {
+bk_renderer* bk_renderer_create(const bk_renderer_def* desc, bk_error* err) {
   if (!desc->shader_dir || !desc->texture_dir)
     return bk_error_set(err, "renderer: shader_dir and texture_dir are required"), NULL;
   if (!desc->get_proc_address || !gladLoadGL((GLADloadfunc)desc->get_proc_address))

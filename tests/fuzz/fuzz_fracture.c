@@ -56,7 +56,7 @@ static void check_tree(const bk_mesh_tree* tree, uint32_t pieces, uint64_t seed)
 
 int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size < 1 || size > FUZZ_FRACTURE_MAX_BYTES) return 0;
-  bk_fracture_desc desc = bk_default_fracture_desc();
+  bk_fracture_def desc = bk_default_fracture_def();
   desc.pieces = pieces_of(data[0]);
   bk_mesh mesh = {0};
   bk_error err = {{0}};

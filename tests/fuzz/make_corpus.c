@@ -50,7 +50,7 @@ static uint8_t* read_bytes(const char* relative, size_t* size) {
 }
 
 static void build(const bk_mesh* mesh, uint32_t pieces, uint64_t seed, bk_mesh_tree* tree) {
-  bk_fracture_desc desc = bk_default_fracture_desc();
+  bk_fracture_def desc = bk_default_fracture_def();
   desc.pieces = pieces;
   desc.seed = seed;
   bk_error err = {{0}};

@@ -1,9 +1,11 @@
-// Small double-precision vector helpers shared by every layer. Header-only so
-// they inline in hot loops (slicing, mass properties).
+// Breakables: the types every library shares: double-precision vectors,
+// quaternions, rigid transforms, bounding boxes and the one-line error.
+// Header-only math so it inlines in hot loops (slicing, mass properties).
 #pragma once
 
 #include <math.h>
 #include <stdbool.h>
+#include <stdint.h>
 
 /// A point or direction in double precision: geometry is processed in doubles
 /// so volumes stay exact to ~1e-12 through many recursive cuts.
@@ -99,3 +101,22 @@ static inline bk_transform bk_transform_inverse(bk_transform t) {
   bk_quat r = bk_quat_conjugate(t.rotation);
   return (bk_transform){bk_v3_scale(bk_quat_rotate(r, t.position), -1.0), r};
 }
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+// ---------------------------------------------------------------- errors
+
+/// A failed call fills one line naming the problem (file, line, field).
+typedef struct bk_error {
+  char message[512];
+} bk_error;
+
+/// printf-style fill of an error; err may be NULL. Always returns false so a
+/// failing function can `return bk_error_set(err, ...)`.
+bool bk_error_set(bk_error* err, const char* fmt, ...) __attribute__((format(printf, 2, 3)));
+
+#ifdef __cplusplus
+}
+#endif

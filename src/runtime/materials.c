@@ -6,7 +6,7 @@
 // ~150 of a 1024-fragment one (finer fragments have smaller, weaker bonds).
 #include <string.h>
 
-#include "bk_sim.h"
+#include "runtime_internal.h"
 
 // clang-format off
 static const bk_material materials[] = {
@@ -31,4 +31,23 @@ const bk_material* bk_material_find(const char* name) {
   for (uint32_t i = 0; i < bk_material_count(); ++i)
     if (strcmp(materials[i].name, name) == 0) return &materials[i];
   return NULL;
+}
+
+bool bk_material_validate(const bk_material* m, bk_error* err) {
+  if (!m) return bk_error_set(err, "material is NULL");
+  if (m->name && strlen(m->name) > BK_MATERIAL_NAME_MAX)
+    return bk_error_set(err, "material.name must be at most %d bytes (got %zu)", BK_MATERIAL_NAME_MAX,
+                        strlen(m->name));
+  if (!(m->density > 0.0) || !isfinite(m->density))
+    return bk_error_set(err, "material.density must be a positive finite number (got %g)", m->density);
+  if (!(m->frailty >= 0.0) || !isfinite(m->frailty))
+    return bk_error_set(err, "material.frailty must be finite and >= 0 (got %g)", m->frailty);
+  if (!(m->bond_strength > 0.0) || !isfinite(m->bond_strength))
+    return bk_error_set(err, "material.bond_strength must be a positive finite number (got %g)",
+                        m->bond_strength);
+  if (!(m->friction >= 0.0) || !isfinite(m->friction))
+    return bk_error_set(err, "material.friction must be finite and >= 0 (got %g)", m->friction);
+  if (!(m->restitution >= 0.0 && m->restitution <= 1.0))
+    return bk_error_set(err, "material.restitution must be in [0, 1] (got %g)", m->restitution);
+  return true;
 }

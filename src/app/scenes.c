@@ -1,7 +1,7 @@
 // The scene table: what stands where, made of what, and where shots aim.
 #include <string.h>
 
-#include "bk_sim.h"
+#include "scenes.h"
 
 static const bk_scene scenes[] = {
     {.name = "wall",

@@ -5,7 +5,7 @@
 // destroyed, so stale ids are detected and ignored. Contacts are gathered in
 // Bullet's internal tick callbacks (one pair of calls per substep) and kept
 // as a plain array until the next step.
-#include "bk_physics.h"
+#include <breakables/bullet.h>
 
 #include <algorithm>
 #include <cmath>
@@ -687,8 +687,8 @@ void near_callback(btBroadphasePair& pair, btCollisionDispatcher& dispatcher, co
 
 // ---------------------------------------------------------------- world
 
-bk_physics_desc bk_default_physics_desc(void) {
-  bk_physics_desc d = {};
+bk_physics_def bk_default_physics_def(void) {
+  bk_physics_def d = {};
   d.gravity = bk_v3(0, default_gravity_y, 0);
   d.fixed_dt = default_fixed_dt;
   d.contact_capacity = default_contact_capacity;
@@ -696,26 +696,21 @@ bk_physics_desc bk_default_physics_desc(void) {
   return d;
 }
 
-bk_physics* bk_physics_create(const bk_physics_desc* desc, bk_error* err) {
-  bk_physics_desc d = desc ? *desc : bk_default_physics_desc();
+bk_physics* bk_physics_create(const bk_physics_def* desc, bk_error* err) {
+  bk_physics_def d = desc ? *desc : bk_default_physics_def();
   if (!bk_v3_is_finite(d.gravity)) {
     bk_error_set(err, "physics: gravity must be finite (got %g, %g, %g)", d.gravity.x, d.gravity.y,
                  d.gravity.z);
     return nullptr;
   }
-  if (d.gravity.x == 0.0 && d.gravity.y == 0.0 && d.gravity.z == 0.0 && !d.use_zero_gravity)
-    d.gravity = bk_v3(0, default_gravity_y, 0);
-  if (d.fixed_dt == 0.0) d.fixed_dt = default_fixed_dt;
   if (!(d.fixed_dt > 0.0 && d.fixed_dt <= 0.1)) {
     bk_error_set(err, "physics: fixed_dt must be in (0, 0.1] s (got %g)", d.fixed_dt);
     return nullptr;
   }
-  if (d.default_margin == 0.0) d.default_margin = default_margin;
   if (!(std::isfinite(d.default_margin) && d.default_margin >= 0.0)) {
     bk_error_set(err, "physics: default_margin must be finite and >= 0 (got %g)", d.default_margin);
     return nullptr;
   }
-  if (d.contact_capacity == 0) d.contact_capacity = default_contact_capacity;
 
   bk_physics* w = new (std::nothrow) bk_physics;
   if (!w) {
@@ -969,8 +964,8 @@ uint32_t bk_physics_shape_count(const bk_physics* w) { return w ? w->shapes.live
 
 // ---------------------------------------------------------------- bodies
 
-bk_body_desc bk_default_body_desc(void) {
-  bk_body_desc d = {};
+bk_body_def bk_default_body_def(void) {
+  bk_body_def d = {};
   d.transform = bk_transform_identity();
   d.friction = default_friction;
   d.restitution = default_restitution;
@@ -989,7 +984,7 @@ bool check_finite(bk_vec3 v, const char* field, bk_error* err) {
   return bk_error_set(err, "body: %s must be finite (got %g, %g, %g)", field, v.x, v.y, v.z);
 }
 
-bool validate_body(const bk_physics* w, const bk_body_desc* d, bk_error* err) {
+bool validate_body(const bk_physics* w, const bk_body_def* d, bk_error* err) {
   if (!w) return bk_error_set(err, "body: world is NULL");
   if (!d) return bk_error_set(err, "body: description is NULL");
   const ShapeSlot* shape = w->shape(d->shape);
@@ -1008,6 +1003,10 @@ bool validate_body(const bk_physics* w, const bk_body_desc* d, bk_error* err) {
   if (!check_finite(d->transform.position, "transform.position", err)) return false;
   if (!quat_is_finite(d->transform.rotation))
     return bk_error_set(err, "body: transform.rotation must be finite");
+  bk_quat q = d->transform.rotation;
+  double q_length = std::sqrt(q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w);
+  if (!(q_length > 0.5 && q_length < 2.0))
+    return bk_error_set(err, "body: transform.rotation must be a unit quaternion (length %g)", q_length);
   if (!check_finite(d->linear_velocity, "linear_velocity", err) ||
       !check_finite(d->angular_velocity, "angular_velocity", err) ||
       !check_finite(d->friction, "friction", err) || !check_finite(d->restitution, "restitution", err) ||
@@ -1017,8 +1016,8 @@ bool validate_body(const bk_physics* w, const bk_body_desc* d, bk_error* err) {
       !check_finite(d->ccd_radius, "ccd_radius", err))
     return false;
   if (d->friction < 0.0) return bk_error_set(err, "body: friction must be >= 0 (got %g)", d->friction);
-  if (d->restitution < 0.0)
-    return bk_error_set(err, "body: restitution must be >= 0 (got %g)", d->restitution);
+  if (!(d->restitution >= 0.0 && d->restitution <= 1.0))
+    return bk_error_set(err, "body: restitution must be in [0, 1] (got %g)", d->restitution);
   if (d->rolling_friction < 0.0)
     return bk_error_set(err, "body: rolling_friction must be >= 0 (got %g)", d->rolling_friction);
   if (!(d->linear_damping >= 0.0 && d->linear_damping <= 1.0))
@@ -1041,10 +1040,10 @@ double embedded_radius(const ShapeSlot& s) {
 
 } // namespace
 
-bk_body_id bk_physics_create_body(bk_physics* w, const bk_body_desc* desc, bk_error* err) {
+bk_body_id bk_physics_create_body(bk_physics* w, const bk_body_def* desc, bk_error* err) {
   const bk_body_id null_id = {0, 0};
   if (!validate_body(w, desc, err)) return null_id;
-  const bk_body_desc& d = *desc;
+  const bk_body_def& d = *desc;
   uint32_t index;
   try {
     index = w->bodies.allocate();
@@ -1057,8 +1056,8 @@ bk_body_id bk_physics_create_body(bk_physics* w, const bk_body_desc* desc, bk_er
   btVector3 inertia = dynamic ? to_bt(d.inertia) : btVector3(0, 0, 0);
   btRigidBody::btRigidBodyConstructionInfo info((btScalar)d.mass, nullptr, shape.shape, inertia);
   info.m_startWorldTransform = to_bt(d.transform);
-  info.m_friction = (btScalar)(d.friction == 0.0 ? default_friction : d.friction);
-  info.m_restitution = (btScalar)(d.restitution == 0.0 ? default_restitution : d.restitution);
+  info.m_friction = (btScalar)d.friction;
+  info.m_restitution = (btScalar)d.restitution;
   info.m_linearDamping = (btScalar)d.linear_damping;
   info.m_angularDamping = (btScalar)d.angular_damping;
   info.m_rollingFriction = (btScalar)d.rolling_friction;
@@ -1153,6 +1152,14 @@ void bk_physics_body_set_mass(bk_physics* w, bk_body_id body, double mass, bk_ve
   s->body->activate(true);
   s->mass = mass;
   s->inertia = to_bt(inertia);
+}
+
+void bk_physics_body_set_surface(bk_physics* w, bk_body_id body, double friction, double restitution) {
+  BodySlot* s = w ? w->body(body) : nullptr;
+  if (!s || !(std::isfinite(friction) && friction >= 0.0) || !(restitution >= 0.0 && restitution <= 1.0))
+    return;
+  s->body->setFriction((btScalar)friction);
+  s->body->setRestitution((btScalar)restitution);
 }
 
 double bk_physics_body_mass(const bk_physics* w, bk_body_id body) {

@@ -1,20 +1,19 @@
-// Splitting (thesis 5.2.1-5.2.3, improved): only the body whose bonds broke
-// is searched for connected components, over its own leaves and its
+// Splitting (thesis 5.2.1-5.2.3, improved): only the cluster whose bonds
+// broke is searched for connected components, over its own leaves and its
 // surviving bonds; the rest of the graph is untouched (the thesis rebuilt the
-// whole graph and measured that as half its break cost). Each component gets
-// a body built from its minimal node set, exact mass properties, and the old
-// body's motion at its new centre of mass (v + w x r). A budget of new bodies
-// per step keeps one huge hit from stalling a frame: what does not fit waits
-// for the next step, in order.
+// whole graph and measured that as half its break cost). Each component
+// becomes a cluster with its minimal node set, exact mass properties, and the
+// old body's motion at its new centre of mass (v + w x r). A budget of new
+// clusters per call keeps one huge hit from stalling a frame: what does not
+// fit waits for the next call, in order.
 #include <stdlib.h>
 #include <string.h>
 
-#include "sim_internal.h"
+#include "runtime_internal.h"
 
-static void reserve_scratch(bk_world* w, uint32_t n) {
+static void reserve_scratch(bk_runtime* w, uint32_t n) {
   if (n <= w->scratch_capacity) return;
   w->scratch_capacity = bk_grow_capacity(w->scratch_capacity, n);
-  w->scratch_leaves = bk_realloc(w->scratch_leaves, sizeof(uint32_t) * w->scratch_capacity);
   w->scratch_component = bk_realloc(w->scratch_component, sizeof(uint32_t) * w->scratch_capacity);
   w->scratch_stack = bk_realloc(w->scratch_stack, sizeof(uint32_t) * w->scratch_capacity);
 }
@@ -27,8 +26,8 @@ static int compare_u32(const void* a, const void* b) {
 // Labels the cluster's leaves by connected component (flood fill over the
 // CSR graph); returns the component count. Labels go to scratch_component,
 // indexed like c->leaves; leaf -> position via binary search on the sorted list.
-static uint32_t label_components(bk_world* w, const cluster* c, uint32_t slot) {
-  const breakable* b = &w->breakables[c->breakable];
+static uint32_t label_components(bk_runtime* w, const rt_cluster* c, uint32_t slot) {
+  const rt_breakable* b = &w->breakables[c->breakable];
   uint32_t* label = w->scratch_component;
   for (uint32_t i = 0; i < c->leaf_count; ++i)
     label[i] = UINT32_MAX;
@@ -63,15 +62,11 @@ static uint32_t label_components(bk_world* w, const cluster* c, uint32_t slot) {
 // max_bodies bodies. Over that, the components beyond the budget stay
 // together with the largest one as a single body (for a step, invisibly)
 // that is queued to split further next step. Returns the bodies created.
-static uint32_t split_cluster(bk_world* w, uint32_t slot, uint32_t components, uint32_t max_bodies) {
-  cluster old = w->clusters[slot];
-  bk_transform tree_to_world = bk_cluster_tree_to_world(w, &old);
-  bk_motion motion = {bk_v3(0, 0, 0), bk_v3(0, 0, 0),
-                      bk_physics_body_transform(w->physics, old.body).position};
-  if (!old.is_static) {
-    motion.linear = bk_physics_body_linear_velocity(w->physics, old.body);
-    motion.angular = bk_physics_body_angular_velocity(w->physics, old.body);
-  }
+static uint32_t split_cluster(bk_runtime* w, uint32_t slot, uint32_t components, uint32_t max_bodies) {
+  rt_cluster old = w->clusters[slot];
+  bk_cluster_id old_id = rt_cluster_id(w, slot);
+  bk_body_state state = rt_body_state(w, slot);
+  bk_transform tree_to_world = rt_tree_to_world(&old, &state);
   const uint32_t* label = w->scratch_component;
   uint32_t* sizes = bk_calloc(components, sizeof(uint32_t));
   for (uint32_t i = 0; i < old.leaf_count; ++i)
@@ -99,39 +94,39 @@ static uint32_t split_cluster(bk_world* w, uint32_t slot, uint32_t components, u
     part_leaves[p][part_sizes[p]++] = old.leaves[i]; // stays ascending
   }
   uint32_t breakable_index = old.breakable;
-  bk_cluster_release(w, slot);
+  rt_record_removed(w, old_id);
+  rt_cluster_free(w, slot);
   for (uint32_t p = 0; p < parts; ++p) {
-    uint32_t s = bk_cluster_alloc(w, breakable_index);
-    cluster* c = &w->clusters[s];
+    uint32_t s = rt_cluster_alloc(w, breakable_index);
+    rt_cluster* c = &w->clusters[s];
     c->leaves = part_leaves[p];
     c->leaf_count = part_sizes[p];
-    bk_error err = {0};
-    if (!bk_cluster_build(w, s, tree_to_world, motion, &err)) {
-      bk_cluster_release(w, s); // cannot happen for valid trees; never keep a half-built body
-      continue;
-    }
-    if (p == 0 && remainder_split) bk_world_queue_split(w, s);
+    rt_cluster_finish(w, s);
+    rt_record_created(w, s, old_id, tree_to_world, &state);
+    if (p == 0 && remainder_split) rt_queue_split(w, s);
   }
   free(part_leaves);
   free(part_sizes);
   free(part_of);
   free(sizes);
-  w->break_events++;
+  w->splits++;
   return parts;
 }
 
-void bk_world_split(bk_world* w) {
-  uint32_t budget = w->desc.max_new_bodies_per_step, done = 0;
+uint32_t bk_runtime_split(bk_runtime* w) {
+  rt_begin_call(w);
+  uint32_t budget = w->def.max_new_clusters_per_split, done = 0;
   while (done < w->split_queue_count && budget >= 2) {
     uint32_t slot = w->split_queue[done++];
-    cluster* c = &w->clusters[slot];
+    rt_cluster* c = &w->clusters[slot];
     if (!c->alive || !c->dirty) continue;
     c->dirty = c->queued = false;
     reserve_scratch(w, c->leaf_count);
     uint32_t components = label_components(w, c, slot);
     if (components > 1) budget -= split_cluster(w, slot, components, budget);
   }
-  if (done == 0) return;
+  if (done == 0) return 0;
   memmove(w->split_queue, w->split_queue + done, sizeof(uint32_t) * (w->split_queue_count - done));
   w->split_queue_count -= done;
+  return w->created_count;
 }

@@ -1,0 +1,323 @@
+// Breakables on Bullet (breakables::bullet): the physics extension of the
+// runtime. Two layers:
+//   - bk_physics: a C interface over Bullet. Opaque world, typed ids with a
+//     generation (zero = null), C types only. After each step, contacts are
+//     pulled as an array; no callbacks cross from the physics engine into C.
+//   - bk_world: breakables as Breakable Composite Rigid Bodies on bk_physics,
+//     built on <breakables/runtime.h>: one Bullet body per cluster, its
+//     compound made of the hulls of the cluster's mesh-tree nodes, contacts
+//     fed to the runtime as damage, splits turned into new bodies. Plus
+//     projectiles and the statistics the demo and benchmarks report.
+// Every *_def is filled completely by its bk_default_*_def(); create calls
+// take the values as given (zero friction is zero friction) and name the bad
+// field when one is wrong.
+#pragma once
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "runtime.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/// The physics world (owns every shape and body created in it).
+typedef struct bk_physics bk_physics;
+
+/// A rigid body: index + generation; {0, 0} is null. A destroyed body's id
+/// stops being valid (its slot's generation moves on).
+typedef struct bk_body_id {
+  uint32_t index, generation;
+} bk_body_id;
+
+/// A collision shape, same scheme as bodies.
+typedef struct bk_shape_id {
+  uint32_t index, generation;
+} bk_shape_id;
+
+static inline bool bk_body_is_null(bk_body_id id) { return id.generation == 0; }
+static inline bool bk_shape_is_null(bk_shape_id id) { return id.generation == 0; }
+static inline bool bk_body_equal(bk_body_id a, bk_body_id b) {
+  return a.index == b.index && a.generation == b.generation;
+}
+
+/// World parameters (bk_default_physics_def() fills every field).
+typedef struct bk_physics_def {
+  bk_vec3 gravity;           ///< default (0, -9.81, 0)
+  double fixed_dt;           ///< internal substep, in (0, 0.1] s; default 1/60 s
+  uint32_t contact_capacity; ///< contacts kept per step (more are counted, not stored); default 65536
+  double default_margin;     ///< collision margin of hulls (>= 0); default 0.004 m
+} bk_physics_def;
+
+/// Defaults: gravity -9.81 y, 60 Hz substeps.
+bk_physics_def bk_default_physics_def(void);
+/// Creates a world (split impulse on, so penetration recovery adds no
+/// contact impulse). Returns NULL with err set on a bad description.
+bk_physics* bk_physics_create(const bk_physics_def* desc, bk_error* err);
+/// Destroys the world with every shape and body left in it.
+void bk_physics_destroy(bk_physics* world);
+void bk_physics_set_gravity(bk_physics* world, bk_vec3 gravity);
+bk_vec3 bk_physics_gravity(const bk_physics* world);
+/// What the last step worked on (for statistics and tuning).
+typedef struct bk_physics_stats {
+  uint32_t bodies;         ///< rigid bodies in the world
+  uint32_t awake_bodies;   ///< dynamic bodies that were simulated (not asleep)
+  uint32_t pairs;          ///< broadphase pairs (bounding boxes overlapping)
+  uint32_t manifolds;      ///< narrowphase pairs with a contact manifold
+  uint32_t contact_points; ///< points in those manifolds
+} bk_physics_stats;
+
+bk_physics_stats bk_physics_get_stats(const bk_physics* world);
+/// Advances by dt in fixed substeps (at most max_substeps); returns the
+/// substeps taken. Contacts of every substep are collected for bk_physics_contacts.
+int bk_physics_step(bk_physics* world, double dt, int max_substeps);
+
+// ---------------------------------------------------------------- shapes
+
+/// Convex hull of points, simplified to at most max_vertices (<= 64; 0 = 64).
+/// Returns null if fewer than 4 non-coplanar points are given.
+bk_shape_id bk_physics_create_hull(bk_physics* world, const bk_vec3* points, uint32_t count,
+                                   uint32_t max_vertices);
+bk_shape_id bk_physics_create_sphere(bk_physics* world, double radius);
+bk_shape_id bk_physics_create_box(bk_physics* world, bk_vec3 half_extents);
+/// Infinite static plane dot(normal, x) = offset.
+bk_shape_id bk_physics_create_plane(bk_physics* world, bk_vec3 normal, double offset);
+/// Empty compound; add children (they are referenced, not copied: a child may
+/// be shared by many compounds and must outlive them).
+bk_shape_id bk_physics_create_compound(bk_physics* world, uint32_t expected_children);
+void bk_physics_compound_add(bk_physics* world, bk_shape_id compound, bk_shape_id child, bk_transform local);
+/// Destroys a shape; it must not be in use by a body or a compound.
+void bk_physics_destroy_shape(bk_physics* world, bk_shape_id shape);
+bool bk_physics_shape_valid(const bk_physics* world, bk_shape_id shape);
+/// Vertices of a hull shape's core after simplification: the hull is shrunk
+/// by its collision margin, so its surface is these vertices grown by the
+/// margin. Returns the vertex count (writes at most capacity).
+uint32_t bk_physics_hull_vertices(const bk_physics* world, bk_shape_id hull, bk_vec3* out, uint32_t capacity);
+/// Volume of the convex hull of the points the shape was made from (exact,
+/// before simplification is applied to the core).
+double bk_physics_hull_volume(const bk_physics* world, bk_shape_id hull);
+/// Number of shapes alive (for leak checks and statistics).
+uint32_t bk_physics_shape_count(const bk_physics* world);
+
+// ---------------------------------------------------------------- bodies
+
+/// A rigid body. The body frame is its centre of mass with principal axes:
+/// `transform` places that frame in the world and `inertia` holds the
+/// principal moments. bk_default_body_def() fills every field.
+typedef struct bk_body_def {
+  bk_shape_id shape;
+  double mass;            ///< 0 = static body
+  bk_vec3 inertia;        ///< principal moments of inertia (dynamic bodies)
+  bk_transform transform; ///< rotation a unit quaternion; default identity
+  bk_vec3 linear_velocity, angular_velocity;
+  double friction;    ///< >= 0; default 0.6
+  double restitution; ///< in [0, 1]; default 0.1
+  /// Resistance to rolling and spinning on a contact (torque per normal
+  /// force, in metres); 0 = none. Debris needs it to come to rest: a rounded
+  /// shard otherwise rolls on for seconds and keeps its whole pile awake.
+  double rolling_friction;
+  double linear_damping, angular_damping;
+  bool ccd;          ///< continuous collision detection, for fast small bodies
+  double ccd_radius; ///< swept sphere radius for CCD; 0 (default) = the largest sphere inside the shape
+  bool disable_sleep;
+  uint64_t user_data;
+} bk_body_def;
+
+bk_body_def bk_default_body_def(void);
+/// Creates a body; returns null with err naming the bad field (non-finite
+/// values, negative mass, zero inertia on a dynamic body, invalid shape).
+bk_body_id bk_physics_create_body(bk_physics* world, const bk_body_def* desc, bk_error* err);
+void bk_physics_destroy_body(bk_physics* world, bk_body_id body);
+bool bk_physics_body_valid(const bk_physics* world, bk_body_id body);
+uint32_t bk_physics_body_count(const bk_physics* world);
+bk_transform bk_physics_body_transform(const bk_physics* world, bk_body_id body);
+void bk_physics_body_set_transform(bk_physics* world, bk_body_id body, bk_transform transform);
+bk_vec3 bk_physics_body_linear_velocity(const bk_physics* world, bk_body_id body);
+bk_vec3 bk_physics_body_angular_velocity(const bk_physics* world, bk_body_id body);
+void bk_physics_body_set_velocity(bk_physics* world, bk_body_id body, bk_vec3 linear, bk_vec3 angular);
+/// Changes mass and principal inertia (density edits); mass 0 is not allowed here.
+void bk_physics_body_set_mass(bk_physics* world, bk_body_id body, double mass, bk_vec3 inertia);
+/// Changes friction (>= 0) and restitution ([0, 1]); bad values change nothing.
+void bk_physics_body_set_surface(bk_physics* world, bk_body_id body, double friction, double restitution);
+double bk_physics_body_mass(const bk_physics* world, bk_body_id body);
+/// Principal moments of inertia of a dynamic body (zero for static ones).
+bk_vec3 bk_physics_body_inertia(const bk_physics* world, bk_body_id body);
+void bk_physics_body_apply_impulse(bk_physics* world, bk_body_id body, bk_vec3 impulse, bk_vec3 world_point);
+bool bk_physics_body_awake(const bk_physics* world, bk_body_id body);
+uint64_t bk_physics_body_user_data(const bk_physics* world, bk_body_id body);
+
+// ---------------------------------------------------------------- queries
+
+/// One contact point from one substep of the last bk_physics_step.
+typedef struct bk_contact {
+  bk_body_id a, b;
+  bk_vec3 point;  ///< world position (midpoint of the two witness points)
+  bk_vec3 normal; ///< world normal pointing from b towards a
+  double impulse; ///< normal impulse the solver applied (N s)
+  double
+      approach_speed; ///< closing speed along the normal before that substep's solve (m/s; > 0 = approaching)
+} bk_contact;
+
+/// Copies the contacts of the last step (all substeps, only points with a
+/// positive impulse) into out; returns how many there were in total (may
+/// exceed capacity; the rest are dropped).
+uint32_t bk_physics_contacts(const bk_physics* world, bk_contact* out, uint32_t capacity);
+
+typedef struct bk_ray_hit {
+  bk_body_id body;
+  bk_vec3 point, normal;
+  double fraction; ///< along the ray, 0..1
+} bk_ray_hit;
+
+/// Closest hit along the segment from -> to; false if none.
+bool bk_physics_ray_cast(const bk_physics* world, bk_vec3 from, bk_vec3 to, bk_ray_hit* hit);
+
+// ---------------------------------------------------------------- world
+
+typedef struct bk_world bk_world;
+
+/// World parameters; bk_default_world_def() fills every field and
+/// bk_world_create takes them as given (zero gravity is zero gravity).
+typedef struct bk_world_def {
+  bk_vec3 gravity;                  ///< default (0, -9.81, 0)
+  double fixed_dt;                  ///< one bk_world_step, in (0, 0.1] s; default 1/60 s
+  bool ground;                      ///< a static ground plane at y = 0; default true
+  double impact_speed;              ///< contacts closing slower than this (m/s) do no damage; default 1.0
+  double impulse_threshold;         ///< contacts with less impulse (N s) do no damage; default 0.5
+  double damage_min_distance;       ///< s_min of the damage formula (m); default 0.05
+  uint32_t max_new_bodies_per_step; ///< split budget (at least 2); default 48
+  double projectile_lifetime;       ///< seconds before a projectile is removed (> 0); default 8
+  /// Loose single fragments smaller than this volume (m^3) are removed after
+  /// retire_after seconds, to keep long sessions bounded; 0 = never (default).
+  double retire_volume;
+  double retire_after; ///< seconds a small fragment lives once free (> 0); default 10
+} bk_world_def;
+
+bk_world_def bk_default_world_def(void);
+/// NULL with err naming the bad field.
+bk_world* bk_world_create(const bk_world_def* def, bk_error* err);
+void bk_world_destroy(bk_world* world);
+/// The underlying physics world (for rendering and queries).
+bk_physics* bk_world_physics(bk_world* world);
+/// The runtime the world drives (for queries: clusters, bond health, materials).
+const bk_runtime* bk_world_runtime(const bk_world* world);
+
+/// A breakable on Bullet: the runtime's breakable plus how its clusters
+/// collide. bk_default_world_breakable_def() fills every field.
+typedef struct bk_world_breakable_def {
+  bk_breakable_def breakable; ///< tree, placement, material, anchoring (see runtime.h)
+  bool convex_colliders;      ///< one hull per chosen node even when it is concave; default false
+  /// A node's hull stands for it if hull volume <= (1 + tol) x volume (> 0); default 0.1
+  double convexity_tolerance;
+  bool naive; ///< plain BCRB: one collider per fragment (for comparison); default false
+} bk_world_breakable_def;
+
+bk_world_breakable_def bk_default_world_breakable_def(void);
+/// Adds a breakable as one body (static if anchored). Null id with err naming the bad field.
+bk_breakable_id bk_world_add_breakable(bk_world* world, const bk_world_breakable_def* def, bk_error* err);
+/// Live parameters, owned by the world's runtime: frailty applies to the next
+/// hits; density recomputes every body's mass and inertia; bond strength
+/// scales the hit points of intact bonds; a material sets all of them plus
+/// friction and restitution. Setters return false for a stale id or a bad value.
+bool bk_world_set_material(bk_world* world, bk_breakable_id id, const bk_material* material);
+bool bk_world_set_frailty(bk_world* world, bk_breakable_id id, double frailty);
+bool bk_world_set_density(bk_world* world, bk_breakable_id id, double density);
+bool bk_world_set_bond_strength(bk_world* world, bk_breakable_id id, double bond_strength);
+/// Getters (read the live values back instead of keeping copies).
+bk_material bk_world_material(const bk_world* world, bk_breakable_id id);
+double bk_world_frailty(const bk_world* world, bk_breakable_id id);
+double bk_world_density(const bk_world* world, bk_breakable_id id);
+double bk_world_bond_strength(const bk_world* world, bk_breakable_id id);
+/// Breakables added so far, and the id of the one at index (null past the end).
+uint32_t bk_world_breakable_count(const bk_world* world);
+bk_breakable_id bk_world_breakable_at(const bk_world* world, uint32_t index);
+
+/// A projectile: a sphere with continuous collision detection.
+/// bk_default_projectile_def() fills every field.
+typedef struct bk_projectile_def {
+  bk_vec3 position, velocity;
+  double radius; ///< > 0; default 0.08 m
+  double mass;   ///< > 0; default 4 kg
+} bk_projectile_def;
+
+bk_projectile_def bk_default_projectile_def(void);
+/// Null id with err naming the bad field.
+bk_body_id bk_world_fire(bk_world* world, const bk_projectile_def* def, bk_error* err);
+
+/// Damages every breakable body as if a contact with this impulse (N s) had
+/// happened at a world point (explosions, scripted destruction), without the
+/// contact thresholds; the split happens in the next bk_world_step.
+void bk_world_impact(bk_world* world, bk_vec3 point, double impulse);
+
+/// Advances one fixed step (dt = the world's fixed_dt): physics, damage from
+/// this step's contacts, then splits within the step's budget.
+void bk_world_step(bk_world* world);
+
+/// A bond broken in the last step or by bk_world_impact since (pulled after
+/// bk_world_step, e.g. for dust).
+typedef struct bk_break_event {
+  bk_breakable_id breakable;
+  uint32_t bond;
+  bk_vec3 position; ///< world position of the bond centroid
+  bk_vec3 velocity; ///< velocity of the body it belonged to, at that point
+  double area;
+} bk_break_event;
+
+/// Copies the last step's break events; returns the total count.
+uint32_t bk_world_break_events(const bk_world* world, bk_break_event* out, uint32_t capacity);
+
+/// Counters and timings.
+typedef struct bk_world_stats {
+  uint32_t bodies; ///< rigid bodies of breakables
+  uint32_t dynamic_bodies;
+  uint32_t colliders;       ///< convex children over all breakable bodies
+  uint32_t colliders_naive; ///< what one-collider-per-fragment would use for the same clusters
+  uint32_t fragments_free;  ///< fragments in clusters of one fragment
+  uint32_t projectiles;
+  uint32_t bonds_broken;      ///< since creation
+  uint32_t break_events;      ///< bodies split since creation
+  uint32_t pending_splits;    ///< clusters waiting for the budget
+  uint32_t fragments_retired; ///< small fragments removed (retire_volume)
+  double total_mass;          ///< kg over all breakable bodies
+  double retired_mass;        ///< kg removed with retired fragments (total_mass + retired_mass is conserved)
+  double step_ms;             ///< last step, all of it
+  double physics_ms;          ///< last step, the physics engine alone
+  double break_ms;            ///< last step: damage, components, minimal sets, body rebuild
+  bool nan;                   ///< a body has a non-finite transform or velocity
+} bk_world_stats;
+
+bk_world_stats bk_world_get_stats(const bk_world* world);
+
+/// A breakable body for drawing: which mesh-tree nodes it shows, where.
+typedef struct bk_body_view {
+  bk_breakable_id breakable;
+  bk_cluster_id cluster;
+  const bk_mesh_tree* tree;
+  bk_transform tree_to_world;          ///< the tree frame's placement now
+  bk_transform tree_to_world_previous; ///< and at the start of the last step (interpolate between them)
+  const uint32_t* nodes;               ///< minimal node set
+  uint32_t node_count;
+  const uint32_t* leaves; ///< its fragments, ascending
+  uint32_t leaf_count;
+  bk_body_id body;
+  bool is_static;
+} bk_body_view;
+
+/// Number of breakable bodies; views are indexed 0..count-1 until the next step.
+uint32_t bk_world_body_count(const bk_world* world);
+bool bk_world_body_view(const bk_world* world, uint32_t index, bk_body_view* out);
+/// Colliders (convex children) the body at index uses and their nodes.
+uint32_t bk_world_body_colliders(const bk_world* world, uint32_t index, uint32_t* nodes_out,
+                                 uint32_t capacity);
+
+/// Number of live projectiles and where one is (false if index is out of range).
+uint32_t bk_world_projectile_count(const bk_world* world);
+bool bk_world_projectile(const bk_world* world, uint32_t index, bk_vec3* position, double* radius);
+
+/// Hit points left of a bond (0 when broken) and its initial hit points.
+double bk_world_bond_health(const bk_world* world, bk_breakable_id id, uint32_t bond, double* initial);
+
+#ifdef __cplusplus
+}
+#endif

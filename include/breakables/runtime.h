@@ -1,0 +1,241 @@
+// Breakables runtime (breakables::runtime): Breakable Composite Rigid Bodies
+// without a physics engine. A breakable is an instance of a mesh tree; its
+// fragments (the tree's leaves) are the nodes of a graph whose edges are the
+// tree's bonds. Each connected cluster of fragments is one rigid body of the
+// caller's physics engine, whose collider is the smallest set of mesh-tree
+// nodes covering exactly its fragments.
+//
+// The runtime owns no bodies. The caller:
+//   1. creates one body per cluster the runtime reports as created, removes
+//      the body of each cluster it reports as removed;
+//   2. answers where a cluster's body is and how it moves (bk_body_state_fn);
+//   3. feeds it contacts (bk_runtime_apply_contacts) or blasts
+//      (bk_runtime_damage_at), then calls bk_runtime_split.
+// Every call that changes the runtime replaces the results of the previous
+// one (created clusters, removed clusters, broken bonds); pull them as arrays
+// right after the call, into buffers you own (capacity in, count out).
+// Same calls with the same inputs give the same results, bit for bit.
+// A runtime is not thread-safe: call it from one thread at a time.
+#pragma once
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "authoring.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+// ---------------------------------------------------------------- ids
+
+/// A breakable: index + generation; {0, 0} is null.
+typedef struct bk_breakable_id {
+  uint32_t index, generation;
+} bk_breakable_id;
+
+/// A cluster (one rigid body's worth of fragments): index + generation;
+/// {0, 0} is null. A removed cluster's id stops being valid.
+typedef struct bk_cluster_id {
+  uint32_t index, generation;
+} bk_cluster_id;
+
+static inline bool bk_breakable_is_null(bk_breakable_id id) { return id.generation == 0; }
+static inline bool bk_cluster_is_null(bk_cluster_id id) { return id.generation == 0; }
+static inline bool bk_cluster_equal(bk_cluster_id a, bk_cluster_id b) {
+  return a.index == b.index && a.generation == b.generation;
+}
+
+// ---------------------------------------------------------------- minimal node sets
+
+/// Writes the smallest set of mesh-tree nodes whose subtrees hold exactly the
+/// given leaves (sorted ascending, no duplicates) into out, in depth-first
+/// order; returns the count (at most leaf_count). An unbroken object gives the
+/// root alone.
+uint32_t bk_minimal_nodes(const bk_mesh_tree* tree, const uint32_t* leaves, uint32_t leaf_count,
+                          uint32_t* out);
+
+/// The nodes whose convex hulls make a cluster's collider: each node of
+/// `nodes` whose hull may stand for it (hull_fits[node] != 0, or a leaf) is
+/// kept, any other is replaced by its children, recursively (a hollow egg's
+/// hull is a solid egg, so its halves stand in). Writes at most capacity
+/// nodes to out; returns how many there are.
+uint32_t bk_collider_nodes(const bk_mesh_tree* tree, const uint32_t* nodes, uint32_t node_count,
+                           const uint8_t* hull_fits, uint32_t* out, uint32_t capacity);
+
+// ---------------------------------------------------------------- materials
+
+/// What a breakable is made of: the thesis's parameters plus the surface
+/// properties a physics engine needs (the runtime keeps those for it).
+typedef struct bk_material {
+  const char* name;     ///< at most BK_MATERIAL_NAME_MAX bytes; the runtime keeps its own copy
+  double density;       ///< kg/m^3, > 0
+  double frailty;       ///< damage = frailty x impulse / distance^3; >= 0 (0: unbreakable)
+  double bond_strength; ///< hit points per m^2 of bond area, > 0
+  bool accumulate;      ///< bonds lose hit points over hits (else discrete: one hit must exceed them)
+  double friction;      ///< >= 0
+  double restitution;   ///< in [0, 1]
+} bk_material;
+
+#define BK_MATERIAL_NAME_MAX 31
+
+/// Presets: stone, concrete, glass, porcelain, eggshell, wood.
+const bk_material* bk_material_find(const char* name);
+uint32_t bk_material_count(void);
+const bk_material* bk_material_at(uint32_t index);
+/// Checks a material; err names the bad field ("material.frailty must be ...").
+bool bk_material_validate(const bk_material* material, bk_error* err);
+
+// ---------------------------------------------------------------- the runtime
+
+/// Where a cluster's body is and how it moves, as the caller's physics has it.
+/// The body frame is the cluster's centre of mass with its principal axes
+/// (bk_cluster_info.principal places it in the tree frame).
+typedef struct bk_body_state {
+  bk_transform transform; ///< body frame in the world
+  bk_vec3 linear_velocity, angular_velocity;
+} bk_body_state;
+
+/// Asked for the state of a live cluster's body whenever the runtime needs it
+/// (to bring a contact point into the tree frame, to give new clusters their
+/// parent's motion). Static clusters may report zero velocities.
+typedef bk_body_state bk_body_state_fn(bk_cluster_id cluster, void* context);
+
+typedef struct bk_runtime bk_runtime;
+
+/// Runtime parameters; bk_default_runtime_def() fills every field and
+/// bk_runtime_create takes them as given.
+typedef struct bk_runtime_def {
+  double impact_speed;                 ///< contacts closing slower (m/s) do no damage; default 1
+  double impulse_threshold;            ///< contacts with less impulse (N s) do no damage; default 0.5
+  double damage_min_distance;          ///< s_min of the damage formula (m), > 0; default 0.05
+  uint32_t max_new_clusters_per_split; ///< clusters one bk_runtime_split may create, >= 2; default 48
+  bk_body_state_fn* body_state;        ///< required
+  void* context;                       ///< passed to body_state
+} bk_runtime_def;
+
+bk_runtime_def bk_default_runtime_def(void);
+/// Creates a runtime; NULL with err naming the bad field.
+bk_runtime* bk_runtime_create(const bk_runtime_def* def, bk_error* err);
+void bk_runtime_destroy(bk_runtime* runtime);
+
+/// A breakable: an instance of a mesh tree. bk_default_breakable_def() fills
+/// every field; the add call takes them as given.
+typedef struct bk_breakable_def {
+  const bk_mesh_tree* tree; ///< borrowed: must outlive the runtime; required
+  bk_transform transform;   ///< places the tree frame in the world; default identity
+  bk_material material;     ///< default: density 2400, frailty 1, bond strength 2e5, discrete
+  bool anchored;            ///< fragments touching the support plane are bonded to the world (static)
+  double anchor_height;     ///< world height of that plane; default 0
+} bk_breakable_def;
+
+bk_breakable_def bk_default_breakable_def(void);
+/// Adds a breakable as one cluster (reported as created, with its body state
+/// at the def's transform). Null id with err naming the bad field.
+bk_breakable_id bk_runtime_add_breakable(bk_runtime* runtime, const bk_breakable_def* def, bk_error* err);
+/// The tree a breakable was made from (NULL for a stale id).
+const bk_mesh_tree* bk_runtime_breakable_tree(const bk_runtime* runtime, bk_breakable_id id);
+
+/// Live parameters. Frailty and the damage mode apply to the next hits; a new
+/// bond strength scales every intact bond's hit points (their fraction left
+/// is kept); density changes every cluster's mass and inertia (read them back
+/// with bk_runtime_cluster and give them to your bodies). Setters return false
+/// (and change nothing) for a stale id or a bad value.
+bool bk_runtime_set_material(bk_runtime* runtime, bk_breakable_id id, const bk_material* material);
+bool bk_runtime_set_frailty(bk_runtime* runtime, bk_breakable_id id, double frailty);
+bool bk_runtime_set_density(bk_runtime* runtime, bk_breakable_id id, double density);
+bool bk_runtime_set_bond_strength(bk_runtime* runtime, bk_breakable_id id, double bond_strength);
+/// The material as it is now (name points into the runtime; zeroed for a stale id).
+bk_material bk_runtime_material(const bk_runtime* runtime, bk_breakable_id id);
+double bk_runtime_frailty(const bk_runtime* runtime, bk_breakable_id id);
+double bk_runtime_density(const bk_runtime* runtime, bk_breakable_id id);
+double bk_runtime_bond_strength(const bk_runtime* runtime, bk_breakable_id id);
+
+/// A cluster as it is now. Pointers stay valid until the next call that
+/// changes clusters (split, remove, add).
+typedef struct bk_cluster_info {
+  bk_cluster_id id;
+  bk_breakable_id breakable;
+  bool is_static;         ///< holds an anchored fragment: keep its body fixed
+  bool split_pending;     ///< has broken bonds not yet split (bk_runtime_split)
+  const uint32_t* leaves; ///< its fragments, ascending
+  uint32_t leaf_count;
+  const uint32_t* nodes; ///< minimal node set, depth-first
+  uint32_t node_count;
+  double mass;            ///< kg
+  double volume;          ///< m^3
+  bk_transform principal; ///< body frame (centre of mass, principal axes) in the tree frame
+  bk_vec3 inertia;        ///< principal moments of inertia (kg m^2)
+} bk_cluster_info;
+
+/// False for a stale id.
+bool bk_runtime_cluster(const bk_runtime* runtime, bk_cluster_id id, bk_cluster_info* out);
+/// Live clusters in index order; writes at most capacity, returns how many live.
+uint32_t bk_runtime_clusters(const bk_runtime* runtime, bk_cluster_id* out, uint32_t capacity);
+/// The cluster a fragment belongs to (null once its cluster was removed).
+bk_cluster_id bk_runtime_leaf_cluster(const bk_runtime* runtime, bk_breakable_id id, uint32_t leaf);
+
+/// A contact on a cluster's body, from the caller's physics.
+typedef struct bk_damage_contact {
+  bk_cluster_id cluster;
+  bk_vec3 point;        ///< world position
+  double impulse;       ///< normal impulse (N s)
+  double closing_speed; ///< speed along the normal before the contact (m/s)
+} bk_damage_contact;
+
+/// Damages bonds from contacts that pass the thresholds; stale clusters are
+/// skipped. Results: broken bonds.
+void bk_runtime_apply_contacts(bk_runtime* runtime, const bk_damage_contact* contacts, uint32_t count);
+/// Damages every live cluster as if a contact with this impulse happened at
+/// the world point (explosions, scripted destruction), without the
+/// thresholds. Results: broken bonds.
+void bk_runtime_damage_at(bk_runtime* runtime, bk_vec3 point, double impulse);
+/// Splits clusters with broken bonds into connected clusters, creating at
+/// most max_new_clusters_per_split; what does not fit waits for the next
+/// call, in order. Results: removed clusters, then created ones (each split
+/// removes its parent and creates its parts). Returns the clusters created.
+uint32_t bk_runtime_split(bk_runtime* runtime);
+/// Takes a cluster out (its fragments leave the simulation, e.g. retired
+/// debris). Results: that cluster removed. False for a stale id.
+bool bk_runtime_remove_cluster(bk_runtime* runtime, bk_cluster_id id);
+
+/// A cluster created by the last call.
+typedef struct bk_cluster_created {
+  bk_cluster_info cluster;
+  bk_cluster_id parent; ///< the cluster it split from (null for a new breakable's first)
+  bk_body_state body;   ///< where its body starts and how it moves (its parent's v + w x r)
+} bk_cluster_created;
+
+/// A bond broken by the last call.
+typedef struct bk_bond_break {
+  bk_breakable_id breakable;
+  bk_cluster_id cluster; ///< the cluster it was inside
+  uint32_t bond;         ///< index into the tree's bonds
+  bk_vec3 position;      ///< world position of the bond centroid
+  bk_vec3 velocity;      ///< velocity of the cluster's body at that point
+  double area;           ///< m^2
+} bk_bond_break;
+
+/// Results of the last call: each writes at most capacity entries and
+/// returns the total.
+uint32_t bk_runtime_created_clusters(const bk_runtime* runtime, bk_cluster_created* out, uint32_t capacity);
+uint32_t bk_runtime_removed_clusters(const bk_runtime* runtime, bk_cluster_id* out, uint32_t capacity);
+uint32_t bk_runtime_broken_bonds(const bk_runtime* runtime, bk_bond_break* out, uint32_t capacity);
+
+/// Hit points left of a bond (0 when broken) and its initial hit points.
+double bk_runtime_bond_health(const bk_runtime* runtime, bk_breakable_id id, uint32_t bond, double* initial);
+
+/// Totals since creation.
+typedef struct bk_runtime_stats {
+  uint32_t breakables;
+  uint32_t clusters;       ///< live
+  uint32_t bonds_broken;   ///< since creation
+  uint32_t splits;         ///< clusters split since creation
+  uint32_t pending_splits; ///< clusters waiting for the split budget
+} bk_runtime_stats;
+
+bk_runtime_stats bk_runtime_get_stats(const bk_runtime* runtime);
+
+#ifdef __cplusplus
+}
+#endif

@@ -1,0 +1,301 @@
+// The world on Bullet: breakables through the runtime, their cluster bodies,
+// projectiles, the fixed step, and what the layers above pull out of it
+// (stats, views, events).
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "world_internal.h"
+
+static double now_ms(void) {
+  struct timespec t = {0};
+  clock_gettime(CLOCK_MONOTONIC, &t);
+  return (double)t.tv_sec * 1e3 + (double)t.tv_nsec * 1e-6;
+}
+
+bk_world_def bk_default_world_def(void) {
+  return (bk_world_def){.gravity = {0.0, -9.81, 0.0},
+                        .fixed_dt = 1.0 / 60.0,
+                        .ground = true,
+                        .impact_speed = 1.0,
+                        .impulse_threshold = 0.5,
+                        .damage_min_distance = 0.05,
+                        .max_new_bodies_per_step = 48,
+                        .projectile_lifetime = 8.0,
+                        .retire_volume = 0.0,
+                        .retire_after = 10.0};
+}
+
+// The runtime asks where a cluster's body is; Bullet knows.
+static bk_body_state body_state(bk_cluster_id cluster, void* context) {
+  const bk_world* w = context;
+  bk_body_id body = w->bodies[cluster.index].body;
+  return (bk_body_state){bk_physics_body_transform(w->physics, body),
+                         bk_physics_body_linear_velocity(w->physics, body),
+                         bk_physics_body_angular_velocity(w->physics, body)};
+}
+
+bk_world* bk_world_create(const bk_world_def* def, bk_error* err) {
+  if (!def) return bk_error_set(err, "world: def is NULL"), NULL;
+  bk_world_def d = *def;
+  if (!(d.retire_volume >= 0.0) || !isfinite(d.retire_volume))
+    return bk_error_set(err, "world: retire_volume must be finite and >= 0 (got %g)", d.retire_volume), NULL;
+  if (!(d.retire_after > 0.0) || !isfinite(d.retire_after))
+    return bk_error_set(err, "world: retire_after must be positive (got %g)", d.retire_after), NULL;
+  if (!(d.projectile_lifetime > 0.0) || !isfinite(d.projectile_lifetime))
+    return bk_error_set(err, "world: projectile_lifetime must be positive (got %g)", d.projectile_lifetime),
+           NULL;
+  if (!bk_v3_is_finite(d.gravity)) return bk_error_set(err, "world: gravity must be finite"), NULL;
+  if (!(d.fixed_dt > 0.0 && d.fixed_dt <= 0.1))
+    return bk_error_set(err, "world: fixed_dt must be in (0, 0.1] s (got %g)", d.fixed_dt), NULL;
+
+  bk_world* w = bk_calloc(1, sizeof *w);
+  bk_runtime_def rd = bk_default_runtime_def();
+  rd.impact_speed = d.impact_speed;
+  rd.impulse_threshold = d.impulse_threshold;
+  rd.damage_min_distance = d.damage_min_distance;
+  rd.max_new_clusters_per_split = d.max_new_bodies_per_step;
+  rd.body_state = body_state;
+  rd.context = w;
+  bk_error runtime_err = {0};
+  w->runtime = bk_runtime_create(&rd, &runtime_err);
+  if (!w->runtime) {
+    // Name the world's own fields, not the runtime's.
+    const char* message = runtime_err.message;
+    if (strstr(message, "max_new_clusters_per_split"))
+      bk_error_set(err, "world: max_new_bodies_per_step must be at least 2 (got %u)",
+                   d.max_new_bodies_per_step);
+    else
+      bk_error_set(err, "world: %s", strncmp(message, "runtime: ", 9) == 0 ? message + 9 : message);
+    free(w);
+    return NULL;
+  }
+  bk_physics_def pd = bk_default_physics_def();
+  pd.gravity = d.gravity;
+  pd.fixed_dt = d.fixed_dt;
+  w->physics = bk_physics_create(&pd, err);
+  if (!w->physics) {
+    bk_runtime_destroy(w->runtime);
+    free(w);
+    return NULL;
+  }
+  w->def = d;
+  w->contact_capacity = 65536;
+  w->contacts = bk_alloc(sizeof(bk_contact) * w->contact_capacity);
+  if (d.ground) {
+    w->ground = bk_physics_create_plane(w->physics, bk_v3(0, 1, 0), 0.0);
+    bk_body_def gd = bk_default_body_def();
+    gd.shape = w->ground;
+    gd.friction = 0.8;
+    w->ground_body = bk_physics_create_body(w->physics, &gd, err);
+  }
+  return w;
+}
+
+void bk_world_destroy(bk_world* w) {
+  if (!w) return;
+  // Destroying the physics world releases every body and shape in it.
+  bk_physics_destroy(w->physics);
+  bk_runtime_destroy(w->runtime);
+  for (uint32_t i = 0; i < w->body_capacity; ++i)
+    free(w->bodies[i].colliders);
+  for (uint32_t i = 0; i < w->breakable_count; ++i) {
+    free(w->breakables[i].node_hull);
+    free(w->breakables[i].node_body_hull);
+    free(w->breakables[i].hull_fits);
+  }
+  free(w->breakables);
+  free(w->bodies);
+  free(w->live);
+  free(w->projectiles);
+  free(w->projectile_radius);
+  free(w->projectile_shape);
+  free(w->projectile_born);
+  free(w->contacts);
+  free(w->damage);
+  free(w->created);
+  free(w->removed);
+  free(w->broken);
+  free(w->events);
+  free(w);
+}
+
+bk_physics* bk_world_physics(bk_world* w) { return w->physics; }
+const bk_runtime* bk_world_runtime(const bk_world* w) { return w->runtime; }
+
+bk_world_breakable_def bk_default_world_breakable_def(void) {
+  return (bk_world_breakable_def){.breakable = bk_default_breakable_def(),
+                                  .convex_colliders = false,
+                                  .convexity_tolerance = 0.1,
+                                  .naive = false};
+}
+
+bk_breakable_id bk_world_add_breakable(bk_world* w, const bk_world_breakable_def* def, bk_error* err) {
+  bk_breakable_id null_id = {0, 0};
+  if (!def) return bk_error_set(err, "breakable: def is NULL"), null_id;
+  if (!(def->convexity_tolerance > 0.0) || !isfinite(def->convexity_tolerance))
+    return bk_error_set(err, "breakable: convexity_tolerance must be a positive finite number (got %g)",
+                        def->convexity_tolerance),
+           null_id;
+  // Validate everything before the runtime records anything.
+  bk_breakable_id id = bk_runtime_add_breakable(w->runtime, &def->breakable, err);
+  if (bk_breakable_is_null(id)) return null_id;
+  if (w->breakable_count == w->breakable_capacity) {
+    w->breakable_capacity = bk_grow_capacity(w->breakable_capacity, w->breakable_count + 1);
+    w->breakables = bk_realloc(w->breakables, sizeof(world_breakable) * w->breakable_capacity);
+  }
+  uint32_t index = w->breakable_count++;
+  const bk_mesh_tree* tree = def->breakable.tree;
+  w->breakables[index] = (world_breakable){.id = id,
+                                           .convex_colliders = def->convex_colliders,
+                                           .naive = def->naive,
+                                           .convexity_tolerance = def->convexity_tolerance,
+                                           .node_hull = bk_calloc(tree->node_count, sizeof(bk_shape_id)),
+                                           .node_body_hull = bk_calloc(tree->node_count, sizeof(bk_shape_id)),
+                                           .hull_fits = bk_calloc(tree->node_count, 1)};
+  bk_world_prepare_hulls(w, index);
+  bool made = bk_world_apply_results(w, err);
+  bk_world_refresh_live(w);
+  return made ? id : null_id;
+}
+
+uint32_t bk_world_breakable_count(const bk_world* w) { return w->breakable_count; }
+
+bk_breakable_id bk_world_breakable_at(const bk_world* w, uint32_t index) {
+  return index < w->breakable_count ? w->breakables[index].id : (bk_breakable_id){0, 0};
+}
+
+// Bodies follow the runtime's masses after a density change.
+static void refresh_masses(bk_world* w, bk_breakable_id id) {
+  for (uint32_t i = 0; i < w->live_count; ++i) {
+    world_body* wbody = &w->bodies[w->live[i]];
+    bk_cluster_info info = {0};
+    if (!bk_runtime_cluster(w->runtime, wbody->cluster, &info) || info.breakable.index != id.index) continue;
+    if (!info.is_static) bk_physics_body_set_mass(w->physics, wbody->body, info.mass, info.inertia);
+  }
+}
+
+bool bk_world_set_material(bk_world* w, bk_breakable_id id, const bk_material* material) {
+  if (!bk_runtime_set_material(w->runtime, id, material)) return false;
+  refresh_masses(w, id);
+  for (uint32_t i = 0; i < w->live_count; ++i) {
+    world_body* wbody = &w->bodies[w->live[i]];
+    if (w->breakables[wbody->breakable].id.index == id.index)
+      bk_physics_body_set_surface(w->physics, wbody->body, material->friction, material->restitution);
+  }
+  return true;
+}
+
+bool bk_world_set_frailty(bk_world* w, bk_breakable_id id, double frailty) {
+  return bk_runtime_set_frailty(w->runtime, id, frailty);
+}
+
+bool bk_world_set_density(bk_world* w, bk_breakable_id id, double density) {
+  if (!bk_runtime_set_density(w->runtime, id, density)) return false;
+  refresh_masses(w, id);
+  return true;
+}
+
+bool bk_world_set_bond_strength(bk_world* w, bk_breakable_id id, double bond_strength) {
+  return bk_runtime_set_bond_strength(w->runtime, id, bond_strength);
+}
+
+bk_material bk_world_material(const bk_world* w, bk_breakable_id id) {
+  return bk_runtime_material(w->runtime, id);
+}
+double bk_world_frailty(const bk_world* w, bk_breakable_id id) { return bk_runtime_frailty(w->runtime, id); }
+double bk_world_density(const bk_world* w, bk_breakable_id id) { return bk_runtime_density(w->runtime, id); }
+double bk_world_bond_strength(const bk_world* w, bk_breakable_id id) {
+  return bk_runtime_bond_strength(w->runtime, id);
+}
+
+void bk_world_impact(bk_world* w, bk_vec3 point, double impulse) {
+  bk_runtime_damage_at(w->runtime, point, impulse);
+  bk_world_collect_breaks(w);
+}
+
+// Contacts on cluster bodies become the runtime's damage contacts (a body's
+// user data holds its cluster index).
+static bool cluster_of(const bk_world* w, bk_body_id body, bk_cluster_id* out) {
+  uint64_t user = bk_physics_body_user_data(w->physics, body);
+  if (!(user & BK_USER_CLUSTER)) return false;
+  uint32_t index = (uint32_t)user;
+  if (index >= w->body_capacity || !w->bodies[index].alive || !bk_body_equal(w->bodies[index].body, body))
+    return false;
+  *out = w->bodies[index].cluster;
+  return true;
+}
+
+static void apply_contacts(bk_world* w, uint32_t contact_count) {
+  uint32_t n = contact_count < w->contact_capacity ? contact_count : w->contact_capacity;
+  if (w->damage_capacity < 2u * n) {
+    w->damage_capacity = bk_grow_capacity(w->damage_capacity, 2u * n);
+    w->damage = bk_realloc(w->damage, sizeof(bk_damage_contact) * w->damage_capacity);
+  }
+  uint32_t count = 0;
+  for (uint32_t i = 0; i < n; ++i) {
+    const bk_contact* ct = &w->contacts[i];
+    bk_cluster_id cluster = {0, 0};
+    if (cluster_of(w, ct->a, &cluster))
+      w->damage[count++] = (bk_damage_contact){cluster, ct->point, ct->impulse, ct->approach_speed};
+    if (cluster_of(w, ct->b, &cluster))
+      w->damage[count++] = (bk_damage_contact){cluster, ct->point, ct->impulse, ct->approach_speed};
+  }
+  bk_runtime_apply_contacts(w->runtime, w->damage, count);
+  bk_world_collect_breaks(w);
+}
+
+// Small loose fragments leave after a while: each was a body the solver kept
+// paying for. Their mass is accounted for.
+static void retire_fragments(bk_world* w) {
+  if (w->def.retire_volume <= 0.0) return;
+  uint64_t max_age = (uint64_t)(w->def.retire_after / w->def.fixed_dt);
+  for (uint32_t i = 0; i < w->live_count; ++i) {
+    uint32_t index = w->live[i];
+    world_body* wbody = &w->bodies[index];
+    bk_cluster_info info = {0};
+    if (!bk_runtime_cluster(w->runtime, wbody->cluster, &info)) continue;
+    if (info.leaf_count != 1 || info.is_static || info.split_pending ||
+        w->step_count - wbody->born <= max_age)
+      continue;
+    const bk_mesh_tree* tree = bk_runtime_breakable_tree(w->runtime, info.breakable);
+    if (bk_mesh_tree_leaf(tree, info.leaves[0])->moments.v >= w->def.retire_volume) continue;
+    w->retired_mass += info.mass;
+    w->fragments_retired++;
+    bk_runtime_remove_cluster(w->runtime, wbody->cluster);
+    bk_world_release_body(w, index);
+  }
+}
+
+void bk_world_step(bk_world* w) {
+  double start = now_ms();
+  // Drop the last step's events; keep those of impacts made since.
+  uint32_t kept = w->event_count - w->events_of_last_step;
+  memmove(w->events, w->events + w->events_of_last_step, sizeof(bk_break_event) * kept);
+  w->event_count = kept;
+  for (uint32_t i = 0; i < w->live_count; ++i)
+    w->bodies[w->live[i]].previous = bk_world_tree_to_world(w, w->live[i]);
+  bk_world_retire_projectiles(w);
+  w->step_count++;
+  bk_physics_step(w->physics, w->def.fixed_dt, 1);
+  double after_physics = now_ms();
+  uint32_t contacts = bk_physics_contacts(w->physics, w->contacts, w->contact_capacity);
+  apply_contacts(w, contacts);
+  bk_runtime_split(w->runtime);
+  bk_error err = {0};
+  bk_world_apply_results(w, &err); // a body Bullet refuses stays without one: never a crash
+  bk_world_refresh_live(w);
+  retire_fragments(w);
+  bk_world_refresh_live(w);
+  w->events_of_last_step = w->event_count;
+  double end = now_ms();
+  w->physics_ms = after_physics - start;
+  w->break_ms = end - after_physics;
+  w->step_ms = end - start;
+}
+
+uint32_t bk_world_break_events(const bk_world* w, bk_break_event* out, uint32_t capacity) {
+  uint32_t n = w->event_count < capacity ? w->event_count : capacity;
+  if (n) memcpy(out, w->events, sizeof(bk_break_event) * n);
+  return w->event_count;
+}

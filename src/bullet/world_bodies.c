@@ -1,0 +1,211 @@
+// Cluster bodies: one Bullet body per runtime cluster. Its compound is made
+// of the hulls of the cluster's collider nodes (the minimal node set, with a
+// node whose hull would overestimate it replaced by its children); its mass
+// properties and body frame (the principal frame) come from the runtime.
+#include <stdlib.h>
+#include <string.h>
+
+#include "world_internal.h"
+
+// The node's hull in its own principal frame, for a body that is that node alone.
+static bk_shape_id make_body_hull(bk_world* w, const bk_mesh_tree* tree, uint32_t node) {
+  bk_mass_properties mp = bk_mesh_tree_mass(tree, tree->nodes[node].moments);
+  double values[3] = {0}, axes[3][3] = {{0}};
+  bk_sym3_eigen(mp.inertia, values, axes);
+  bk_transform to_body = bk_transform_inverse((bk_transform){mp.centroid, bk_quat_from_matrix(axes)});
+  const bk_mesh* mesh = &tree->nodes[node].mesh;
+  bk_vec3* local = bk_alloc(sizeof(bk_vec3) * (mesh->position_count + 1u));
+  for (uint32_t i = 0; i < mesh->position_count; ++i)
+    local[i] = bk_transform_point(to_body, mesh->positions[i]);
+  bk_shape_id hull = bk_physics_create_hull(w->physics, local, mesh->position_count, 64);
+  free(local);
+  return hull;
+}
+
+void bk_world_prepare_hulls(bk_world* w, uint32_t breakable_index) {
+  world_breakable* wb = &w->breakables[breakable_index];
+  const bk_mesh_tree* tree = bk_runtime_breakable_tree(w->runtime, wb->id);
+  for (uint32_t i = 0; i < tree->node_count; ++i) {
+    const bk_mesh_tree_node* n = &tree->nodes[i];
+    const bk_mesh* mesh = &n->mesh;
+    wb->node_hull[i] = bk_physics_create_hull(w->physics, mesh->positions, mesh->position_count, 64);
+    // A node's hull may stand for it when it hardly overestimates the node
+    // (a hollow egg's hull is a solid egg, so its children are used instead).
+    if (wb->convex_colliders || n->child_count == 0) {
+      wb->hull_fits[i] = 1;
+    } else {
+      double hull_volume = bk_shape_is_null(wb->node_hull[i])
+                               ? INFINITY
+                               : bk_physics_hull_volume(w->physics, wb->node_hull[i]);
+      wb->hull_fits[i] = hull_volume <= (1.0 + wb->convexity_tolerance) * n->moments.v;
+    }
+  }
+  for (uint32_t l = 0; l < tree->leaf_count; ++l)
+    wb->node_body_hull[tree->leaf_nodes[l]] = make_body_hull(w, tree, tree->leaf_nodes[l]);
+}
+
+static void reserve_bodies(bk_world* w, uint32_t index) {
+  if (index < w->body_capacity) return;
+  uint32_t capacity = bk_grow_capacity(w->body_capacity, index + 1u);
+  w->bodies = bk_realloc(w->bodies, sizeof(world_body) * capacity);
+  memset(w->bodies + w->body_capacity, 0, sizeof(world_body) * (capacity - w->body_capacity));
+  w->body_capacity = capacity;
+}
+
+static void choose_colliders(bk_world* w, const world_breakable* wb, const bk_cluster_info* info,
+                             world_body* wbody) {
+  const bk_mesh_tree* tree = bk_runtime_breakable_tree(w->runtime, info->breakable);
+  uint32_t count = 0;
+  if (wb->naive) {
+    // Plain BCRB: every fragment is a collider.
+    wbody->colliders = bk_realloc(wbody->colliders, sizeof(uint32_t) * (info->leaf_count + 1u));
+    for (uint32_t i = 0; i < info->leaf_count; ++i)
+      wbody->colliders[count++] = tree->leaf_nodes[info->leaves[i]];
+  } else {
+    uint32_t needed = bk_collider_nodes(tree, info->nodes, info->node_count, wb->hull_fits, NULL, 0);
+    wbody->colliders = bk_realloc(wbody->colliders, sizeof(uint32_t) * (needed + 1u));
+    count = bk_collider_nodes(tree, info->nodes, info->node_count, wb->hull_fits, wbody->colliders, needed);
+  }
+  // Nodes too flat for a hull have none and add nothing.
+  uint32_t kept = 0;
+  for (uint32_t i = 0; i < count; ++i)
+    if (!bk_shape_is_null(wb->node_hull[wbody->colliders[i]])) wbody->colliders[kept++] = wbody->colliders[i];
+  wbody->collider_count = kept;
+}
+
+static bool build_body(bk_world* w, const bk_cluster_created* created, bk_error* err) {
+  const bk_cluster_info* info = &created->cluster;
+  uint32_t index = info->id.index;
+  reserve_bodies(w, index);
+  world_body* wbody = &w->bodies[index];
+  uint32_t* colliders = wbody->colliders;
+  memset(wbody, 0, sizeof *wbody);
+  wbody->colliders = colliders;
+  wbody->alive = true;
+  wbody->cluster = info->id;
+  wbody->breakable = info->breakable.index; // the world adds breakables in the runtime's order
+  world_breakable* wb = &w->breakables[wbody->breakable];
+  choose_colliders(w, wb, info, wbody);
+
+  bk_material material = bk_runtime_material(w->runtime, info->breakable);
+  bk_transform child_local = bk_transform_inverse(info->principal);
+  bk_body_def def = bk_default_body_def();
+  def.shape = (bk_shape_id){0, 0};
+  if (wbody->collider_count == 1 && info->node_count == 1 && wbody->colliders[0] == info->nodes[0]) {
+    // One node, one hull (every loose fragment): its principal frame is the
+    // body frame, so a hull made in that frame needs no compound. That keeps
+    // fragment pairs off Bullet's costly compound-compound path.
+    uint32_t node = info->nodes[0];
+    if (bk_shape_is_null(wb->node_body_hull[node]))
+      wb->node_body_hull[node] =
+          make_body_hull(w, bk_runtime_breakable_tree(w->runtime, info->breakable), node);
+    def.shape = wb->node_body_hull[node];
+  }
+  if (bk_shape_is_null(def.shape)) {
+    // Children are hulls in the tree frame; the body frame is the principal frame.
+    wbody->compound = bk_physics_create_compound(w->physics, wbody->collider_count);
+    for (uint32_t i = 0; i < wbody->collider_count; ++i)
+      bk_physics_compound_add(w->physics, wbody->compound, wb->node_hull[wbody->colliders[i]], child_local);
+    def.shape = wbody->compound;
+  }
+  def.mass = info->is_static ? 0.0 : info->mass;
+  def.inertia = info->inertia;
+  def.transform = created->body.transform;
+  if (!info->is_static) {
+    def.linear_velocity = created->body.linear_velocity;
+    def.angular_velocity = created->body.angular_velocity;
+  }
+  def.friction = material.friction;
+  def.restitution = material.restitution;
+  // A tenth of the body's size: shards stop rolling within a second, while
+  // a wall section still topples as it should.
+  def.rolling_friction = 0.1 * cbrt(info->mass / material.density);
+  def.user_data = BK_USER_CLUSTER | index;
+  wbody->previous = bk_transform_mul(created->body.transform, child_local);
+  wbody->born = w->step_count;
+  wbody->body = bk_physics_create_body(w->physics, &def, err);
+  return !bk_body_is_null(wbody->body);
+}
+
+void bk_world_release_body(bk_world* w, uint32_t index) {
+  world_body* wbody = &w->bodies[index];
+  if (!wbody->alive) return;
+  if (!bk_body_is_null(wbody->body)) bk_physics_destroy_body(w->physics, wbody->body);
+  if (!bk_shape_is_null(wbody->compound)) bk_physics_destroy_shape(w->physics, wbody->compound);
+  wbody->alive = false;
+  wbody->body = (bk_body_id){0, 0};
+  wbody->compound = (bk_shape_id){0, 0};
+  wbody->collider_count = 0;
+  w->live_dirty = true;
+}
+
+bk_transform bk_world_tree_to_world(const bk_world* w, uint32_t index) {
+  const world_body* wbody = &w->bodies[index];
+  bk_cluster_info info = {0};
+  if (!bk_runtime_cluster(w->runtime, wbody->cluster, &info)) return wbody->previous;
+  bk_transform body = bk_physics_body_transform(w->physics, wbody->body);
+  return bk_transform_mul(body, bk_transform_inverse(info.principal));
+}
+
+static void reserve(void** array, uint32_t* capacity, uint32_t need, size_t size) {
+  if (need <= *capacity) return;
+  *capacity = bk_grow_capacity(*capacity, need);
+  *array = bk_realloc(*array, size * *capacity);
+}
+
+bool bk_world_apply_results(bk_world* w, bk_error* err) {
+  uint32_t removed = bk_runtime_removed_clusters(w->runtime, NULL, 0);
+  uint32_t created = bk_runtime_created_clusters(w->runtime, NULL, 0);
+  reserve((void**)&w->removed, &w->removed_capacity, removed, sizeof(bk_cluster_id));
+  reserve((void**)&w->created, &w->created_capacity, created, sizeof(bk_cluster_created));
+  bk_runtime_removed_clusters(w->runtime, w->removed, w->removed_capacity);
+  bk_runtime_created_clusters(w->runtime, w->created, w->created_capacity);
+  // Same order as the runtime made them: Bullet's results depend on the order
+  // bodies enter and leave its world.
+  bool ok = true;
+  uint32_t next = 0, failed = 0;
+  bk_cluster_id* failed_ids = NULL;
+  for (uint32_t r = 0; r <= removed; ++r) {
+    if (r < removed) bk_world_release_body(w, w->removed[r].index);
+    while (next < created && (r == removed || bk_cluster_equal(w->created[next].parent, w->removed[r]))) {
+      w->live_dirty = true;
+      if (!build_body(w, &w->created[next], err)) {
+        ok = false;
+        if (!failed_ids) failed_ids = bk_alloc(sizeof(bk_cluster_id) * created);
+        failed_ids[failed++] = w->created[next].cluster.id;
+      }
+      next++;
+    }
+  }
+  // A cluster Bullet refused a body (cannot happen for a valid tree) leaves
+  // the simulation rather than stay half-made.
+  for (uint32_t i = 0; i < failed; ++i) {
+    bk_world_release_body(w, failed_ids[i].index);
+    bk_runtime_remove_cluster(w->runtime, failed_ids[i]);
+  }
+  free(failed_ids);
+  return ok;
+}
+
+void bk_world_collect_breaks(bk_world* w) {
+  uint32_t count = bk_runtime_broken_bonds(w->runtime, NULL, 0);
+  reserve((void**)&w->broken, &w->broken_capacity, count, sizeof(bk_bond_break));
+  bk_runtime_broken_bonds(w->runtime, w->broken, w->broken_capacity);
+  reserve((void**)&w->events, &w->event_capacity, w->event_count + count, sizeof(bk_break_event));
+  for (uint32_t i = 0; i < count; ++i) {
+    const bk_bond_break* b = &w->broken[i];
+    w->events[w->event_count++] = (bk_break_event){b->breakable, b->bond, b->position, b->velocity, b->area};
+  }
+}
+
+void bk_world_refresh_live(bk_world* w) {
+  if (!w->live_dirty) return;
+  if (w->live_capacity < w->body_capacity) {
+    w->live_capacity = bk_grow_capacity(w->live_capacity, w->body_capacity);
+    w->live = bk_realloc(w->live, sizeof(uint32_t) * w->live_capacity);
+  }
+  w->live_count = 0;
+  for (uint32_t i = 0; i < w->body_capacity; ++i)
+    if (w->bodies[i].alive) w->live[w->live_count++] = i;
+  w->live_dirty = false;
+}

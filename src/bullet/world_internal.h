@@ -1,0 +1,92 @@
+// bullet world (private): the data layout its files share. The runtime owns
+// breakables and clusters; the world owns what Bullet needs for them: node
+// hulls per breakable, and per cluster a body, its compound and colliders.
+#pragma once
+
+#include <breakables/bullet.h>
+
+#include "bk_geom.h"
+
+/// Bullet's view of one breakable: collision proxies, made once per node at
+/// load time and shared by every body of it.
+typedef struct world_breakable {
+  bk_breakable_id id;
+  bool convex_colliders, naive;
+  double convexity_tolerance;
+  bk_shape_id* node_hull;      // in the tree frame
+  bk_shape_id* node_body_hull; // a leaf's hull in its own principal frame, for one-fragment bodies
+  uint8_t* hull_fits;          // per node: its hull may stand for it (bk_collider_nodes)
+} world_breakable;
+
+/// The body of one runtime cluster, indexed by the cluster's index.
+typedef struct world_body {
+  bool alive;
+  bk_cluster_id cluster;
+  uint32_t breakable; // index into world breakables
+  bk_body_id body;
+  bk_shape_id compound;
+  uint32_t* colliders; // nodes whose hulls are the compound's children
+  uint32_t collider_count;
+  bk_transform previous; // tree frame at the start of the last step (for interpolated drawing)
+  uint64_t born;         // step the body was made
+} world_body;
+
+struct bk_world {
+  bk_world_def def;
+  bk_physics* physics;
+  bk_runtime* runtime;
+  bk_shape_id ground;
+  bk_body_id ground_body;
+  world_breakable* breakables;
+  uint32_t breakable_count, breakable_capacity;
+  world_body* bodies; // by cluster index
+  uint32_t body_capacity;
+  uint32_t* live; // live cluster indices, ascending (views index this)
+  uint32_t live_count, live_capacity;
+  bool live_dirty;
+  bk_body_id* projectiles;
+  bk_shape_id* projectile_shape;
+  double* projectile_radius;
+  uint64_t* projectile_born; // step number
+  uint32_t projectile_count, projectile_capacity;
+  uint64_t step_count;
+  bk_contact* contacts;
+  uint32_t contact_capacity;
+  bk_damage_contact* damage;
+  uint32_t damage_capacity;
+  bk_cluster_created* created;
+  uint32_t created_capacity;
+  bk_cluster_id* removed;
+  uint32_t removed_capacity;
+  bk_bond_break* broken;
+  uint32_t broken_capacity;
+  bk_break_event* events;
+  uint32_t event_count, event_capacity;
+  uint32_t events_of_last_step; // events before this index belong to the last step
+  uint32_t fragments_retired;
+  double retired_mass;
+  double step_ms, physics_ms, break_ms;
+};
+
+/// User data tags on physics bodies.
+#define BK_USER_CLUSTER 0x100000000ull
+#define BK_USER_PROJECTILE 0x200000000ull
+
+/// Makes every node's hull (and each fragment's body-frame hull) now, at load
+/// time, so breaking later only creates bodies: a shattering hit must not
+/// compute hulls inside a step.
+void bk_world_prepare_hulls(bk_world* world, uint32_t breakable_index);
+/// Applies what the runtime's last call reported, in order: each removed
+/// cluster's body goes, then the bodies of the clusters made from it.
+/// Returns false (err set) if a body could not be made.
+bool bk_world_apply_results(bk_world* world, bk_error* err);
+/// Appends the runtime's last broken bonds to the world's break events.
+void bk_world_collect_breaks(bk_world* world);
+/// Removes a cluster's body and compound.
+void bk_world_release_body(bk_world* world, uint32_t index);
+/// Where the tree frame of a cluster is in the world now.
+bk_transform bk_world_tree_to_world(const bk_world* world, uint32_t index);
+/// Rebuilds the list of live clusters after bodies changed.
+void bk_world_refresh_live(bk_world* world);
+/// Removes projectiles older than projectile_lifetime.
+void bk_world_retire_projectiles(bk_world* world);

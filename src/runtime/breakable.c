@@ -1,0 +1,179 @@
+// Breakables: an instance of a mesh tree with its BCRB graph (bonds incident
+// to each leaf, hit points by bond area), anchoring, and its live material.
+#include <stdlib.h>
+#include <string.h>
+
+#include "runtime_internal.h"
+
+bk_breakable_def bk_default_breakable_def(void) {
+  return (bk_breakable_def){.tree = NULL,
+                            .transform = {{0, 0, 0}, {0, 0, 0, 1}},
+                            .material = {.name = "default",
+                                         .density = 2400.0,
+                                         .frailty = 1.0,
+                                         .bond_strength = 2.0e5,
+                                         .accumulate = false,
+                                         .friction = 0.6,
+                                         .restitution = 0.1},
+                            .anchored = false,
+                            .anchor_height = 0.0};
+}
+
+static void set_material(rt_breakable* b, const bk_material* m) {
+  snprintf(b->material_name, sizeof b->material_name, "%s", m->name ? m->name : "");
+  b->material = *m;
+  b->material.name = b->material_name;
+}
+
+static bool quat_is_finite(bk_quat q) {
+  return isfinite(q.x) && isfinite(q.y) && isfinite(q.z) && isfinite(q.w);
+}
+
+bk_breakable_id bk_runtime_add_breakable(bk_runtime* rt, const bk_breakable_def* def, bk_error* err) {
+  bk_breakable_id null_id = {0, 0};
+  if (!def) return bk_error_set(err, "breakable: def is NULL"), null_id;
+  const bk_mesh_tree* tree = def->tree;
+  if (!tree || tree->node_count == 0 || tree->leaf_count == 0)
+    return bk_error_set(err, "breakable: tree is missing or empty"), null_id;
+  bk_error material_err = {0};
+  if (!bk_material_validate(&def->material, &material_err))
+    return bk_error_set(err, "breakable: %s", material_err.message), null_id;
+  bk_quat q = def->transform.rotation;
+  if (!bk_v3_is_finite(def->transform.position) || !quat_is_finite(q))
+    return bk_error_set(err, "breakable: transform must be finite"), null_id;
+  double q_length = sqrt(q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w);
+  if (!(q_length > 0.5 && q_length < 2.0))
+    return bk_error_set(err, "breakable: transform.rotation must be a unit quaternion (length %g)", q_length),
+           null_id;
+  if (!isfinite(def->anchor_height))
+    return bk_error_set(err, "breakable: anchor_height must be finite (got %g)", def->anchor_height), null_id;
+  bk_transform transform = {def->transform.position, bk_quat_normalize(q)};
+
+  rt_begin_call(rt);
+  if (rt->breakable_count == rt->breakable_capacity) {
+    rt->breakable_capacity = bk_grow_capacity(rt->breakable_capacity, rt->breakable_count + 1);
+    rt->breakables = bk_realloc(rt->breakables, sizeof(rt_breakable) * rt->breakable_capacity);
+  }
+  uint32_t index = rt->breakable_count++;
+  rt_breakable* b = &rt->breakables[index];
+  memset(b, 0, sizeof *b);
+  b->tree = tree;
+  b->generation = 1;
+  set_material(b, &def->material);
+
+  // The BCRB graph: bonds incident to each leaf (CSR), hit points by area.
+  uint32_t leaves = tree->leaf_count, bonds = tree->bond_count;
+  b->adjacency_start = bk_calloc(leaves + 1u, sizeof(uint32_t));
+  b->adjacency = bk_alloc(sizeof(uint32_t) * (2u * bonds + 1u));
+  for (uint32_t i = 0; i < bonds; ++i) {
+    b->adjacency_start[tree->bonds[i].leaf_a + 1]++;
+    b->adjacency_start[tree->bonds[i].leaf_b + 1]++;
+  }
+  for (uint32_t i = 0; i < leaves; ++i)
+    b->adjacency_start[i + 1] += b->adjacency_start[i];
+  uint32_t* fill = bk_alloc(sizeof(uint32_t) * (leaves + 1u));
+  memcpy(fill, b->adjacency_start, sizeof(uint32_t) * leaves);
+  for (uint32_t i = 0; i < bonds; ++i) {
+    b->adjacency[fill[tree->bonds[i].leaf_a]++] = i;
+    b->adjacency[fill[tree->bonds[i].leaf_b]++] = i;
+  }
+  free(fill);
+  b->bond_hp = bk_alloc(sizeof(double) * (bonds + 1u));
+  b->bond_hp_initial = bk_alloc(sizeof(double) * (bonds + 1u));
+  b->bond_broken = bk_calloc(bonds + 1u, 1);
+  for (uint32_t i = 0; i < bonds; ++i)
+    b->bond_hp[i] = b->bond_hp_initial[i] = b->material.bond_strength * tree->bonds[i].area;
+  b->leaf_cluster = bk_alloc(sizeof(uint32_t) * leaves);
+  b->leaf_anchored = bk_calloc(leaves, 1);
+  if (def->anchored) {
+    // Fragments with a vertex on the support plane are bonded to the world.
+    double tolerance =
+        1e-6 + 1e-6 * bk_v3_length(bk_v3_sub(tree->nodes[0].bounds.max, tree->nodes[0].bounds.min));
+    for (uint32_t l = 0; l < leaves; ++l) {
+      const bk_mesh* mesh = &bk_mesh_tree_leaf(tree, l)->mesh;
+      for (uint32_t p = 0; p < mesh->position_count && !b->leaf_anchored[l]; ++p)
+        b->leaf_anchored[l] =
+            bk_transform_point(transform, mesh->positions[p]).y <= def->anchor_height + tolerance;
+    }
+  }
+
+  uint32_t slot = rt_cluster_alloc(rt, index);
+  rt_cluster* c = &rt->clusters[slot];
+  c->leaves = bk_alloc(sizeof(uint32_t) * leaves);
+  for (uint32_t l = 0; l < leaves; ++l)
+    c->leaves[l] = l;
+  c->leaf_count = leaves;
+  rt_cluster_finish(rt, slot);
+  rt_record_created(rt, slot, (bk_cluster_id){0, 0}, transform, NULL);
+  return (bk_breakable_id){index, b->generation};
+}
+
+const bk_mesh_tree* bk_runtime_breakable_tree(const bk_runtime* rt, bk_breakable_id id) {
+  const rt_breakable* b = rt_find_breakable(rt, id);
+  return b ? b->tree : NULL;
+}
+
+// Mass properties follow the density of every cluster of the breakable.
+static void refresh_masses(bk_runtime* rt, uint32_t breakable_index) {
+  for (uint32_t i = 0; i < rt->cluster_count; ++i) {
+    rt_cluster* c = &rt->clusters[i];
+    if (c->alive && c->breakable == breakable_index) rt_cluster_mass(rt, c);
+  }
+}
+
+// Intact bonds keep the fraction of hit points they had left.
+static void rescale_bonds(rt_breakable* b, double bond_strength) {
+  for (uint32_t i = 0; i < b->tree->bond_count; ++i) {
+    double initial = bond_strength * b->tree->bonds[i].area;
+    if (!b->bond_broken[i] && b->bond_hp_initial[i] > 0.0) b->bond_hp[i] *= initial / b->bond_hp_initial[i];
+    b->bond_hp_initial[i] = initial;
+  }
+}
+
+bool bk_runtime_set_material(bk_runtime* rt, bk_breakable_id id, const bk_material* material) {
+  rt_breakable* b = rt_find_breakable(rt, id);
+  if (!b || !bk_material_validate(material, NULL)) return false;
+  bool density_changed = material->density != b->material.density;
+  if (material->bond_strength != b->material.bond_strength) rescale_bonds(b, material->bond_strength);
+  set_material(b, material);
+  if (density_changed) refresh_masses(rt, id.index);
+  return true;
+}
+
+bool bk_runtime_set_frailty(bk_runtime* rt, bk_breakable_id id, double frailty) {
+  rt_breakable* b = rt_find_breakable(rt, id);
+  if (!b || !(frailty >= 0.0) || !isfinite(frailty)) return false;
+  b->material.frailty = frailty;
+  return true;
+}
+
+bool bk_runtime_set_density(bk_runtime* rt, bk_breakable_id id, double density) {
+  rt_breakable* b = rt_find_breakable(rt, id);
+  if (!b || !(density > 0.0) || !isfinite(density)) return false;
+  b->material.density = density;
+  refresh_masses(rt, id.index);
+  return true;
+}
+
+bool bk_runtime_set_bond_strength(bk_runtime* rt, bk_breakable_id id, double bond_strength) {
+  rt_breakable* b = rt_find_breakable(rt, id);
+  if (!b || !(bond_strength > 0.0) || !isfinite(bond_strength)) return false;
+  rescale_bonds(b, bond_strength);
+  b->material.bond_strength = bond_strength;
+  return true;
+}
+
+bk_material bk_runtime_material(const bk_runtime* rt, bk_breakable_id id) {
+  const rt_breakable* b = rt_find_breakable(rt, id);
+  return b ? b->material : (bk_material){0};
+}
+
+double bk_runtime_frailty(const bk_runtime* rt, bk_breakable_id id) {
+  return bk_runtime_material(rt, id).frailty;
+}
+double bk_runtime_density(const bk_runtime* rt, bk_breakable_id id) {
+  return bk_runtime_material(rt, id).density;
+}
+double bk_runtime_bond_strength(const bk_runtime* rt, bk_breakable_id id) {
+  return bk_runtime_material(rt, id).bond_strength;
+}

@@ -1,0 +1,90 @@
+// runtime (private): the data layout its files share.
+#pragma once
+
+#include <breakables/runtime.h>
+
+#include "bk_geom.h"
+
+/// A breakable: the BCRB graph over its tree's leaves.
+typedef struct rt_breakable {
+  const bk_mesh_tree* tree;
+  uint32_t generation;  // 0 = free slot
+  bk_material material; // name points at material_name
+  char material_name[BK_MATERIAL_NAME_MAX + 1];
+  // Graph in CSR form: bonds incident to each leaf.
+  uint32_t* adjacency_start; // leaf_count + 1
+  uint32_t* adjacency;       // bond indices
+  double* bond_hp;           // remaining hit points
+  double* bond_hp_initial;
+  uint8_t* bond_broken;
+  uint32_t* leaf_cluster; // cluster slot of each leaf (UINT32_MAX: none)
+  uint8_t* leaf_anchored;
+} rt_breakable;
+
+/// A connected cluster of fragments.
+typedef struct rt_cluster {
+  uint32_t breakable;
+  uint32_t generation; // kept across reuse of the slot
+  bool alive, is_static, dirty, queued;
+  uint32_t* leaves; // ascending
+  uint32_t leaf_count;
+  uint32_t* nodes; // minimal node set
+  uint32_t node_count;
+  bk_transform principal; // body frame in the tree frame
+  bk_vec3 inertia;
+  double mass, volume;
+} rt_cluster;
+
+struct bk_runtime {
+  bk_runtime_def def;
+  rt_breakable* breakables;
+  uint32_t breakable_count, breakable_capacity;
+  rt_cluster* clusters;
+  uint32_t cluster_count, cluster_capacity;
+  uint32_t* free_clusters;
+  uint32_t free_cluster_count;
+  uint32_t live_count;
+  uint32_t* split_queue; // clusters with broken bonds, oldest first
+  uint32_t split_queue_count, split_queue_capacity;
+  // Results of the last call.
+  bk_cluster_created* created;
+  uint32_t created_count, created_capacity;
+  bk_cluster_id* removed;
+  uint32_t removed_count, removed_capacity;
+  bk_bond_break* broken;
+  uint32_t broken_count, broken_capacity;
+  uint32_t bonds_broken, splits;
+  // Scratch for splitting.
+  uint32_t* scratch_component;
+  uint32_t* scratch_stack;
+  uint32_t scratch_capacity;
+};
+
+/// Clears the results before a call that changes the runtime.
+void rt_begin_call(bk_runtime* rt);
+/// The id of a live cluster slot.
+bk_cluster_id rt_cluster_id(const bk_runtime* rt, uint32_t slot);
+/// The cluster of a live id, or NULL.
+rt_cluster* rt_find_cluster(const bk_runtime* rt, bk_cluster_id id);
+/// The breakable of a live id, or NULL.
+rt_breakable* rt_find_breakable(const bk_runtime* rt, bk_breakable_id id);
+/// A new cluster slot (arrays empty, alive).
+uint32_t rt_cluster_alloc(bk_runtime* rt, uint32_t breakable_index);
+/// Frees a cluster's arrays and slot (its leaves keep pointing at it until reassigned).
+void rt_cluster_free(bk_runtime* rt, uint32_t slot);
+/// Computes a cluster's node set, static flag and mass properties from its
+/// leaves, and makes its leaves point at it.
+void rt_cluster_finish(bk_runtime* rt, uint32_t slot);
+/// Mass properties of a cluster from its nodes' moments and the density.
+void rt_cluster_mass(const bk_runtime* rt, rt_cluster* c);
+/// Records a created cluster whose body starts in the state of `motion`'s
+/// body (parent) at tree_to_world.
+void rt_record_created(bk_runtime* rt, uint32_t slot, bk_cluster_id parent, bk_transform tree_to_world,
+                       const bk_body_state* parent_state);
+void rt_record_removed(bk_runtime* rt, bk_cluster_id id);
+/// Queues a cluster for a connectivity check (once).
+void rt_queue_split(bk_runtime* rt, uint32_t slot);
+/// The state of a cluster's body from the caller (zero velocity when static).
+bk_body_state rt_body_state(const bk_runtime* rt, uint32_t slot);
+/// Where a cluster's tree frame is in the world, given its body state.
+bk_transform rt_tree_to_world(const rt_cluster* c, const bk_body_state* state);
