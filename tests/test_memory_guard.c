@@ -104,7 +104,9 @@ static void test_estimate(void) {
   check_estimate("bunny", &bunny, 2048, 4.0);
 
   // It grows with the pieces and with the source's triangles; NULL and 0 mean the default.
-  bk_fracture_def small = {.pieces = 1024}, large = {.pieces = 1u << 20};
+  bk_fracture_def small = bk_default_fracture_def(), large = bk_default_fracture_def();
+  small.pieces = 1024;
+  large.pieces = 1u << 20;
   ENSURE(bk_mesh_tree_estimate_bytes(&cube, &large) > 256 * bk_mesh_tree_estimate_bytes(&cube, &small));
   ENSURE(bk_mesh_tree_estimate_bytes(&bunny, &small) > bk_mesh_tree_estimate_bytes(&cube, &small));
   // The measured 8.3 GB of a cube into 1,048,576 pieces is covered.

@@ -29,7 +29,10 @@ enum { BOND_BYTES = 2 * 4 + 7 * 8 };
 static void build_tree(uint32_t pieces, uint64_t seed, bk_mesh_tree* tree) {
   bk_mesh cube = {0};
   bk_shape_build(BK_SHAPE_CUBE, &cube);
-  bk_fracture_def desc = {.pieces = pieces, .seed = seed};
+  bk_fracture_def desc = bk_default_fracture_def();
+  desc.pieces = pieces;
+  desc.seed = seed;
+  desc.jitter = 0.0;
   bk_error err = {{0}};
   ENSURE_MSG(bk_mesh_tree_build(&cube, &desc, tree, &err), "%s", err.message);
   bk_mesh_free(&cube);

@@ -211,12 +211,15 @@ uint32_t bk_mesh_split_hulls(bk_mesh* mesh, bk_mesh** out);
 
 // ---------------------------------------------------------------- mesh tree
 
-/// Parameters of a fracture. Zero-initialised fields mean "default".
+/// Parameters of a fracture: bk_default_fracture_def() fills every field;
+/// bk_fracture_def_validate (and the build) take them as given.
 typedef struct bk_fracture_def {
-  uint32_t pieces; ///< target leaf count (at least this many, exactly when every split gives two); 0 = 256
-  uint64_t seed;   ///< random seed; the same seed gives the same tree
-  double texture_scale; ///< world size of one interior texture tile; 0 = 0.1
-  double jitter; ///< plane offset jitter, fraction of the piece's extent (0 = exactly through the centroid)
+  uint32_t pieces; ///< target leaf count, >= 1 (exactly this many unless a piece cannot be cut); default 256
+  uint64_t seed;   ///< random seed; the same seed gives the same tree; default 3000
+  double texture_scale; ///< world size of one interior texture tile, > 0; default 0.1
+  /// Plane offset jitter, fraction of the piece's extent, in [0, 0.5]
+  /// (0 = exactly through the centroid); default 0.05
+  double jitter;
   /// Tilts each cut's normal towards the piece's longest principal axis:
   /// normal = normalize(uniform direction + aspect_bias x axis). 0 (the
   /// default) gives uniformly distributed directions, as in the thesis; about

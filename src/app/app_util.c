@@ -162,8 +162,9 @@ double bk_peak_rss_mb(void) {
 }
 
 const char* bk_app_asset_dir(void) {
-  // Prefer assets installed beside the executable (../assets from build/),
-  // then the source tree the binary was built from.
+  // Prefer data beside the executable: an installed one has it in
+  // <prefix>/share/breakables (from <prefix>/bin), a build tree one level up
+  // (build/ in the source tree); last, the source tree the binary was built from.
   static char dir[PATH_MAX];
   char exe[PATH_MAX] = {0};
   ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
@@ -172,7 +173,7 @@ const char* bk_app_asset_dir(void) {
     char* slash = strrchr(exe, '/');
     if (slash) {
       *slash = 0;
-      const char* candidates[] = {"/assets", "/../assets"};
+      const char* candidates[] = {"/../share/breakables/assets", "/assets", "/../assets"};
       for (size_t i = 0; i < sizeof candidates / sizeof *candidates; ++i) {
         snprintf(dir, sizeof dir, "%s%s", exe, candidates[i]);
         char probe[PATH_MAX + 32];

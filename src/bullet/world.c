@@ -271,7 +271,7 @@ void bk_world_step(bk_world* w) {
   double start = now_ms();
   // Drop the last step's events; keep those of impacts made since.
   uint32_t kept = w->event_count - w->events_of_last_step;
-  memmove(w->events, w->events + w->events_of_last_step, sizeof(bk_break_event) * kept);
+  if (kept) memmove(w->events, w->events + w->events_of_last_step, sizeof(bk_break_event) * kept);
   w->event_count = kept;
   for (uint32_t i = 0; i < w->live_count; ++i)
     w->bodies[w->live[i]].previous = bk_world_tree_to_world(w, w->live[i]);

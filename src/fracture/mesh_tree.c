@@ -14,9 +14,10 @@ bk_fracture_def bk_default_fracture_def(void) {
 }
 
 bool bk_fracture_def_validate(const bk_fracture_def* d, bk_error* err) {
+  if (d->pieces == 0) return bk_error_set(err, "fracture: pieces must be at least 1 (got 0)");
   if (d->pieces > (1u << 20))
     return bk_error_set(err, "fracture: pieces = %u is too many (at most %u)", d->pieces, 1u << 20);
-  if (!isfinite(d->texture_scale) || d->texture_scale < 0.0)
+  if (!isfinite(d->texture_scale) || !(d->texture_scale > 0.0))
     return bk_error_set(err, "fracture: texture_scale must be a positive finite number (got %g)",
                         d->texture_scale);
   if (!isfinite(d->jitter) || d->jitter < 0.0 || d->jitter > 0.5)
@@ -24,13 +25,6 @@ bool bk_fracture_def_validate(const bk_fracture_def* d, bk_error* err) {
   if (!isfinite(d->aspect_bias) || d->aspect_bias < 0.0 || d->aspect_bias > 100.0)
     return bk_error_set(err, "fracture: aspect_bias must be between 0 and 100 (got %g)", d->aspect_bias);
   return true;
-}
-
-static bk_fracture_def resolve_defaults(const bk_fracture_def* in) {
-  bk_fracture_def d = *in;
-  if (d.pieces == 0) d.pieces = 256;
-  if (d.texture_scale == 0.0) d.texture_scale = 0.1;
-  return d;
 }
 
 // ---------------------------------------------------------------- building
@@ -132,10 +126,10 @@ static uint32_t split_node(bk_slicer* slicer, bk_face_simplifier* simplifier, co
     double origin_u = bk_v3_dot(frame->origin, u) / d->texture_scale;
     double origin_v = bk_v3_dot(frame->origin, v) / d->texture_scale;
     bk_slice_def slice = {.plane = *plane,
-                           .tolerance = 1e-9 * bk_v3_length(size),
-                           .texture_scale = ldexp(d->texture_scale, -frame->exponent),
-                           .uv_origin = {origin_u - floor(origin_u), origin_v - floor(origin_v)},
-                           .cap_tag = node_index + 1};
+                          .tolerance = 1e-9 * bk_v3_length(size),
+                          .texture_scale = ldexp(d->texture_scale, -frame->exponent),
+                          .uv_origin = {origin_u - floor(origin_u), origin_v - floor(origin_v)},
+                          .cap_tag = node_index + 1};
     bk_mesh below = {0}, above = {0};
     if (!bk_slicer_slice(slicer, &node->mesh, &slice, &below, &above, NULL)) {
       *why = SPLIT_CAP_FAILED;
@@ -242,7 +236,7 @@ bool bk_mesh_tree_build(const bk_mesh* source, const bk_fracture_def* desc_in, b
                         bk_error* err) {
   memset(tree, 0, sizeof *tree);
   if (!bk_fracture_def_validate(desc_in, err)) return false;
-  bk_fracture_def d = resolve_defaults(desc_in);
+  bk_fracture_def d = *desc_in;
   if (!check_source(source, &d, err)) return false;
 
   // Everything is cut in the local frame (centred, about unit size) and moved

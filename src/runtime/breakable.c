@@ -20,7 +20,10 @@ bk_breakable_def bk_default_breakable_def(void) {
 }
 
 static void set_material(rt_breakable* b, const bk_material* m) {
-  snprintf(b->material_name, sizeof b->material_name, "%s", m->name ? m->name : "");
+  // m may be what bk_runtime_material returned, its name our own buffer.
+  char name[BK_MATERIAL_NAME_MAX + 1] = {0};
+  snprintf(name, sizeof name, "%s", m->name ? m->name : "");
+  memcpy(b->material_name, name, sizeof name);
   b->material = *m;
   b->material.name = b->material_name;
 }
