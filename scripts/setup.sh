@@ -19,6 +19,8 @@ PACKAGES=(
   libglfw3-dev
   libcglm-dev
   libstb-dev
+  # de_DE's locale source, compiled by test_obj to check OBJ numbers under a decimal comma
+  locales
   xvfb
   xauth
   gnuplot-nox

@@ -1,11 +1,13 @@
 // OBJ reading and writing: topology after welding, exact volumes, attribute
 // round trips, error messages with line numbers, and robustness against
 // corrupted input.
+#include <locale.h>
 #include <stdarg.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "bk_geom.h"
 #include "ensure.h"
@@ -517,12 +519,55 @@ static void test_bunny(void) {
   bk_mesh_free(&m);
 }
 
+// A host application in a locale with a decimal comma (a German Godot or
+// Unity editor) must not change what the OBJ reader and writer see: the
+// test compiles de_DE into a private directory (localedef, from the
+// locales package) so it runs the same on every machine.
+static void test_decimal_comma_locale(void) {
+  const char* dir = BK_TEST_TMP "/locales";
+  char command[512];
+  snprintf(command, sizeof command,
+           "mkdir -p '%s' && localedef -i de_DE -f UTF-8 '%s/de_DE.UTF-8' 2>/dev/null", dir, dir);
+  ENSURE_MSG(system(command) == 0 || access(BK_TEST_TMP "/locales/de_DE.UTF-8", R_OK) == 0,
+             "localedef could not make de_DE (is Debian's locales package installed?)");
+  setenv("LOCPATH", dir, 1);
+  ENSURE_MSG(setlocale(LC_ALL, "de_DE.UTF-8") != NULL, "de_DE.UTF-8 is not usable from %s", dir);
+  char shown[16];
+  snprintf(shown, sizeof shown, "%.1f", 0.5);
+  ENSURE_MSG(strcmp(shown, "0,5") == 0, "the locale is not in effect (%s)", shown);
+
+  bk_mesh cube = {0};
+  parse_ok("v -0.5 -0.5 -0.5\nv 0.5 -0.5 -0.5\nv -0.5 0.5 -0.5\nv 0.5 0.5 -0.5\n"
+           "v -0.5 -0.5 0.5\nv 0.5 -0.5 0.5\nv -0.5 0.5 0.5\nv 0.5 0.5 0.5\n"
+           "f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n",
+           &cube);
+  ENSURE_SMALL(bk_mesh_volume(&cube), 1.0, 1e-12); // "0.5" read as 0.5, not 0
+  const char* path = BK_TEST_TMP "/locale_cube.obj";
+  bk_error err = {{0}};
+  ENSURE_MSG(bk_obj_save(path, &cube, 1, &err), "%s", err.message);
+  FILE* f = fopen(path, "r");
+  ENSURE(f);
+  char text[4096] = {0};
+  size_t n = fread(text, 1, sizeof text - 1, f);
+  fclose(f);
+  ENSURE(n > 0 && strstr(text, "v -0.5 -0.5 -0.5") && !strstr(text, "0,5"));
+  bk_mesh back = {0};
+  ENSURE_MSG(bk_obj_load(path, &back, &err), "%s", err.message);
+  ENSURE_SMALL(bk_mesh_volume(&back), 1.0, 1e-12);
+  snprintf(shown, sizeof shown, "%.1f", 0.5);
+  ENSURE_MSG(strcmp(shown, "0,5") == 0, "the host's locale was not restored (%s)", shown);
+  setlocale(LC_ALL, "C");
+  bk_mesh_free(&cube);
+  bk_mesh_free(&back);
+}
+
 int main(void) {
   RUN(test_cube_shared_vertices);
   RUN(test_cube_duplicated_vertices);
   RUN(test_negative_indices);
   RUN(test_face_forms_and_ignored_statements);
   RUN(test_round_trip);
+  RUN(test_decimal_comma_locale);
   RUN(test_errors);
   RUN(test_mutations);
   RUN(test_bunny);

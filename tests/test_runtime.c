@@ -226,6 +226,11 @@ static void test_budget(void) {
     uint32_t made = bk_runtime_split(rt);
     ENSURE(made <= 4);
     take_created(rt, b, created, 128);
+    // What did not fit stays together, in the first part, and says so.
+    bk_cluster_info now = {0};
+    ENSURE(bk_runtime_cluster(rt, created[0].cluster.id, &now));
+    ENSURE(created[0].cluster.split_pending == now.split_pending);
+    if (calls == 0) ENSURE(created[0].cluster.split_pending && created[0].cluster.leaf_count > 1);
     clusters = bk_runtime_get_stats(rt).clusters;
   }
   ENSURE(clusters == 64 && calls >= 64 / 3);

@@ -192,7 +192,7 @@ typedef struct bk_slice_def {
 /// edge gets one new vertex shared by both sides. `below`/`above` are
 /// overwritten; a side the plane misses comes back empty. Fails (with the
 /// meshes freed) only if a cap cannot be closed.
-bool bk_slicer_slice(bk_slicer* slicer, const bk_mesh* mesh, const bk_slice_def* desc, bk_mesh* below,
+bool bk_slicer_slice(bk_slicer* slicer, const bk_mesh* mesh, const bk_slice_def* def, bk_mesh* below,
                      bk_mesh* above, bk_error* err);
 
 /// Triangulates simple boundary loops of an open mesh (a repair for
@@ -234,8 +234,8 @@ typedef struct bk_fracture_def {
 
 /// Default fracture parameters (the thesis's: 256 pieces, seed 3000, texture scale 0.1).
 bk_fracture_def bk_default_fracture_def(void);
-/// Checks a description; err names the wrong field.
-bool bk_fracture_def_validate(const bk_fracture_def* desc, bk_error* err);
+/// Checks a fracture def; err names the wrong field.
+bool bk_fracture_def_validate(const bk_fracture_def* def, bk_error* err);
 
 #define BK_NULL_INDEX UINT32_MAX
 
@@ -311,8 +311,8 @@ typedef struct bk_mesh_tree {
 
 /// Builds the mesh tree of a closed mesh: repeatedly splits the largest-volume
 /// leaf by a random plane through its centroid; every piece is kept. Computes
-/// bonds. Fails with a clear message on an open mesh or a bad description.
-bool bk_mesh_tree_build(const bk_mesh* source, const bk_fracture_def* desc, bk_mesh_tree* out, bk_error* err);
+/// bonds. Fails with a clear message on an open mesh or a bad def.
+bool bk_mesh_tree_build(const bk_mesh* source, const bk_fracture_def* def, bk_mesh_tree* out, bk_error* err);
 /// Releases everything; safe on a zeroed tree.
 void bk_mesh_tree_free(bk_mesh_tree* tree);
 /// The point the nodes' moments are taken about: the centre of the source's
@@ -347,15 +347,15 @@ typedef struct bk_mesh_tree_stats {
 /// Checks every node (closure, volumes). O(total triangles).
 bk_mesh_tree_stats bk_mesh_tree_measure(const bk_mesh_tree* tree);
 
-/// Estimated peak memory, in bytes, of bk_mesh_tree_build(source, desc)
+/// Estimated peak memory, in bytes, of bk_mesh_tree_build(source, def)
 /// (including the process's own few MB), known before building: a model of
 /// the source's triangle count and the pieces asked for, fitted to measured
 /// peaks and kept above them (by 12% to 41% over the meshes it was fitted
-/// on). A desc of NULL or pieces 0 means the default piece count.
-uint64_t bk_mesh_tree_estimate_bytes(const bk_mesh* source, const bk_fracture_def* desc);
+/// on). A def of NULL or pieces 0 means the default piece count.
+uint64_t bk_mesh_tree_estimate_bytes(const bk_mesh* source, const bk_fracture_def* def);
 /// Estimated size, in bytes, of the .mtree file of that tree (slightly
 /// above); bk_mesh_tree_save holds this much in memory while saving.
-uint64_t bk_mesh_tree_estimate_file_bytes(const bk_mesh* source, const bk_fracture_def* desc);
+uint64_t bk_mesh_tree_estimate_file_bytes(const bk_mesh* source, const bk_fracture_def* def);
 
 // ---------------------------------------------------------------- cache file
 

@@ -53,8 +53,11 @@ typedef struct bk_physics_def {
 /// Defaults: gravity -9.81 y, 60 Hz substeps.
 bk_physics_def bk_default_physics_def(void);
 /// Creates a world (split impulse on, so penetration recovery adds no
-/// contact impulse). Returns NULL with err set on a bad description.
-bk_physics* bk_physics_create(const bk_physics_def* desc, bk_error* err);
+/// contact impulse). It also sets two of Bullet's process-wide globals,
+/// gDeactivationTime (2 s) and gDbvtMargin (1 cm), the same values every
+/// time: other Bullet worlds in the process share them, so create worlds
+/// from one thread, not while another world steps. Returns NULL with err naming the bad field.
+bk_physics* bk_physics_create(const bk_physics_def* def, bk_error* err);
 /// Destroys the world with every shape and body left in it.
 void bk_physics_destroy(bk_physics* world);
 void bk_physics_set_gravity(bk_physics* world, bk_vec3 gravity);
@@ -127,7 +130,7 @@ typedef struct bk_body_def {
 bk_body_def bk_default_body_def(void);
 /// Creates a body; returns null with err naming the bad field (non-finite
 /// values, negative mass, zero inertia on a dynamic body, invalid shape).
-bk_body_id bk_physics_create_body(bk_physics* world, const bk_body_def* desc, bk_error* err);
+bk_body_id bk_physics_create_body(bk_physics* world, const bk_body_def* def, bk_error* err);
 void bk_physics_destroy_body(bk_physics* world, bk_body_id body);
 bool bk_physics_body_valid(const bk_physics* world, bk_body_id body);
 uint32_t bk_physics_body_count(const bk_physics* world);

@@ -11,9 +11,11 @@
 //   2. answers where a cluster's body is and how it moves (bk_body_state_fn);
 //   3. feeds it contacts (bk_runtime_apply_contacts) or blasts
 //      (bk_runtime_damage_at), then calls bk_runtime_split.
-// Every call that changes the runtime replaces the results of the previous
-// one (created clusters, removed clusters, broken bonds); pull them as arrays
+// Every call that changes clusters or bonds (add_breakable, apply_contacts,
+// damage_at, split, remove_cluster) replaces the results of the previous one
+// (created clusters, removed clusters, broken bonds); pull them as arrays
 // right after the call, into buffers you own (capacity in, count out).
+// Setters, queries and calls that fail keep the previous results.
 // Same calls with the same inputs give the same results, bit for bit.
 // A runtime is not thread-safe: call it from one thread at a time.
 #pragma once
@@ -130,8 +132,9 @@ typedef struct bk_breakable_def {
 } bk_breakable_def;
 
 bk_breakable_def bk_default_breakable_def(void);
-/// Adds a breakable as one cluster (reported as created, with its body state
-/// at the def's transform). Null id with err naming the bad field.
+/// Adds a breakable as one cluster, reported as created: its body frame
+/// starts at def.transform x the cluster's principal frame, at rest. Null id
+/// with err naming the bad field.
 bk_breakable_id bk_runtime_add_breakable(bk_runtime* runtime, const bk_breakable_def* def, bk_error* err);
 /// The tree a breakable was made from (NULL for a stale id).
 const bk_mesh_tree* bk_runtime_breakable_tree(const bk_runtime* runtime, bk_breakable_id id);

@@ -7,6 +7,15 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+/// A value of a struct type in an expression: a compound literal in C, an
+/// aggregate in C++ (which has no compound literals), so every header of the
+/// project can be included from C++ too.
+#ifdef __cplusplus
+#define BK_LITERAL(type) type
+#else
+#define BK_LITERAL(type) (type)
+#endif
+
 /// A point or direction in double precision: geometry is processed in doubles
 /// so volumes stay exact to ~1e-12 through many recursive cuts.
 typedef struct bk_vec3 {
@@ -24,27 +33,33 @@ typedef struct bk_plane {
   double offset;
 } bk_plane;
 
-static inline bk_vec3 bk_v3(double x, double y, double z) { return (bk_vec3){x, y, z}; }
-static inline bk_vec3 bk_v3_add(bk_vec3 a, bk_vec3 b) { return (bk_vec3){a.x + b.x, a.y + b.y, a.z + b.z}; }
-static inline bk_vec3 bk_v3_sub(bk_vec3 a, bk_vec3 b) { return (bk_vec3){a.x - b.x, a.y - b.y, a.z - b.z}; }
-static inline bk_vec3 bk_v3_scale(bk_vec3 a, double s) { return (bk_vec3){a.x * s, a.y * s, a.z * s}; }
+static inline bk_vec3 bk_v3(double x, double y, double z) { return BK_LITERAL(bk_vec3){x, y, z}; }
+static inline bk_vec3 bk_v3_add(bk_vec3 a, bk_vec3 b) {
+  return BK_LITERAL(bk_vec3){a.x + b.x, a.y + b.y, a.z + b.z};
+}
+static inline bk_vec3 bk_v3_sub(bk_vec3 a, bk_vec3 b) {
+  return BK_LITERAL(bk_vec3){a.x - b.x, a.y - b.y, a.z - b.z};
+}
+static inline bk_vec3 bk_v3_scale(bk_vec3 a, double s) {
+  return BK_LITERAL(bk_vec3){a.x * s, a.y * s, a.z * s};
+}
 static inline double bk_v3_dot(bk_vec3 a, bk_vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 static inline bk_vec3 bk_v3_cross(bk_vec3 a, bk_vec3 b) {
-  return (bk_vec3){a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+  return BK_LITERAL(bk_vec3){a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
 static inline double bk_v3_length(bk_vec3 a) { return sqrt(bk_v3_dot(a, a)); }
 static inline bk_vec3 bk_v3_lerp(bk_vec3 a, bk_vec3 b, double t) {
-  return (bk_vec3){a.x + (b.x - a.x) * t, a.y + (b.y - a.y) * t, a.z + (b.z - a.z) * t};
+  return BK_LITERAL(bk_vec3){a.x + (b.x - a.x) * t, a.y + (b.y - a.y) * t, a.z + (b.z - a.z) * t};
 }
 static inline bk_vec3 bk_v3_normalize(bk_vec3 a) {
   double len = bk_v3_length(a);
   return len > 0.0 ? bk_v3_scale(a, 1.0 / len) : a;
 }
 static inline bk_vec3 bk_v3_min(bk_vec3 a, bk_vec3 b) {
-  return (bk_vec3){fmin(a.x, b.x), fmin(a.y, b.y), fmin(a.z, b.z)};
+  return BK_LITERAL(bk_vec3){fmin(a.x, b.x), fmin(a.y, b.y), fmin(a.z, b.z)};
 }
 static inline bk_vec3 bk_v3_max(bk_vec3 a, bk_vec3 b) {
-  return (bk_vec3){fmax(a.x, b.x), fmax(a.y, b.y), fmax(a.z, b.z)};
+  return BK_LITERAL(bk_vec3){fmax(a.x, b.x), fmax(a.y, b.y), fmax(a.z, b.z)};
 }
 static inline bool bk_v3_is_finite(bk_vec3 a) { return isfinite(a.x) && isfinite(a.y) && isfinite(a.z); }
 static inline double bk_plane_distance(bk_plane p, bk_vec3 x) { return bk_v3_dot(p.normal, x) - p.offset; }
@@ -68,14 +83,16 @@ typedef struct bk_transform {
   bk_quat rotation;
 } bk_transform;
 
-static inline bk_quat bk_quat_identity(void) { return (bk_quat){0, 0, 0, 1}; }
-static inline bk_transform bk_transform_identity(void) { return (bk_transform){{0, 0, 0}, {0, 0, 0, 1}}; }
+static inline bk_quat bk_quat_identity(void) { return BK_LITERAL(bk_quat){0, 0, 0, 1}; }
+static inline bk_transform bk_transform_identity(void) {
+  return BK_LITERAL(bk_transform){{0, 0, 0}, {0, 0, 0, 1}};
+}
 static inline bk_quat bk_quat_mul(bk_quat a, bk_quat b) {
-  return (bk_quat){
+  return BK_LITERAL(bk_quat){
       a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y, a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x,
       a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w, a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z};
 }
-static inline bk_quat bk_quat_conjugate(bk_quat q) { return (bk_quat){-q.x, -q.y, -q.z, q.w}; }
+static inline bk_quat bk_quat_conjugate(bk_quat q) { return BK_LITERAL(bk_quat){-q.x, -q.y, -q.z, q.w}; }
 static inline bk_vec3 bk_quat_rotate(bk_quat q, bk_vec3 v) {
   // v + 2w (q x v) + 2 q x (q x v)
   bk_vec3 u = bk_v3(q.x, q.y, q.z);
@@ -84,22 +101,22 @@ static inline bk_vec3 bk_quat_rotate(bk_quat q, bk_vec3 v) {
 }
 static inline bk_quat bk_quat_normalize(bk_quat q) {
   double n = sqrt(q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w);
-  return n > 0.0 ? (bk_quat){q.x / n, q.y / n, q.z / n, q.w / n} : bk_quat_identity();
+  return n > 0.0 ? BK_LITERAL(bk_quat){q.x / n, q.y / n, q.z / n, q.w / n} : bk_quat_identity();
 }
 /// Rotation of `angle` radians about unit `axis`.
 static inline bk_quat bk_quat_axis_angle(bk_vec3 axis, double angle) {
   double s = sin(0.5 * angle);
-  return (bk_quat){axis.x * s, axis.y * s, axis.z * s, cos(0.5 * angle)};
+  return BK_LITERAL(bk_quat){axis.x * s, axis.y * s, axis.z * s, cos(0.5 * angle)};
 }
 static inline bk_vec3 bk_transform_point(bk_transform t, bk_vec3 p) {
   return bk_v3_add(bk_quat_rotate(t.rotation, p), t.position);
 }
 static inline bk_transform bk_transform_mul(bk_transform a, bk_transform b) {
-  return (bk_transform){bk_transform_point(a, b.position), bk_quat_mul(a.rotation, b.rotation)};
+  return BK_LITERAL(bk_transform){bk_transform_point(a, b.position), bk_quat_mul(a.rotation, b.rotation)};
 }
 static inline bk_transform bk_transform_inverse(bk_transform t) {
   bk_quat r = bk_quat_conjugate(t.rotation);
-  return (bk_transform){bk_v3_scale(bk_quat_rotate(r, t.position), -1.0), r};
+  return BK_LITERAL(bk_transform){bk_v3_scale(bk_quat_rotate(r, t.position), -1.0), r};
 }
 
 #ifdef __cplusplus

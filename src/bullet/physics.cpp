@@ -1,4 +1,4 @@
-// physics: the C interface of bk_physics.h implemented over Bullet (single
+// bk_physics: the C interface of <breakables/bullet.h> implemented over Bullet (single
 // precision). This is the only translation unit that includes Bullet.
 //
 // Ids index slot tables; a slot's generation moves on when its object is

@@ -3,6 +3,7 @@
 // writes). Not installed: the public API is <breakables/authoring.h>.
 #pragma once
 
+#include <locale.h>
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -81,6 +82,17 @@ void bk_heap_push(bk_heap* heap, double key, uint32_t value);
 bk_heap_item bk_heap_pop(bk_heap* heap);
 /// Releases the heap's storage and empties it.
 void bk_heap_free(bk_heap* heap);
+
+/// This thread in the C locale's number format, for reading and writing text
+/// files whatever locale the host application chose ("0.5", never "0,5").
+typedef struct bk_c_locale {
+  locale_t c, previous;
+} bk_c_locale;
+
+/// Switches; does nothing if the C locale cannot be made.
+bk_c_locale bk_c_locale_begin(void);
+/// Restores what the thread had.
+void bk_c_locale_end(bk_c_locale* locale);
 
 /// Growth helper: returns a capacity >= need (doubling), aborting on overflow.
 uint32_t bk_grow_capacity(uint32_t current, uint32_t need);

@@ -438,7 +438,11 @@ bool bk_obj_parse(const char* text, size_t length, const char* name, bk_mesh* ou
   memset(out, 0, sizeof *out);
   obj_parser p = {.name = name ? name : "obj", .err = err};
   if (!text && length > 0) return bk_error_set(err, "%s: no text", p.name);
+  // Numbers are read in the C locale whatever the host application set
+  // (a decimal comma would stop strtod at "0,5").
+  bk_c_locale c_locale = bk_c_locale_begin();
   bool ok = parse_text(&p, text, length) && build_mesh(&p);
+  bk_c_locale_end(&c_locale);
   if (ok) {
     *out = p.mesh;
     memset(&p.mesh, 0, sizeof p.mesh);

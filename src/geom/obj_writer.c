@@ -54,11 +54,13 @@ bool bk_obj_save(const char* path, const bk_mesh* meshes, uint32_t mesh_count, b
   fprintf(f, "# breakables export: objects %u, vertices %" PRIu64 ", triangles %" PRIu64 "\n", mesh_count,
           positions, triangles);
   positions = 0;
+  bk_c_locale c_locale = bk_c_locale_begin(); // "0.5", never "0,5"
   for (uint32_t i = 0; i < mesh_count; ++i) {
     write_mesh(f, &meshes[i], i, positions, corners);
     positions += meshes[i].position_count;
     corners += meshes[i].corner_count;
   }
+  bk_c_locale_end(&c_locale);
   // fprintf failures are sticky in the stream; commit checks them.
   return bk_file_commit_atomic(&file, path, &messages, err);
 }

@@ -185,3 +185,18 @@ uint64_t bk_hash_bytes(uint64_t hash, const void* data, size_t size) {
   }
   return hash;
 }
+
+bk_c_locale bk_c_locale_begin(void) {
+  // A locale object of our own per call: no shared state between threads,
+  // and uselocale only changes the calling thread.
+  bk_c_locale l = {newlocale(LC_NUMERIC_MASK, "C", (locale_t)0), (locale_t)0};
+  if (l.c != (locale_t)0) l.previous = uselocale(l.c);
+  return l;
+}
+
+void bk_c_locale_end(bk_c_locale* l) {
+  if (l->c == (locale_t)0) return;
+  uselocale(l->previous);
+  freelocale(l->c);
+  l->c = (locale_t)0;
+}

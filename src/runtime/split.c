@@ -102,8 +102,8 @@ static uint32_t split_cluster(bk_runtime* w, uint32_t slot, uint32_t components,
     c->leaves = part_leaves[p];
     c->leaf_count = part_sizes[p];
     rt_cluster_finish(w, s);
+    if (p == 0 && remainder_split) rt_queue_split(w, s); // before the record: it says so
     rt_record_created(w, s, old_id, tree_to_world, &state);
-    if (p == 0 && remainder_split) rt_queue_split(w, s);
   }
   free(part_leaves);
   free(part_sizes);
