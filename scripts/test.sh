@@ -14,3 +14,7 @@ export LSAN_OPTIONS="suppressions=$repo/scripts/lsan.supp"
 cmake -S . -B build-debug -DCMAKE_BUILD_TYPE=Debug -DBK_SANITIZE=ON
 cmake --build build-debug -j"$(nproc)"
 ctest --test-dir build-debug --output-on-failure -j2
+# What an install gives a user: builds a copy of the tree (with and without
+# the demo and Bullet), installs it, builds and runs the examples against it,
+# and runs the installed game with the source and build trees moved away.
+scripts/check_install.sh

@@ -264,12 +264,12 @@ static void test_bonds_folded_caps(void) {
 
 // The command line: fewer pieces than asked is a warning on stderr and in
 // --json (pieces_made, warnings), with exit 0; a far cube gives all 8.
+#ifdef BK_BREAKABLES_EXE
 static void write_obj(const char* path, const bk_mesh* m) {
   bk_error err = {0};
   ENSURE_MSG(bk_obj_save(path, m, 1, &err), "%s", err.message);
 }
 
-#ifdef BK_BREAKABLES_EXE
 static void test_cli(void) {
   bk_mesh outer = {0}, inner = {0}, far_mesh = {0};
   unit_cube(&outer, bk_v3(0, 0, 0), 1.0);

@@ -350,8 +350,8 @@ static void run_script(bk_cluster_created* out, uint32_t* count, uint32_t capaci
       bk_runtime_split(rt);
       uint32_t n = take_created(rt, b, scratch, 128);
       for (uint32_t k = 0; k < n && *count < capacity; ++k) {
-        out[*count] = scratch[k];
-        out[*count].cluster.leaves = NULL; // pointers differ between runs
+        memcpy(&out[*count], &scratch[k], sizeof scratch[k]); // bytes, padding included
+        out[*count].cluster.leaves = NULL;                    // pointers differ between runs
         out[*count].cluster.nodes = NULL;
         (*count)++;
       }

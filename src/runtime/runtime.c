@@ -133,6 +133,7 @@ void rt_record_created(bk_runtime* rt, uint32_t slot, bk_cluster_id parent, bk_t
     rt->created = bk_realloc(rt->created, sizeof(bk_cluster_created) * rt->created_capacity);
   }
   bk_cluster_created* record = &rt->created[rt->created_count++];
+  memset(record, 0, sizeof *record); // padding too: records compare equal bytewise run to run
   const rt_cluster* c = &rt->clusters[slot];
   fill_info(rt, slot, &record->cluster);
   record->parent = parent;

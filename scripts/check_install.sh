@@ -1,0 +1,310 @@
+#!/usr/bin/env bash
+# Checks what `cmake --install` gives a user, from a copy of the source tree in
+# a temporary directory (never the repository's own build directories):
+#   install   Release build with the demo, installed with --prefix;
+#   layout    headers (public ones only), static libraries, CMake package,
+#             pkg-config files, the executable and its data;
+#   symbols   the runtime and authoring libraries need nothing from Bullet, GL,
+#             GLFW, ImGui or the C++ runtime (nm -u); runtime nothing from bullet;
+#   pkg-config  breakables-runtime names no Bullet, breakables-bullet does;
+#   examples  each of examples/ built against the prefix with find_package (and
+#             own_physics with plain pkg-config flags), run; own_physics gives
+#             the same output every time and its binary has no Bullet in it;
+#   subproject  add_subdirectory(breakables) with BK_BUILD_DEMO=OFF;
+#   headless  a libraries-only build (BK_BUILD_DEMO=OFF): none of the demo's
+#             dependencies looked up, its tests pass;
+#   no-bullet an install without Bullet (BK_BUILD_BULLET=OFF) builds the
+#             runtime examples and refuses COMPONENTS bullet with a message;
+#   relocated the installed executable, with the source and build trees moved
+#             away: a headless fracture and a scripted game under xvfb-run.
+# Prints one line per check passed; the first failure names its check, shows
+# the end of its log and stops the script (exit 1). The temporary directory is
+# removed on success and kept on failure (its path is printed).
+#
+#   scripts/check_install.sh
+set -euo pipefail
+
+repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$repo"
+
+scripts/setup.sh >/dev/null
+
+tmp="$(mktemp -d "${TMPDIR:-/tmp}/bk-install.XXXXXX")"
+prefix="$tmp/prefix"
+logs="$tmp/logs"
+mkdir -p "$logs"
+start_seconds=$SECONDS
+finished=0
+on_exit() {
+  if ((finished)); then
+    rm -rf "$tmp"
+  else
+    echo "check_install: the temporary directory is kept for inspection: $tmp" >&2
+  fi
+}
+trap on_exit EXIT
+
+ok() { echo "check_install: ok: $*"; }
+fail() {
+  echo "check_install: FAILED: $1: $2" >&2
+  exit 1
+}
+# run CHECK LOG COMMAND...: runs the command with its output in $logs/LOG; on
+# failure shows the log's end and fails CHECK.
+run() {
+  local check="$1" log="$logs/$2"
+  shift 2
+  if ! "$@" >"$log" 2>&1; then
+    tail -n 30 "$log" >&2
+    fail "$check" "'$*' failed (log: $log)"
+  fi
+}
+# Undefined symbols of a static library, one per line.
+undefined_symbols() { nm -u "$1" | awk '$1 == "U" { print $2 }' | sort -u; }
+defined_symbols() { nm -g --defined-only "$1" | awk 'NF == 3 { print $3 }' | sort -u; }
+
+# Bullet's C++ API (btVector3, btAlignedAllocInternal, mangled _ZN..bt..), GL,
+# GLFW, Dear ImGui and the C++ runtime. GLU (glu*) is allowed in authoring: it
+# triangulates the cut caps with GLU's tessellator.
+bullet_re='bt[A-Z]|Bullet'
+declare -A forbidden=([Bullet]="$bullet_re" [GL]='^gl[A-Z]' [GLFW]='^glfw' [ImGui]='ImGui|^ig[A-Z]'
+  [C++ runtime]='^_Z|^__cxa_|^__gxx_')
+
+# ---------------------------------------------------------------- a. install
+# The working tree as it is: in a git checkout its tracked and new files (not
+# the ignored ones, such as build*/), else everything but build*/ and .git.
+mkdir "$tmp/src"
+if git rev-parse --is-inside-work-tree >/dev/null 2>&1; then
+  git ls-files -z --cached --others --exclude-standard | while IFS= read -r -d '' file; do
+    if [[ -f "$file" ]]; then printf '%s\0' "$file"; fi
+  done | xargs -0 cp --parents -t "$tmp/src"
+else
+  find . -mindepth 1 -maxdepth 1 ! -name 'build*' ! -name .git -exec cp -r -t "$tmp/src" {} +
+fi
+[[ -f "$tmp/src/CMakeLists.txt" && -d "$tmp/src/examples" ]] || fail install "the source copy is incomplete"
+ok "source copied ($(find "$tmp/src" -type f | wc -l) files)"
+
+run install install-configure.log cmake -S "$tmp/src" -B "$tmp/build" -DCMAKE_BUILD_TYPE=Release -DBK_BUILD_DEMO=ON \
+  -DBK_BUILD_TESTS=OFF
+build_start=$SECONDS
+run install install-build.log cmake --build "$tmp/build" -j2
+# --prefix, not the configured CMAKE_INSTALL_PREFIX: the package must follow it.
+run install install-install.log cmake --install "$tmp/build" --prefix "$prefix"
+ok "release build with the demo in $((SECONDS - build_start)) s, installed into $prefix"
+
+# ---------------------------------------------------------------- b. layout
+public_headers=(types.h authoring.h runtime.h bullet.h)
+for header in "${public_headers[@]}"; do
+  [[ -s "$prefix/include/breakables/$header" ]] || fail layout "include/breakables/$header is missing"
+done
+extra_headers="$(find "$prefix/include" -type f | grep -vE '/include/breakables/(types|authoring|runtime|bullet)\.h$' || true)"
+[[ -z "$extra_headers" ]] || fail layout "headers that are not public were installed: $extra_headers"
+# Each public header stands alone in C11 and includes only public headers.
+for header in "${public_headers[@]}"; do
+  echo "#include <breakables/$header>" >"$tmp/header_check.c"
+  run layout "header_$header.log" cc -std=c11 -Wall -Wextra -Werror -pedantic -fsyntax-only -I"$prefix/include" \
+    "$tmp/header_check.c"
+  if grep -E '^#include "' "$prefix/include/breakables/$header" | grep -vqE '"(types|authoring|runtime)\.h"'; then
+    fail layout "$header includes a header that is not installed"
+  fi
+done
+for file in lib/libbreakables-authoring.a lib/libbreakables-runtime.a lib/libbreakables-bullet.a \
+  lib/cmake/breakables/breakables-config.cmake lib/cmake/breakables/breakables-config-version.cmake \
+  lib/pkgconfig/breakables-authoring.pc lib/pkgconfig/breakables-runtime.pc lib/pkgconfig/breakables-bullet.pc \
+  bin/breakables share/breakables/assets/meshes/bunny.obj share/breakables/shaders/mesh.vert; do
+  [[ -s "$prefix/$file" ]] || fail layout "$file is missing or empty"
+done
+[[ -x "$prefix/bin/breakables" ]] || fail layout "bin/breakables is not executable"
+for dir in share/breakables/assets/textures share/breakables/shaders; do
+  [[ -n "$(ls -A "$prefix/$dir")" ]] || fail layout "$dir is empty"
+done
+# Nothing installed may point back into the source or build trees.
+if grep -rlF -e "$tmp/src" -e "$tmp/build" "$prefix/lib/cmake" "$prefix/lib/pkgconfig"; then
+  fail layout "the CMake package or a .pc file names the source or build directory"
+fi
+ok "layout: 4 public headers (each compiles alone), 3 static libraries, CMake package, 3 .pc files, bin/breakables, share/breakables/{assets,shaders}"
+
+# ---------------------------------------------------------------- c. symbols
+authoring_lib="$prefix/lib/libbreakables-authoring.a"
+runtime_lib="$prefix/lib/libbreakables-runtime.a"
+bullet_lib="$prefix/lib/libbreakables-bullet.a"
+undefined_symbols "$authoring_lib" >"$tmp/authoring.undefined"
+undefined_symbols "$runtime_lib" >"$tmp/runtime.undefined"
+undefined_symbols "$bullet_lib" >"$tmp/bullet.undefined"
+# The patterns must match what they are meant to: bullet's library uses Bullet.
+grep -qE "$bullet_re" "$tmp/bullet.undefined" || fail symbols "no Bullet symbol found in libbreakables-bullet.a: the check itself is broken"
+grep -qE '^glu' "$tmp/authoring.undefined" || fail symbols "no GLU symbol found in libbreakables-authoring.a: the check itself is broken"
+for lib in authoring runtime; do
+  for name in "${!forbidden[@]}"; do
+    found="$(grep -E "${forbidden[$name]}" "$tmp/$lib.undefined" | head -n 5 | tr '\n' ' ' || true)"
+    [[ -z "$found" ]] || fail symbols "libbreakables-$lib.a needs $name symbols: $found"
+  done
+done
+# Nothing the bullet library defines; authoring needs nothing from runtime either.
+defined_symbols "$bullet_lib" >"$tmp/bullet.defined"
+defined_symbols "$runtime_lib" >"$tmp/runtime.defined"
+found="$(comm -12 "$tmp/runtime.undefined" "$tmp/bullet.defined" | head -n 5 | tr '\n' ' ')"
+[[ -z "$found" ]] || fail symbols "libbreakables-runtime.a needs symbols of libbreakables-bullet.a: $found"
+found="$(sort -u "$tmp/bullet.defined" "$tmp/runtime.defined" | comm -12 "$tmp/authoring.undefined" - | head -n 5 | tr '\n' ' ')"
+[[ -z "$found" ]] || fail symbols "libbreakables-authoring.a needs symbols of runtime or bullet: $found"
+ok "symbols: runtime ($(wc -l <"$tmp/runtime.undefined") undefined) and authoring ($(wc -l <"$tmp/authoring.undefined")) need no Bullet, GL, GLFW, ImGui or C++ runtime; runtime nothing of bullet"
+
+# ---------------------------------------------------------------- d. pkg-config
+export PKG_CONFIG_PATH="$prefix/lib/pkgconfig"
+for module in breakables-authoring breakables-runtime breakables-bullet; do
+  pkg-config --exists --print-errors "$module" 2>"$logs/pkg-config.log" || fail pkg-config "$module: $(cat "$logs/pkg-config.log")"
+  libdir="$(pkg-config --variable=libdir "$module")"
+  [[ "$(cd "$libdir" && pwd -P)" == "$(cd "$prefix/lib" && pwd -P)" ]] || fail pkg-config "$module: libdir $libdir is not $prefix/lib"
+done
+runtime_libs="$(pkg-config --libs breakables-runtime)"
+runtime_static_libs="$(pkg-config --static --libs breakables-runtime)"
+bullet_static_libs="$(pkg-config --static --libs breakables-bullet)"
+echo "check_install: pkg-config --libs breakables-runtime: $runtime_libs"
+echo "check_install: pkg-config --static --libs breakables-runtime: $runtime_static_libs"
+echo "check_install: pkg-config --static --libs breakables-bullet: $bullet_static_libs"
+if grep -qiE 'bullet|LinearMath' <<<"$runtime_libs $runtime_static_libs"; then
+  fail pkg-config "breakables-runtime names Bullet"
+fi
+for lib in -lbreakables-bullet -lbreakables-runtime -lbreakables-authoring -lBulletDynamics -lBulletCollision -lLinearMath; do
+  grep -qwe "$lib" <<<"$bullet_static_libs" || fail pkg-config "pkg-config --static --libs breakables-bullet does not name $lib"
+done
+ok "pkg-config: breakables-runtime names no Bullet, breakables-bullet names Bullet's libraries"
+
+# ---------------------------------------------------------------- e. examples
+mapfile -t examples < <(cd "$tmp/src/examples" && find . -mindepth 2 -maxdepth 2 -name CMakeLists.txt -printf '%h\n' | sed 's|^\./||' | sort)
+((${#examples[@]} >= 3)) || fail examples "expected at least 3 examples in examples/, found ${#examples[@]}"
+for example in "${examples[@]}"; do
+  build="$tmp/examples/$example"
+  run examples "$example-configure.log" cmake -S "$tmp/src/examples/$example" -B "$build" -DCMAKE_BUILD_TYPE=Release \
+    -DCMAKE_PREFIX_PATH="$prefix"
+  found_dir="$(sed -n 's/^breakables_DIR:PATH=//p' "$build/CMakeCache.txt")"
+  [[ "$found_dir" == "$prefix/lib/cmake/breakables" ]] || fail examples "$example found breakables in '$found_dir', not in the prefix"
+  run examples "$example-build.log" cmake --build "$build"
+  mkdir -p "$tmp/run/$example"
+  (cd "$tmp/run/$example" && "$build/$example" >"$logs/$example.out" 2>&1) ||
+    { cat "$logs/$example.out" >&2; fail examples "$example failed"; }
+  ok "example $example: built with find_package, ran ($(tail -n 1 "$logs/$example.out"))"
+done
+[[ -x "$tmp/examples/own_physics/own_physics" ]] || fail examples "there is no own_physics example"
+
+# bake_and_load also takes an OBJ: the installed bunny.
+(cd "$tmp/run/bake_and_load" && "$tmp/examples/bake_and_load/bake_and_load" "$prefix/share/breakables/assets/meshes/bunny.obj" \
+  bunny.mtree >"$logs/bake_and_load_bunny.out" 2>&1) || { cat "$logs/bake_and_load_bunny.out" >&2; fail examples "bake_and_load bunny.obj failed"; }
+[[ -s "$tmp/run/bake_and_load/bunny.mtree" ]] || fail examples "bake_and_load wrote no bunny.mtree"
+ok "example bake_and_load with an OBJ ($(tail -n 1 "$logs/bake_and_load_bunny.out"))"
+
+# own_physics as a project without CMake would build it, from pkg-config alone.
+# shellcheck disable=SC2046 # pkg-config's flags are meant to split
+run examples own_physics_pkg-config.log cc -std=c11 -O2 -Wall -Wextra -Werror "$tmp/src/examples/own_physics/main.c" \
+  -o "$tmp/own_physics_pc" $(pkg-config --cflags --static --libs breakables-runtime)
+"$tmp/examples/own_physics/own_physics" >"$logs/own_physics.2.out"
+"$tmp/own_physics_pc" >"$logs/own_physics_pc.out"
+diff -u "$logs/own_physics.out" "$logs/own_physics.2.out" >&2 || fail examples "own_physics printed something else on its second run"
+diff -u "$logs/own_physics.out" "$logs/own_physics_pc.out" >&2 || fail examples "own_physics built with pkg-config printed something else"
+ok "example own_physics: built with pkg-config too; three runs (two builds) print the same"
+for binary in "$tmp/examples/own_physics/own_physics" "$tmp/own_physics_pc"; do
+  found="$(nm "$binary" | grep -E "$bullet_re" | head -n 3 | tr '\n' ' ' || true)"
+  [[ -z "$found" ]] || fail examples "$binary has Bullet symbols: $found"
+  if ldd "$binary" | grep -qiE 'bullet|LinearMath'; then fail examples "$binary loads Bullet: $(ldd "$binary" | grep -iE 'bullet|LinearMath')"; fi
+done
+# ... while the Bullet example does load Bullet (the check can see it).
+ldd "$tmp/examples/headless_wall/headless_wall" | grep -q libBulletDynamics || fail examples "headless_wall does not load Bullet: the check itself is broken"
+ok "example own_physics: no Bullet symbol (nm) and no Bullet library (ldd) in its binaries"
+
+# ---------------------------------------------------------------- f. subproject
+sub="$tmp/subproject"
+mkdir -p "$sub"
+cp "$tmp/src/examples/own_physics/main.c" "$sub/main.c"
+cat >"$sub/CMakeLists.txt" <<EOF
+cmake_minimum_required(VERSION 3.20)
+project(uses_breakables LANGUAGES C)
+set(BK_BUILD_DEMO OFF)
+add_subdirectory("$tmp/src" breakables)
+add_executable(game main.c)
+target_link_libraries(game PRIVATE breakables::runtime)
+EOF
+run subproject subproject-configure.log cmake -S "$sub" -B "$sub/build" -DCMAKE_BUILD_TYPE=Release
+run subproject subproject-build.log cmake --build "$sub/build" -j2
+"$sub/build/game" >"$logs/subproject.out" 2>&1 || { cat "$logs/subproject.out" >&2; fail subproject "the game built with add_subdirectory failed"; }
+diff -u "$logs/own_physics.out" "$logs/subproject.out" >&2 || fail subproject "own_physics built with add_subdirectory printed something else"
+for option in BK_BUILD_TESTS BK_INSTALL; do
+  grep -qx "$option:BOOL=OFF" "$sub/build/CMakeCache.txt" || fail subproject "$option is not OFF in a sub-project"
+done
+if [[ -n "$(find "$sub/build/breakables" -type f \( -name 'libglad.a' -o -name 'libbk_ui.a' -o -name 'test_*' \))" ]]; then
+  fail subproject "the demo or the tests were built as a sub-project"
+fi
+ok "subproject: add_subdirectory with BK_BUILD_DEMO=OFF builds and links breakables::runtime (no demo, no tests)"
+
+# ---------------------------------------------------------------- g. headless
+headless="$tmp/build-headless"
+run headless headless-configure.log cmake -S "$tmp/src" -B "$headless" -DCMAKE_BUILD_TYPE=Release -DBK_BUILD_DEMO=OFF -DBK_BUILD_TESTS=ON
+# Cache entries of the demo's lookups (pkg_check_modules, find_package(OpenGL)),
+# by name: GLU's own entries may name libOpenGL, which authoring links.
+demo_entries() { grep -vE '^(//|#)' "$1" | cut -d: -f1 | grep -E 'GLFW|IMGUI|CGLM|OPENGL|OpenGL' | head -n 5 || true; }
+[[ -n "$(demo_entries "$tmp/build/CMakeCache.txt")" ]] || fail headless "no demo entry in the demo build's cache: the check itself is broken"
+found="$(demo_entries "$headless/CMakeCache.txt" | tr '\n' ' ')"
+[[ -z "$found" ]] || fail headless "the demo's dependencies were looked up: $found"
+run headless headless-build.log cmake --build "$headless" -j2
+if [[ -n "$(find "$headless" -type f \( -name 'libglad.a' -o -name 'libbk_ui.a' -o -name 'libbk_render.a' -o -name 'breakables' \))" ]]; then
+  fail headless "glad, the UI, the renderer or the game was built"
+fi
+if cmake --build "$headless" --target help | grep -qwE 'glad|bk_ui|bk_render|breakables'; then
+  fail headless "a target of the demo exists"
+fi
+run headless headless-ctest.log ctest --test-dir "$headless" --output-on-failure -j2
+ok "headless: no GLFW/ImGui/cglm/OpenGL lookup, no demo target; $(grep -E 'tests passed' "$logs/headless-ctest.log")"
+
+# ---------------------------------------------------------------- no-bullet
+# BK_BUILD_BULLET=OFF: an install without Bullet serves the runtime examples
+# and refuses the bullet component with a message.
+nobullet_prefix="$tmp/prefix-nobullet"
+run no-bullet nobullet-configure.log cmake -S "$tmp/src" -B "$tmp/build-nobullet" -DCMAKE_BUILD_TYPE=Release \
+  -DBK_BUILD_DEMO=OFF -DBK_BUILD_BULLET=OFF -DBK_BUILD_TESTS=OFF
+found="$(grep -vE '^(//|#)' "$tmp/build-nobullet/CMakeCache.txt" | cut -d: -f1 | grep -E 'BULLET' | grep -v '^BK_BUILD_BULLET$' | head -n 3 | tr '\n' ' ' || true)"
+[[ -z "$found" ]] || fail no-bullet "Bullet was looked up: $found"
+run no-bullet nobullet-build.log cmake --build "$tmp/build-nobullet" -j2
+run no-bullet nobullet-install.log cmake --install "$tmp/build-nobullet" --prefix "$nobullet_prefix"
+for file in include/breakables/bullet.h lib/libbreakables-bullet.a lib/pkgconfig/breakables-bullet.pc \
+  lib/cmake/breakables/breakables-bullet-targets.cmake; do
+  [[ ! -e "$nobullet_prefix/$file" ]] || fail no-bullet "$file was installed without breakables::bullet"
+done
+for example in own_physics bake_and_load; do
+  build="$tmp/examples-nobullet/$example"
+  run no-bullet "nobullet-$example-configure.log" cmake -S "$tmp/src/examples/$example" -B "$build" \
+    -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH="$nobullet_prefix"
+  run no-bullet "nobullet-$example-build.log" cmake --build "$build"
+done
+"$tmp/examples-nobullet/own_physics/own_physics" >"$logs/own_physics_nobullet.out"
+diff -u "$logs/own_physics.out" "$logs/own_physics_nobullet.out" >&2 || fail no-bullet "own_physics printed something else"
+if cmake -S "$tmp/src/examples/headless_wall" -B "$tmp/examples-nobullet/headless_wall" -DCMAKE_PREFIX_PATH="$nobullet_prefix" \
+  >"$logs/nobullet-headless_wall-configure.log" 2>&1; then
+  fail no-bullet "headless_wall (COMPONENTS bullet) configured against an install without bullet"
+fi
+grep -q 'no bullet component' "$logs/nobullet-headless_wall-configure.log" ||
+  fail no-bullet "find_package(breakables COMPONENTS bullet) failed without saying why: $(tail -n 5 "$logs/nobullet-headless_wall-configure.log")"
+ok "no-bullet: BK_BUILD_BULLET=OFF installs no bullet files, serves own_physics and bake_and_load, refuses COMPONENTS bullet with a message"
+
+# ---------------------------------------------------------------- h. relocated
+# Only the prefix is left: the executable must find its data there.
+mv "$tmp/src" "$tmp/src.moved"
+mv "$tmp/build" "$tmp/build.moved"
+export BREAKABLES_CACHE_DIR="$tmp/cache" # the game's mesh-tree cache, not the user's
+exe="$prefix/bin/breakables"
+run relocated fracture_help.log "$exe" fracture --help
+run relocated fracture.log "$exe" fracture --mesh cube --pieces 64 --out "$tmp/x.mtree" --export-obj "$tmp/x.obj"
+[[ -s "$tmp/x.mtree" && -s "$tmp/x.obj" ]] || fail relocated "fracture wrote no x.mtree or x.obj"
+fragments="$(grep -c '^o fragment_' "$tmp/x.obj" || true)"
+((fragments >= 64)) || fail relocated "x.obj has $fragments fragments, not 64"
+# The bunny is an installed asset: found beside the executable, not in the (moved) source tree.
+run relocated fracture_bunny.log "$exe" fracture --mesh bunny --pieces 8
+ok "relocated: breakables fracture (cube into $fragments fragments; the installed bunny)"
+run relocated play.log env LIBGL_ALWAYS_SOFTWARE=1 xvfb-run -a -s "-screen 0 1280x720x24" "$exe" play --scene wall \
+  --frames 60 --autofire 2 --screenshot "$tmp/shot.png" --width 640 --height 360
+grep -q '^frames 60, ' "$logs/play.log" || fail relocated "play printed no summary: $(cat "$logs/play.log")"
+grep -q 'gl errors none' "$logs/play.log" || fail relocated "GL errors: $(grep -m1 '^frames' "$logs/play.log")"
+[[ -s "$tmp/shot.png" ]] || fail relocated "no screenshot"
+[[ "$(head -c 8 "$tmp/shot.png" | od -An -tx1 | tr -d ' \n')" == "89504e470d0a1a0a" ]] || fail relocated "shot.png is not a PNG"
+ok "relocated: scripted play under xvfb-run ($(grep -m1 -oE '^frames [0-9]+, bodies [0-9]+ \(from [0-9]+\)' "$logs/play.log"), screenshot $(stat -c %s "$tmp/shot.png") bytes)"
+
+finished=1
+echo "check_install: all checks passed in $((SECONDS - start_seconds)) s"
