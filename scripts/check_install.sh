@@ -81,6 +81,9 @@ if git rev-parse --is-inside-work-tree >/dev/null 2>&1; then
 else
   find . -mindepth 1 -maxdepth 1 ! -name 'build*' ! -name .git -exec cp -r -t "$tmp/src" {} +
 fi
+# The test's npm packages are installed by scripts/setup.sh, like the system's:
+# the copy uses the same ones (a link, nothing downloaded).
+if [[ -d tests/js/node_modules ]]; then ln -s "$PWD/tests/js/node_modules" "$tmp/src/tests/js/node_modules"; fi
 [[ -f "$tmp/src/CMakeLists.txt" && -d "$tmp/src/examples" ]] || fail install "the source copy is incomplete"
 ok "source copied ($(find "$tmp/src" -type f | wc -l) files)"
 

@@ -2,7 +2,7 @@
 # Builds the libFuzzer harnesses of tests/fuzz (clang, ASan+UBSan) in
 # build-fuzz and runs each for SECONDS (default 60), one after the other.
 #
-#   scripts/fuzz.sh [SECONDS] [HARNESS...]     harnesses: fuzz_obj fuzz_mtree fuzz_bonds fuzz_fracture
+#   scripts/fuzz.sh [SECONDS] [HARNESS...]     harnesses: fuzz_obj fuzz_mtree fuzz_bonds fuzz_fracture fuzz_gltf fuzz_import
 #
 # Each harness starts from its committed seeds and regressions
 # (tests/fuzz/corpus/<harness>, tests/fuzz/regressions/<harness>), which it only
@@ -16,7 +16,7 @@ set -euo pipefail
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$repo"
 
-all_harnesses=(fuzz_obj fuzz_mtree fuzz_bonds fuzz_fracture)
+all_harnesses=(fuzz_obj fuzz_mtree fuzz_bonds fuzz_fracture fuzz_gltf fuzz_import)
 seconds="${1:-60}"
 if [[ $# -gt 0 ]]; then shift; fi
 if ! [[ "$seconds" =~ ^[0-9]+$ ]] || ((10#$seconds < 1)); then
@@ -49,6 +49,8 @@ echo "fuzz: built ${harnesses[*]} in $((SECONDS - build_start)) s"
 max_len() {
   case "$1" in
   fuzz_obj | fuzz_fracture) echo 4096 ;;
+  fuzz_import) echo 8192 ;; # the model seeds are up to about 5 KiB
+  fuzz_gltf) echo 32768 ;; # the .glb/.gltf seeds are up to about 24 KiB
   *) echo 16384 ;; # the .mtree seeds are up to about 8 KiB
   esac
 }
@@ -70,8 +72,12 @@ for harness in "${harnesses[@]}"; do
   seeds=("tests/fuzz/corpus/$harness")
   if [[ -d "tests/fuzz/regressions/$harness" ]]; then seeds+=("tests/fuzz/regressions/$harness"); fi
   status=0
+  # assimp's leaks are suppressed by library name (scripts/lsan.supp), which
+  # needs full stacks: its allocations go through libstdc++ without frame pointers.
+  asan_options="$ASAN_OPTIONS"
+  if [[ "$harness" == fuzz_import ]]; then asan_options+=":fast_unwind_on_malloc=0"; fi
   # The first directory receives new inputs; the committed ones after it are only read.
-  BK_FUZZ_TMP="$scratch/$harness" "$build/$harness" -max_total_time="$seconds" -timeout="$timeout_seconds" \
+  ASAN_OPTIONS="$asan_options" BK_FUZZ_TMP="$scratch/$harness" "$build/$harness" -max_total_time="$seconds" -timeout="$timeout_seconds" \
     -rss_limit_mb=2048 -max_len="$(max_len "$harness")" -print_final_stats=1 \
     -artifact_prefix="$findings/" "$corpus" "${seeds[@]}" >"$log" 2>&1 || status=$?
   runs="$(grep -o 'Done [0-9]* runs in [0-9]* second(s)' "$log" | tail -n 1 || true)"

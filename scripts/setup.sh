@@ -19,6 +19,10 @@ PACKAGES=(
   libglfw3-dev
   libcglm-dev
   libstb-dev
+  # model import (glTF, FBX, PLY, STL, ...) through assimp's C API, and its
+  # sample models (tests/test_import.c, scripts/import_tally.sh)
+  libassimp-dev
+  assimp-testmodels
   # de_DE's locale source, compiled by test_obj to check OBJ numbers under a decimal comma
   locales
   xvfb
@@ -42,6 +46,19 @@ is_installed() {
   return 1
 }
 
+# The npm packages of the glTF checks (tests/js: gltf-validator, three, pinned
+# by tests/js/package-lock.json), installed into tests/js/node_modules
+# (git-ignored) when missing: the build and the tests never download.
+install_js_packages() {
+  local js
+  js="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)/tests/js"
+  if [[ -d "$js/node_modules/gltf-validator" && -d "$js/node_modules/three" ]]; then
+    return 0
+  fi
+  echo "setup: installing the npm packages of tests/js (npm ci)"
+  npm ci --prefix "$js" --no-audit --no-fund
+}
+
 missing=()
 for pkg in "${PACKAGES[@]}"; do
   if ! is_installed "$pkg"; then
@@ -51,6 +68,7 @@ done
 
 if ((${#missing[@]} == 0)); then
   echo "setup: all ${#PACKAGES[@]} required packages are present"
+  install_js_packages
   exit 0
 fi
 
@@ -69,4 +87,5 @@ fi
 export DEBIAN_FRONTEND=noninteractive
 "${SUDO[@]}" env DEBIAN_FRONTEND=noninteractive apt-get update
 "${SUDO[@]}" env DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends "${missing[@]}"
+install_js_packages
 echo "setup: done"

@@ -199,6 +199,59 @@ static void test_sim(void) {
   expect_error("sim --explode", 2, "unknown option '--explode'");
 }
 
+// A user's own model in sim: a fractured .mtree is used as it is (its own
+// pieces, no fracture), the material chosen changes the outcome, and the
+// mistakes are named.
+static void test_sim_own_mesh(void) {
+  setenv("BREAKABLES_CACHE_DIR", BK_TEST_TMP "/cache", 1);
+  run_result* r = run("fracture --mesh pillar --pieces 48 --out '" BK_TEST_TMP "/own.mtree'");
+  ENSURE_MSG(r->status == 0, "%s", r->err);
+  r = run("sim --mesh '" BK_TEST_TMP "/own.mtree' --pieces 512 --shots 2 --json");
+  ENSURE_MSG(r->status == 0, "%s", r->err);
+  ENSURE_MSG(strstr(r->out, "\"scene\": \"own.mtree\"") && json_number(r->out, "pieces") == 48, "%s", r->out);
+  ENSURE_MSG(json_number(r->out, "bonds_broken") > 0, "the fitted shots missed: %s", r->out); // aimed at it
+  ENSURE(json_number(r->out, "mass_rel_error") < 1e-9 && strstr(r->out, "\"nan\": false"));
+  double stone = json_number(r->out, "bonds_broken");
+  // Our own glTF export is a tree too: loaded, not fractured again, and it
+  // gives the very same simulation as the .mtree of the same fracture.
+  r = run("fracture --mesh pillar --pieces 48 --export-gltf '" BK_TEST_TMP "/own.glb'");
+  ENSURE_MSG(r->status == 0, "%s", r->err);
+  r = run("sim --mesh '" BK_TEST_TMP "/own.glb' --pieces 512 --shots 2 --json");
+  ENSURE_MSG(r->status == 0 && json_number(r->out, "pieces") == 48, "%s%s", r->out, r->err);
+  ENSURE_MSG(json_number(r->out, "bonds_broken") == stone, "glb %s, mtree %g", r->out, stone);
+  r = run("sim --mesh '" BK_TEST_TMP "/own.mtree' --material glass --shots 2 --json");
+  ENSURE_MSG(r->status == 0 && json_number(r->out, "bonds_broken") > stone, "stone %g, glass: %s", stone,
+             r->out);
+  // A small model far from the origin is stood on the ground and aimed at:
+  // the shots are fitted to its size and place.
+  FILE* f = fopen(BK_TEST_TMP "/small_far.obj", "w");
+  ENSURE(f);
+  for (int v = 0; v < 8; ++v)
+    fprintf(f, "v %g %g %g\n", 40.0 + 0.2 * (v & 1), 7.0 + 0.2 * ((v >> 1) & 1), -9.0 + 0.2 * ((v >> 2) & 1));
+  fputs("f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n", f);
+  fclose(f);
+  r = run("sim --mesh '" BK_TEST_TMP "/small_far.obj' --pieces 16 --material glass --shots 2 --json");
+  ENSURE_MSG(r->status == 0 && json_number(r->out, "bonds_broken") > 0, "%s%s", r->out, r->err);
+  // A built-in shape as a model, and --material over a whole scene.
+  r = run("sim --mesh cube --pieces 32 --shots 1 --json");
+  ENSURE_MSG(r->status == 0 && strstr(r->out, "\"scene\": \"cube\"") && json_number(r->out, "pieces") == 32,
+             "%s%s", r->out, r->err);
+  r = run("sim --scene wall --pieces 64 --shots 2 --steps 150 --material glass --json");
+  ENSURE_MSG(r->status == 0, "%s", r->err);
+  double glass_wall = json_number(r->out, "bonds_broken");
+  r = run("sim --scene wall --pieces 64 --shots 2 --steps 150 --json");
+  ENSURE_MSG(glass_wall > json_number(r->out, "bonds_broken"), "glass wall %g, stone: %s", glass_wall,
+             r->out);
+  expect_error("sim --mesh cube --scene wall", 2, "--mesh and --scene cannot be used together");
+  expect_error("sim --mesh cube --material gold", 2,
+               "unknown material 'gold': use stone, concrete, glass, porcelain, eggshell, wood");
+  expect_error("sim --mesh '" BK_TEST_TMP "/missing.mtree'", 1, "missing.mtree: cannot open");
+  r = run("sim --help");
+  ENSURE(strstr(r->out, "--mesh PATH") && strstr(r->out, "--material NAME"));
+  r = run("play --help");
+  ENSURE(strstr(r->out, "--mesh PATH") && strstr(r->out, "--material NAME"));
+}
+
 // ---------------------------------------------------------------- number options
 
 // Every number option of every command takes exactly a number of its kind
@@ -517,6 +570,7 @@ int main(void) {
   RUN(test_errors);
   RUN(test_repairs_simple_hole);
   RUN(test_sim);
+  RUN(test_sim_own_mesh);
   RUN(test_number_options);
   RUN(test_bench_quick);
   return 0;

@@ -165,6 +165,82 @@ bool bk_obj_load(const char* path, bk_mesh* out, bk_error* err);
 /// Writes meshes as one OBJ file with one `o fragment_<i>` object per mesh.
 bool bk_obj_save(const char* path, const bk_mesh* meshes, uint32_t mesh_count, bk_error* err);
 
+// ---------------------------------------------------------------- model import
+
+/// The file extensions bk_model_import reads, space-separated, lower case
+/// ("obj gltf glb fbx ..."). `.obj` is read by bk_obj_load (this library's own
+/// reader); every other one by assimp (Open Asset Import Library, C API).
+#define BK_IMPORT_EXTENSIONS "obj gltf glb fbx dae ply stl 3ds off 3mf blend x ac ase"
+/// Files larger than this are refused before they are parsed.
+#define BK_IMPORT_MAX_FILE_BYTES ((uint64_t)1 << 30)
+
+/// How to import a model: bk_default_import_def() fills every field.
+typedef struct bk_import_def {
+  /// Name of the scene node to import, with its subtree, in that node's
+  /// world placement; NULL (the default) = every node's meshes, combined with
+  /// their node transforms. An unknown name is an error listing node names.
+  const char* node;
+  /// The most triangles (after triangulation) the model may have; default 2^24.
+  uint32_t max_triangles;
+  /// The most vertices, summed over every mesh placed; default 2^25.
+  uint32_t max_vertices;
+  /// Files larger than this many bytes are refused; default BK_IMPORT_MAX_FILE_BYTES.
+  uint64_t max_file_bytes;
+} bk_import_def;
+
+/// Default import parameters: every node, 2^24 triangles, 2^25 vertices, 1 GiB.
+bk_import_def bk_default_import_def(void);
+
+/// Longest text kept in bk_import_info's strings (longer ones are cut).
+#define BK_IMPORT_TEXT_MAX 512
+
+/// What an import found (zeroed, then filled as far as the import got).
+typedef struct bk_import_info {
+  char format[32];   ///< the reader: "obj" (ours) or "assimp:<extension>"
+  char material[BK_IMPORT_TEXT_MAX]; ///< name of the base-colour material (that of the most triangles)
+  /// Base-colour texture: a path resolved relative to the model file's
+  /// directory, or "" when there is none or it is embedded.
+  char texture[BK_IMPORT_TEXT_MAX];
+  bool texture_embedded;    ///< the texture is an image inside the model file
+  uint32_t embedded_index;  ///< ... its index among the file's embedded images
+  char embedded_format[16]; ///< ... its format hint ("png", "jpg"; "" if raw texels)
+  float base_color[4];      ///< base colour factor, RGBA (1, 1, 1, 1 when the file gives none)
+  uint32_t materials;       ///< materials used by the imported meshes
+  uint32_t meshes;          ///< mesh instances placed (a mesh used by two nodes counts twice)
+  uint32_t nodes;           ///< nodes in the scene
+  uint32_t nodes_used;      ///< nodes whose meshes were placed
+  uint32_t triangles_in;    ///< triangles read (after triangulation)
+  uint32_t dropped_primitives; ///< point and line primitives dropped
+  uint32_t degenerate_triangles; ///< triangles dropped because two corners share a welded position
+  uint32_t mirrored_meshes;      ///< mesh instances under a mirroring transform (their winding reversed)
+  uint32_t welded_positions;     ///< positions merged by welding (UV and normal seams)
+  bool normals_computed;         ///< some corners had no normal in the file
+  bool uvs_projected;            ///< some corners had no UV in the file (box projection)
+  bool flipped;                  ///< the whole mesh was inside out (negative volume): winding reversed
+} bk_import_info;
+
+/// Imports a model file as one welded bk_mesh: positions (double), normals
+/// (computed where missing), UVs of the first channel (box projection where
+/// missing) and tangents. A scene's meshes are combined with their node
+/// transforms (or only def->node's subtree); points and lines are dropped,
+/// polygons triangulated; a mesh under a mirroring transform keeps facing
+/// out; a whole mesh that is inside out is turned right. The mesh is not
+/// repaired: see bk_mesh_repair. Refuses with a one-line error naming the
+/// file and the problem (missing, too large, unreadable or corrupt, an
+/// index out of range, a non-finite or out-of-range coordinate, too many
+/// triangles or vertices, no triangles, an unknown node). `def` NULL = the
+/// defaults, `info` may be NULL. On failure *out is zeroed.
+bool bk_model_import(const char* path, const bk_import_def* def, bk_mesh* out, bk_import_info* info,
+                     bk_error* err);
+/// bk_model_import from bytes in memory; `format` is the file extension to
+/// read them as ("glb", "ply", ...; one of BK_IMPORT_EXTENSIONS) and `name`
+/// prefixes error messages. External files (a .gltf's buffers, textures) are
+/// not available this way.
+bool bk_model_import_memory(const void* data, size_t size, const char* format, const char* name,
+                            const bk_import_def* def, bk_mesh* out, bk_import_info* info, bk_error* err);
+/// True when `path`'s extension (any case) is one of BK_IMPORT_EXTENSIONS.
+bool bk_model_import_supports(const char* path);
+
 // ---------------------------------------------------------------- slicing
 
 /// Reusable scratch state for slicing (buffers and the cap tessellator).
@@ -199,6 +275,30 @@ bool bk_slicer_slice(bk_slicer* slicer, const bk_mesh* mesh, const bk_slice_def*
 /// almost-closed inputs). Returns the number of loops filled, or -1 with err
 /// set if the mesh cannot be closed this way (non-manifold edges, failed loop).
 int bk_mesh_fill_holes(bk_mesh* mesh, bk_error* err);
+
+/// Separates shells that touch at a vertex or along an edge: around every
+/// edge used by more than two triangles, the triangles are paired with their
+/// angular neighbour that closes the solid (the pairing of two closed shells
+/// touching there), and every position whose triangles then form several
+/// separate fans gets one copy per fan. Afterwards each shell is closed (or
+/// open) on its own, and bk_mesh_split_hulls tells them apart. Returns the
+/// number of positions added.
+uint32_t bk_mesh_split_nonmanifold(bk_mesh* mesh);
+
+/// What bk_mesh_repair found and did.
+typedef struct bk_repair_info {
+  uint32_t open_edges;      ///< open edges before repair (after splitting)
+  uint32_t positions_split; ///< positions added by bk_mesh_split_nonmanifold
+  uint32_t holes_closed;    ///< boundary loops filled by bk_mesh_fill_holes
+  uint32_t shells;          ///< connected shells after repair
+} bk_repair_info;
+
+/// Makes a mesh from an art tool fit for bk_mesh_tree_build when that is
+/// possible: splits shells touching at vertices or edges, then fills simple
+/// holes. What still is not closed is refused with the count and location of
+/// the problem ("12 open edges, the first near (x, y, z)"); the mesh is then
+/// left split but unfilled. `info` may be NULL.
+bool bk_mesh_repair(bk_mesh* mesh, bk_repair_info* info, bk_error* err);
 
 // ---------------------------------------------------------------- hulls
 
@@ -368,6 +468,59 @@ bool bk_mesh_tree_save(const bk_mesh_tree* tree, const char* path, bk_error* err
 /// Loads a tree; verifies magic, version, sizes, checksum and every index.
 /// On failure *out stays zeroed and err says what is wrong.
 bool bk_mesh_tree_load(const char* path, bk_mesh_tree* out, bk_error* err);
+
+// ---------------------------------------------------------------- glTF export
+
+/// Which mesh-tree nodes a glTF export holds.
+typedef enum bk_gltf_levels {
+  BK_GLTF_LEVELS_ALL = 0, ///< every node, as the node hierarchy (root = source, children = split pieces)
+  BK_GLTF_LEVELS_LEAVES,  ///< the fragments only, each a root node of the scene
+} bk_gltf_levels;
+
+/// Parameters of a glTF export: bk_default_gltf_def() fills every field;
+/// bk_mesh_tree_save_gltf takes them as given (and refuses bad ones, naming the field).
+typedef struct bk_gltf_def {
+  bk_gltf_levels levels; ///< default BK_GLTF_LEVELS_ALL
+  /// Name of the source material, 1..63 bytes: the surface material is named
+  /// so and the cut faces' material `<material_name>_interior`; default "surface".
+  const char* material_name;
+  /// Base-colour texture of the surface, as the image URI written in the file
+  /// (a path relative to the exported file, as glTF resolves it; not copied);
+  /// NULL (the default) for none.
+  const char* base_color_texture;
+  /// Base-colour texture of the cut faces (their UVs are already divided by
+  /// the fracture's texture scale, so one tile is texture_scale wide); NULL
+  /// (the default) for none.
+  const char* interior_texture;
+  /// Material parameters recorded in asset.extras.breakables.material for
+  /// the game (see docs/gltf.md): density in kg/m^3 (> 0, default 2400),
+  /// frailty (>= 0, default 1), bond strength in hit points per m^2 of bond
+  /// area (> 0, default 2e5): the runtime's defaults.
+  double density, frailty, bond_strength;
+} bk_gltf_def;
+
+/// Default glTF export parameters.
+bk_gltf_def bk_default_gltf_def(void);
+/// Writes the tree as glTF 2.0: binary (`.glb`) or JSON (`.gltf`, with the
+/// binary buffer inside as a base64 data URI, so the file stands alone), by
+/// the path's extension (any other is refused). Nodes are the tree's nodes
+/// (or leaves, by def->levels), named `node_<index>` and `fragment_<leaf>`;
+/// each node's translation is its centre of mass and its mesh's vertices
+/// are relative to it, with one primitive per material (surface, interior).
+/// The extras (volumes, moments, bounds, leaf ranges, bonds, fracture and
+/// material parameters) and the embedded .mtree that makes the file load back
+/// exactly are described in docs/gltf.md. Written atomically, in the C locale.
+/// def may be NULL for the defaults.
+bool bk_mesh_tree_save_gltf(const bk_mesh_tree* tree, const char* path, const bk_gltf_def* def,
+                            bk_error* err);
+/// Loads the tree stored in a glTF file written by bk_mesh_tree_save_gltf
+/// (`.glb` or `.gltf`, told apart by content), bit-exactly, through the .mtree
+/// loader and its checks. A glTF without that tree, a corrupt or truncated file
+/// is refused with a one-line message; *out then stays zeroed.
+bool bk_mesh_tree_load_gltf(const char* path, bk_mesh_tree* out, bk_error* err);
+/// bk_mesh_tree_load_gltf on bytes in memory; `name` prefixes error messages.
+bool bk_mesh_tree_load_gltf_memory(const void* data, size_t size, const char* name, bk_mesh_tree* out,
+                                   bk_error* err);
 
 #ifdef __cplusplus
 }

@@ -19,6 +19,10 @@ int bk_cmd_bench(int argc, char** argv);
 /// with simple holes are repaired with a warning on stderr; anything else that
 /// cannot be fractured is refused with a one-line error.
 bool bk_app_load_mesh(const char* spec, bk_mesh* out, bk_error* err);
+/// bk_app_load_mesh with a scene node to take (with its subtree; NULL = the
+/// whole scene) from a model file: shells touching at a vertex or an edge are
+/// split apart and simple holes closed (bk_mesh_repair), with a warning.
+bool bk_app_load_model(const char* spec, const char* node, bk_mesh* out, bk_error* err);
 /// Builds the mesh tree of a mesh (scaled uniformly by `scale` when not 0 or
 /// 1), or loads it from the cache directory ($BREAKABLES_CACHE_DIR, else
 /// $XDG_CACHE_HOME/breakables, else ~/.cache/breakables) when a file made
@@ -79,7 +83,8 @@ bk_scene_options bk_default_scene_options(void);
 
 /// A scene set up in a world: its trees (owned) and breakables.
 typedef struct bk_loaded_scene {
-  const bk_scene* scene;
+  const bk_scene* scene; ///< the scene, or `fitted` for a user's model (fit_to_mesh)
+  bk_scene fitted;
   bk_world* world;
   bk_mesh_tree trees[8];
   bk_breakable_id ids[8];

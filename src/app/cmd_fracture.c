@@ -7,8 +7,9 @@
 #include "app.h"
 
 static const char* const fracture_usage =
-    "usage: breakables fracture [--mesh NAME|PATH.obj] [--pieces N] [--seed S]\n"
+    "usage: breakables fracture [--mesh NAME|PATH] [--node NAME] [--pieces N] [--seed S]\n"
     "                           [--texture-scale X] [--out FILE.mtree] [--export-obj FILE.obj] [--json]\n"
+    "                           [--export-gltf FILE.glb|FILE.gltf] [--gltf-levels all|leaves]\n"
     "                           [--max-memory MIB]\n"
     "\n"
     "Cuts a closed mesh by random planes through the centroid of the largest\n"
@@ -16,9 +17,15 @@ static const char* const fracture_usage =
     "every intermediate piece in a mesh tree (root = source, leaves = fragments).\n"
     "\n"
     "options:\n"
-    "  --mesh NAME|PATH.obj  cube, torus, eggshell, bunny, wall, slab, pillar, or an\n"
-    "                        OBJ file (default: bunny). An OBJ with simple holes is\n"
-    "                        repaired with a warning; other open meshes are refused.\n"
+    "  --mesh NAME|PATH      cube, torus, eggshell, bunny, wall, slab, pillar, or a model\n"
+    "                        file (default: bunny): .obj (read by Breakables itself),\n"
+    "                        .gltf, .glb, .fbx, .dae, .ply, .stl, .3ds, .off, .3mf,\n"
+    "                        .blend, .x, .ac, .ase (read by assimp). A scene's meshes\n"
+    "                        are combined with their node transforms. Shells touching\n"
+    "                        at a vertex or an edge are split apart and simple holes\n"
+    "                        closed, with a warning; other open meshes are refused with\n"
+    "                        the count and place of the open edges.\n"
+    "  --node NAME           take only this node of the model's scene (and its children)\n"
     "  --pieces N            number of fragments, 1..1048576 (default: 256). Exactly N\n"
     "                        unless a cut separates a piece into several hulls (more), or\n"
     "                        no cut of a piece keeps it closed with its volume (fewer: a\n"
@@ -30,11 +37,19 @@ static const char* const fracture_usage =
     "  --out FILE.mtree      save the mesh tree (with bonds and parameters) as a cache file\n"
     "  --export-obj FILE.obj write the fragments as OBJ, one 'o fragment_<i>' each, in the\n"
     "                        source mesh's frame (--pieces 1 exports the source itself)\n"
+    "  --export-gltf FILE.glb|FILE.gltf\n"
+    "                        write the mesh tree as glTF 2.0 (.glb binary, .gltf JSON with\n"
+    "                        the buffer inside): node hierarchy, pivots at the centres of\n"
+    "                        mass, surface and <material>_interior materials, bonds and the\n"
+    "                        tree in extras (docs/gltf.md); loads back exactly\n"
+    "  --gltf-levels all|leaves\n"
+    "                        export every node of the tree (default) or the fragments only\n"
     "  --json                print one JSON object instead of the summary: mesh, pieces,\n"
     "                        nodes, max_depth, ms, leaf_triangles, bonds, watertight,\n"
     "                        volume_rel_error, child_volume_rel_error, seed, texture_scale,\n"
-    "                        source_triangles, peak_rss_mb, pieces_requested, pieces_made and\n"
-    "                        warnings (why fewer pieces were made than asked for)\n"
+    "                        source_triangles, peak_rss_mb, pieces_requested, pieces_made,\n"
+    "                        warnings (why fewer pieces were made than asked for) and\n"
+    "                        export_gltf (the path written, or null)\n"
     "  --max-memory MIB      memory the fracture may use, 1..1073741824 MiB (default: the\n"
     "                        available memory); a request estimated to need more is refused\n"
     "  -h, --help            show this help\n"
@@ -84,8 +99,11 @@ static int usage_error(const char* option, const char* what) {
 
 int bk_cmd_fracture(int argc, char** argv) {
   const char* mesh_spec = "bunny";
+  const char* node = NULL;
   const char* out_path = NULL;
   const char* obj_path = NULL;
+  const char* gltf_path = NULL;
+  bk_gltf_def gltf = bk_default_gltf_def();
   bool json = false;
   bk_fracture_def desc = bk_default_fracture_def();
   for (int i = 1; i < argc; ++i) {
@@ -98,13 +116,16 @@ int bk_cmd_fracture(int argc, char** argv) {
     } else if (strcmp(arg, "--json") == 0) {
       json = true;
       takes_value = false;
-    } else if (!value &&
-               (strcmp(arg, "--mesh") == 0 || strcmp(arg, "--pieces") == 0 || strcmp(arg, "--seed") == 0 ||
-                strcmp(arg, "--texture-scale") == 0 || strcmp(arg, "--out") == 0 ||
-                strcmp(arg, "--export-obj") == 0 || strcmp(arg, "--max-memory") == 0)) {
+    } else if (!value && (strcmp(arg, "--mesh") == 0 || strcmp(arg, "--node") == 0 ||
+                          strcmp(arg, "--pieces") == 0 || strcmp(arg, "--seed") == 0 ||
+                          strcmp(arg, "--texture-scale") == 0 || strcmp(arg, "--out") == 0 ||
+                          strcmp(arg, "--export-obj") == 0 || strcmp(arg, "--max-memory") == 0 ||
+                          strcmp(arg, "--export-gltf") == 0 || strcmp(arg, "--gltf-levels") == 0)) {
       return usage_error(arg, "needs a value");
     } else if (strcmp(arg, "--mesh") == 0) {
       mesh_spec = value;
+    } else if (strcmp(arg, "--node") == 0) {
+      node = value;
     } else if (strcmp(arg, "--pieces") == 0) {
       uint64_t pieces = 0;
       if (!bk_option_u64("fracture", arg, value, 1, 1u << 20, &pieces)) return 2;
@@ -120,6 +141,15 @@ int bk_cmd_fracture(int argc, char** argv) {
       out_path = value;
     } else if (strcmp(arg, "--export-obj") == 0) {
       obj_path = value;
+    } else if (strcmp(arg, "--export-gltf") == 0) {
+      gltf_path = value;
+    } else if (strcmp(arg, "--gltf-levels") == 0) {
+      if (strcmp(value, "all") == 0)
+        gltf.levels = BK_GLTF_LEVELS_ALL;
+      else if (strcmp(value, "leaves") == 0)
+        gltf.levels = BK_GLTF_LEVELS_LEAVES;
+      else
+        return usage_error(arg, "must be 'all' or 'leaves'");
     } else if (strcmp(arg, "--max-memory") == 0) {
       if (!bk_app_parse_max_memory("fracture", value)) return 2;
     } else {
@@ -131,7 +161,7 @@ int bk_cmd_fracture(int argc, char** argv) {
 
   bk_error err = {0};
   bk_mesh source = {0};
-  if (!bk_app_load_mesh(mesh_spec, &source, &err)) return fail(err.message);
+  if (!bk_app_load_model(mesh_spec, node, &source, &err)) return fail(err.message);
   if (!bk_app_check_fracture_memory(mesh_spec, &source, &desc, out_path != NULL, &err)) {
     bk_mesh_free(&source);
     return fail(err.message);
@@ -178,6 +208,8 @@ int bk_cmd_fracture(int argc, char** argv) {
     if (!bk_obj_save(obj_path, leaves, tree.leaf_count, &err)) status = fail(err.message);
     free(leaves);
   }
+  if (status == 0 && gltf_path && !bk_mesh_tree_save_gltf(&tree, gltf_path, &gltf, &err))
+    status = fail(err.message);
 
   if (json) {
     fputs("{\"mesh\": ", stdout);
@@ -192,7 +224,12 @@ int bk_cmd_fracture(int argc, char** argv) {
            st.max_child_rel_error, (unsigned long long)tree.desc.seed, tree.desc.texture_scale,
            source_triangles, bk_peak_rss_mb());
     if (short_of_pieces) print_json_string(shortfall);
-    fputs("]}\n", stdout);
+    fputs("], \"export_gltf\": ", stdout);
+    if (gltf_path && status == 0)
+      print_json_string(gltf_path);
+    else
+      fputs("null", stdout);
+    fputs("}\n", stdout);
   } else {
     printf("%s: %u fragments (%u nodes, depth %u) in %.1f ms\n", mesh_spec, tree.leaf_count, tree.node_count,
            tree.max_depth, ms);
@@ -201,6 +238,7 @@ int bk_cmd_fracture(int argc, char** argv) {
            st.min_leaf_volume, st.max_leaf_volume);
     if (out_path && status == 0) printf("  saved %s\n", out_path);
     if (obj_path && status == 0) printf("  exported %s\n", obj_path);
+    if (gltf_path && status == 0) printf("  exported %s\n", gltf_path);
   }
   bk_mesh_tree_free(&tree);
   return status;

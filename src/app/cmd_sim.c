@@ -6,7 +6,9 @@
 #include "app.h"
 
 static const char* const sim_usage =
-    "usage: breakables sim [--scene NAME] [--pieces N] [--seed S] [--shots K] [--steps F] [--volley V]\n"
+    "usage: breakables sim [--scene NAME | --mesh PATH] [--material NAME] [--pieces N] [--seed S] [--shots "
+    "K]\n"
+    "                      [--steps F] [--volley V]\n"
     "                      [--speed M/S] [--frailty X] [--density X] [--discrete|--accumulate] [--naive]\n"
     "                      [--max-memory MIB] [--json]\n"
     "\n"
@@ -16,6 +18,11 @@ static const char* const sim_usage =
     "\n"
     "options:\n"
     "  --scene NAME     wall, eggshell, pillar, slab, bunny, torus, showcase (default: wall)\n"
+    "  --mesh PATH      your own model instead of a scene (what fracture --mesh reads, an\n"
+    "                   .mtree, or a .glb/.gltf exported by fracture): stood on the ground\n"
+    "                   and shot at from the front\n"
+    "  --material NAME  stone, concrete, glass, porcelain, eggshell, wood: every object's\n"
+    "                   material (default: the scene's; stone for --mesh)\n"
     "  --pieces N       fragments per object, 1..65536 (default: the scene's)\n"
     "  --seed S         fracture seed, 0..18446744073709551615 (default: 3000)\n"
     "  --shots K        projectiles to fire, 0..1000 (default: 3)\n"
@@ -54,6 +61,9 @@ static double maximum(const double* values, uint32_t count) {
 
 int bk_cmd_sim(int argc, char** argv) {
   const char* scene_name = "wall";
+  const char* mesh = NULL;
+  const char* material = NULL;
+  bool scene_given = false;
   uint64_t shots = 3, steps = 300, volley = 0;
   double speed = 0.0;
   bool json = false;
@@ -78,8 +88,8 @@ int bk_cmd_sim(int argc, char** argv) {
       flag = false;
     }
     if (flag) continue;
-    const char* known[] = {"--scene",  "--pieces", "--seed",    "--shots",   "--steps",
-                           "--volley", "--speed",  "--frailty", "--density", "--max-memory"};
+    const char* known[] = {"--scene", "--pieces",  "--seed",    "--shots", "--steps",    "--volley",
+                           "--speed", "--frailty", "--density", "--mesh",  "--material", "--max-memory"};
     bool is_known = false;
     for (size_t k = 0; k < sizeof known / sizeof *known; ++k)
       is_known = is_known || strcmp(arg, known[k]) == 0;
@@ -91,6 +101,11 @@ int bk_cmd_sim(int argc, char** argv) {
     ++i;
     if (strcmp(arg, "--scene") == 0) {
       scene_name = value;
+      scene_given = true;
+    } else if (strcmp(arg, "--mesh") == 0) {
+      mesh = value;
+    } else if (strcmp(arg, "--material") == 0) {
+      material = value;
     } else if (strcmp(arg, "--max-memory") == 0) {
       if (!bk_app_parse_max_memory("sim", value)) return 2;
     } else if (strcmp(arg, "--pieces") == 0) {
@@ -120,7 +135,25 @@ int bk_cmd_sim(int argc, char** argv) {
       if (!bk_option_double("sim", arg, value, 1.0, 1e5, &options.density)) return 2;
     }
   }
-  const bk_scene* scene = bk_scene_find(scene_name);
+  if (mesh && scene_given) return usage_error("--mesh", "and --scene cannot be used together");
+  bk_error err = {0};
+  if (material && !bk_material_find(material)) {
+    bk_scene_add_mesh("", material, &err); // names the presets
+    fprintf(stderr, "breakables sim: --material: %s\n", err.message);
+    return 2;
+  }
+  options.material = material;
+  const bk_scene* scene = NULL;
+  if (mesh) {
+    uint32_t index = bk_scene_add_mesh(mesh, material ? material : "stone", &err);
+    if (index == UINT32_MAX) {
+      fprintf(stderr, "breakables sim: --mesh: %s\n", err.message);
+      return 2;
+    }
+    scene = bk_scene_at(index);
+  } else {
+    scene = bk_scene_find(scene_name);
+  }
   if (!scene) {
     fprintf(
         stderr,
@@ -129,7 +162,6 @@ int bk_cmd_sim(int argc, char** argv) {
     return 2;
   }
 
-  bk_error err = {0};
   bk_loaded_scene loaded = {0};
   if (!bk_loaded_scene_create(scene, &options, &loaded, &err)) {
     fprintf(stderr, "breakables sim: %s: %s\n", scene->name, err.message);
@@ -143,7 +175,7 @@ int bk_cmd_sim(int argc, char** argv) {
     // Shots at regular intervals, leaving time after the last one.
     uint64_t span = volley && volley < steps ? volley : steps;
     while (fired < shots && step >= (fired + 1) * span / (shots + 1)) {
-      bk_projectile_def shot = bk_scene_shot(scene, fired++, speed);
+      bk_projectile_def shot = bk_scene_shot(loaded.scene, fired++, speed); // fitted to a user's model
       bk_world_fire(loaded.world, &shot, NULL);
     }
     uint32_t splits_before = bk_world_get_stats(loaded.world).break_events;

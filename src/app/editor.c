@@ -10,18 +10,21 @@
 #include "game.h"
 
 static const char* const editor_usage =
-    "usage: breakables editor [--mesh NAME|PATH.obj] [--pieces N] [--seed S] [--texture-scale X]\n"
-    "                         [--explode X] [--frames N] [--screenshot FILE.png] [--width W] [--height H]\n"
-    "                         [--max-memory MIB]\n"
+    "usage: breakables editor [--mesh NAME|PATH] [--pieces N] [--seed S] [--texture-scale X]\n"
+    "                         [--explode X] [--export PATH] [--frames N] [--screenshot FILE.png]\n"
+    "                         [--width W] [--height H] [--max-memory MIB]\n"
     "\n"
     "Preview the fragments of a mesh and export them.\n"
     "\n"
     "options:\n"
-    "  --mesh NAME|PATH.obj  cube, torus, eggshell, bunny, wall, slab, pillar or an OBJ (default: bunny)\n"
+    "  --mesh NAME|PATH      cube, torus, eggshell, bunny, wall, slab, pillar, a model file or an\n"
+    "                        .mtree (default: bunny); the panel opens others by path\n"
     "  --pieces N            fragments, 1..65536 (default: 64)\n"
     "  --seed S              fracture seed, 0..2147483647 (default: 3000)\n"
     "  --texture-scale X     world size of one interior texture tile, 1e-6..1e6 (default: 0.1)\n"
     "  --explode X           pull fragments apart, 0..3 (default: 0)\n"
+    "  --export PATH         where the panel's export writes: PATH.obj and PATH.mtree\n"
+    "                        (default: fragments, in the current directory)\n"
     "  --frames N            run N frames, 1..10000000, then exit with a one-line summary\n"
     "  --screenshot FILE.png save the last frame\n"
     "  --width W --height H  window size, each 64..8192 (default: 1280x720)\n"
@@ -36,7 +39,10 @@ typedef struct editor {
   GLFWwindow* window;
   bk_renderer* renderer;
   bool ui, show_panel;
-  char mesh[512];
+  char mesh[4096];
+  char open_path[4096];   // the panel's "open" field
+  char export_path[4096]; // the panel's export base name: <path>.obj and <path>.mtree
+  char file_label[128];   // the mesh selector's entry for a file (its name)
   int mesh_choice;
   int pieces, seed;
   double texture_scale, explode;
@@ -76,7 +82,11 @@ static bool rebuild(editor* e, bk_error* err) {
   bk_aabb box = e->tree.nodes[0].bounds;
   e->distance = 2.2 * bk_v3_length(bk_v3_sub(box.max, box.min)) + 0.5;
   snprintf(e->status, sizeof e->status, "%u fragments, %u bonds (%s in %.0f ms)", e->tree.leaf_count,
-           e->tree.bond_count, cached ? "cache" : "fractured", (glfwGetTime() - start) * 1e3);
+           e->tree.bond_count,
+           cached                                                                    ? "cache"
+           : strlen(e->mesh) > 6 && !strcmp(e->mesh + strlen(e->mesh) - 6, ".mtree") ? "loaded"
+                                                                                     : "fractured",
+           (glfwGetTime() - start) * 1e3);
   return true;
 }
 
@@ -103,13 +113,26 @@ static void handle_mouse(editor* e) {
 
 static void export_files(editor* e) {
   bk_error err = {0};
+  char obj[4200], mtree[4200];
+  snprintf(obj, sizeof obj, "%s.obj", e->export_path);
+  snprintf(mtree, sizeof mtree, "%s.mtree", e->export_path);
   bk_mesh* leaves = bk_alloc(sizeof(bk_mesh) * e->tree.leaf_count);
   for (uint32_t i = 0; i < e->tree.leaf_count; ++i)
     leaves[i] = bk_mesh_tree_leaf(&e->tree, i)->mesh;
-  bool ok = bk_obj_save("fragments.obj", leaves, e->tree.leaf_count, &err) &&
-            bk_mesh_tree_save(&e->tree, "fragments.mtree", &err);
+  bool ok = e->export_path[0] && bk_obj_save(obj, leaves, e->tree.leaf_count, &err) &&
+            bk_mesh_tree_save(&e->tree, mtree, &err);
   free(leaves);
-  snprintf(e->status, sizeof e->status, "%s", ok ? "wrote fragments.obj and fragments.mtree" : err.message);
+  if (!e->export_path[0]) snprintf(err.message, sizeof err.message, "export: the path is empty");
+  if (ok)
+    snprintf(e->status, sizeof e->status, "wrote %.280s and %.280s", obj, mtree);
+  else
+    snprintf(e->status, sizeof e->status, "%s", err.message);
+}
+
+// The selector lists the built-in meshes, then the file last opened (by name).
+static void set_file_label(editor* e) {
+  const char* slash = strrchr(e->mesh, '/');
+  snprintf(e->file_label, sizeof e->file_label, "%.120s", slash ? slash + 1 : e->mesh); // long names cut
 }
 
 static void panel(editor* e) {
@@ -118,17 +141,34 @@ static void panel(editor* e) {
     return;
   }
   bool rebuild_now = false;
-  if (bk_ui_combo("mesh", &e->mesh_choice, mesh_names, (int)(sizeof mesh_names / sizeof *mesh_names))) {
-    snprintf(e->mesh, sizeof e->mesh, "%s", mesh_names[e->mesh_choice]);
+  enum { BUILT_IN = sizeof mesh_names / sizeof *mesh_names };
+  const char* choices[BUILT_IN + 1];
+  for (int i = 0; i < BUILT_IN; ++i)
+    choices[i] = mesh_names[i];
+  choices[BUILT_IN] = e->file_label;
+  int count = e->file_label[0] ? BUILT_IN + 1 : BUILT_IN;
+  if (bk_ui_combo("mesh", &e->mesh_choice, choices, count)) {
+    if (e->mesh_choice < BUILT_IN) snprintf(e->mesh, sizeof e->mesh, "%s", mesh_names[e->mesh_choice]);
     rebuild_now = true;
   }
-  bk_ui_slider_int("pieces", &e->pieces, 1, 4096);
+  bool open_now = bk_ui_input_text("##open", e->open_path, sizeof e->open_path);
+  bk_ui_same_line();
+  if ((bk_ui_button("open") || open_now) && e->open_path[0]) {
+    snprintf(e->mesh, sizeof e->mesh, "%s", e->open_path);
+    set_file_label(e);
+    e->mesh_choice = BUILT_IN;
+    rebuild_now = true;
+  }
+  bk_ui_tooltip("a model file (obj, glb, gltf, fbx, ply, stl, ...) or an .mtree");
+  bk_ui_slider_int_log("pieces", &e->pieces, 1, 65536);
   bk_ui_slider_int("seed", &e->seed, 0, 100000);
   bk_ui_slider_double("texture scale", &e->texture_scale, 0.01, 2.0, "%.2f", true);
   if (bk_ui_button("fracture")) rebuild_now = true;
   bk_ui_slider_double("explode", &e->explode, 0.0, 3.0, "%.2f", false);
   bk_ui_tooltip("or Shift + drag");
-  if (bk_ui_button("export fragments.obj + fragments.mtree")) export_files(e);
+  bk_ui_input_text("export to", e->export_path, sizeof e->export_path);
+  bk_ui_tooltip("writes <path>.obj (the fragments) and <path>.mtree (the tree)");
+  if (bk_ui_button("export")) export_files(e);
   bk_ui_text("%s", e->status);
   bk_ui_end_window();
   if (rebuild_now) {
@@ -141,6 +181,7 @@ int bk_cmd_editor(int argc, char** argv) {
   bk_window_options wo = {.width = 1280, .height = 720};
   editor* e = bk_calloc(1, sizeof *e);
   snprintf(e->mesh, sizeof e->mesh, "bunny");
+  snprintf(e->export_path, sizeof e->export_path, "fragments");
   e->pieces = 64, e->seed = 3000, e->texture_scale = 0.1, e->pitch = 0.35, e->yaw = 0.6, e->show_panel = true;
   for (int i = 1; i < argc; ++i) {
     const char* arg = argv[i];
@@ -155,7 +196,7 @@ int bk_cmd_editor(int argc, char** argv) {
     }
     bool ok = value != NULL;
     if (ok && strcmp(arg, "--mesh") == 0)
-      snprintf(e->mesh, sizeof e->mesh, "%s", value);
+      ok = snprintf(e->mesh, sizeof e->mesh, "%s", value) < (int)sizeof e->mesh;
     else if (ok && strcmp(arg, "--pieces") == 0)
       ok = bk_option_u64("editor", arg, value, 1, 65536, &number), e->pieces = (int)number;
     else if (ok && strcmp(arg, "--seed") == 0) // the panel's seed is an int
@@ -164,6 +205,8 @@ int bk_cmd_editor(int argc, char** argv) {
       ok = bk_option_double("editor", arg, value, 1e-6, 1e6, &e->texture_scale);
     else if (ok && strcmp(arg, "--max-memory") == 0)
       ok = bk_app_parse_max_memory("editor", value);
+    else if (ok && strcmp(arg, "--export") == 0)
+      ok = snprintf(e->export_path, sizeof e->export_path, "%s", value) < (int)sizeof e->export_path;
     else if (ok && strcmp(arg, "--explode") == 0)
       ok = bk_option_double("editor", arg, value, 0.0, 3.0, &e->explode);
     else {
@@ -175,8 +218,15 @@ int bk_cmd_editor(int argc, char** argv) {
     if (!ok) return free(e), 2;
     ++i;
   }
-  for (int i = 0; i < (int)(sizeof mesh_names / sizeof *mesh_names); ++i)
+  enum { BUILT_IN = sizeof mesh_names / sizeof *mesh_names };
+  e->mesh_choice = -1;
+  for (int i = 0; i < BUILT_IN; ++i)
     if (strcmp(e->mesh, mesh_names[i]) == 0) e->mesh_choice = i;
+  if (e->mesh_choice < 0) {
+    set_file_label(e);
+    e->mesh_choice = BUILT_IN;
+  }
+  snprintf(e->open_path, sizeof e->open_path, "%s", e->mesh_choice == BUILT_IN ? e->mesh : "");
 
   bk_error err = {0};
   void* window = NULL;

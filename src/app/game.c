@@ -9,7 +9,8 @@
 #include "game_state.h"
 
 static const char* const play_usage =
-    "usage: breakables [play] [--scene NAME] [--pieces N] [--seed S] [--frames N] [--autofire K]\n"
+    "usage: breakables [play] [--scene NAME | --mesh PATH] [--material NAME] [--pieces N] [--seed S]\n"
+    "                  [--frames N] [--autofire K]\n"
     "                  [--screenshot FILE.png] [--width W] [--height H] [--hide-panel] [--overlay NAME]\n"
     "                  [--volley V] [--benchmark] [--max-memory MIB]\n"
     "\n"
@@ -17,6 +18,10 @@ static const char* const play_usage =
     "\n"
     "options:\n"
     "  --scene NAME          wall, eggshell, pillar, slab, bunny, torus, showcase (default: showcase)\n"
+    "  --mesh PATH           your own model (what fracture --mesh reads, an .mtree, or a .glb/.gltf\n"
+    "                        exported by fracture), stood on the ground in front of you\n"
+    "  --material NAME       stone, concrete, glass, porcelain, eggshell, wood: every object's\n"
+    "                        material (default: the scene's; stone for --mesh)\n"
     "  --pieces N            fragments per object, 1..65536 (default: the scene's)\n"
     "  --seed S              fracture seed, 0..18446744073709551615 (default: 3000)\n"
     "  --frames N            run N frames, 1..10000000, then exit with a one-line summary\n"
@@ -62,6 +67,7 @@ bool bk_game_load_scene(bk_game* g, uint32_t index, bk_error* err) {
   bk_game_unload_scene(g);
   if (!bk_loaded_scene_create(scene, &g->options, &g->scene, err)) return false;
   g->scene_index = index;
+  scene = g->scene.scene; // a user's model's scene is fitted to it when loaded
   for (uint32_t i = 0; i < g->scene.tree_count; ++i) {
     g->render_trees[i] = bk_renderer_upload_tree(g->renderer, &g->scene.trees[i]);
     const bk_scene_object* object = &scene->objects[i];
@@ -261,6 +267,9 @@ int bk_cmd_play(int argc, char** argv) {
   g->options = bk_default_scene_options();
   g->options.retire_volume = 2e-5; // chips under 20 cm^3 leave after 10 s: a long session stays bounded
   const char* scene_name = "showcase";
+  const char* mesh = NULL;
+  const char* material = NULL;
+  bool scene_given = false;
   bool hide_panel = false;
   uint64_t volley = 0;
   for (int i = 1; i < argc; ++i) {
@@ -290,6 +299,11 @@ int bk_cmd_play(int argc, char** argv) {
       }
     } else if (strcmp(arg, "--scene") == 0 && i + 1 < argc) {
       scene_name = argv[++i];
+      scene_given = true;
+    } else if (strcmp(arg, "--mesh") == 0 && i + 1 < argc) {
+      mesh = argv[++i];
+    } else if (strcmp(arg, "--material") == 0 && i + 1 < argc) {
+      material = argv[++i];
     } else if (strcmp(arg, "--max-memory") == 0 && i + 1 < argc) {
       if (!bk_app_parse_max_memory("play", argv[++i])) return free(g), 2;
     } else if (strcmp(arg, "--pieces") == 0 && i + 1 < argc) {
@@ -305,15 +319,33 @@ int bk_cmd_play(int argc, char** argv) {
       return free(g), 2;
     }
   }
+  if (mesh && scene_given) {
+    fprintf(stderr, "breakables play: --mesh and --scene cannot be used together\n");
+    return free(g), 2;
+  }
+  bk_error err = {0};
+  if (material && !bk_material_find(material)) {
+    bk_scene_add_mesh("", material, &err); // names the presets
+    fprintf(stderr, "breakables play: --material: %s\n", err.message);
+    return free(g), 2;
+  }
+  g->options.material = material;
   int scene_index = -1;
-  for (uint32_t i = 0; i < bk_scene_count(); ++i)
+  if (mesh) {
+    uint32_t index = bk_scene_add_mesh(mesh, material ? material : "stone", &err);
+    if (index == UINT32_MAX) {
+      fprintf(stderr, "breakables play: --mesh: %s\n", err.message);
+      return free(g), 2;
+    }
+    scene_index = (int)index;
+  }
+  for (uint32_t i = 0; i < bk_scene_count() && !mesh; ++i)
     if (strcmp(bk_scene_at(i)->name, scene_name) == 0) scene_index = (int)i;
   if (scene_index < 0) {
     fprintf(stderr, "breakables play: unknown scene '%s' (see 'breakables play --help')\n", scene_name);
     return free(g), 2;
   }
 
-  bk_error err = {0};
   void* window = NULL;
   if (!bk_window_open("Breakables", &wo, &window, &g->renderer, &err)) {
     fprintf(stderr, "breakables play: %s\n", err.message);

@@ -1,5 +1,5 @@
-// Where fracture input comes from: built-in shapes, the bundled bunny, or an
-// OBJ file given by path.
+// Where fracture input comes from: built-in shapes, the bundled bunny, or a
+// model file given by path (OBJ by our reader, glTF, FBX, PLY, STL... by assimp).
 #include <stdio.h>
 #include <string.h>
 
@@ -16,8 +16,13 @@ static void normalize_to_unit_height(bk_mesh* m) {
 }
 
 bool bk_app_load_mesh(const char* spec, bk_mesh* out, bk_error* err) {
+  return bk_app_load_model(spec, NULL, out, err);
+}
+
+bool bk_app_load_model(const char* spec, const char* node, bk_mesh* out, bk_error* err) {
   bk_shape shape = BK_SHAPE_CUBE;
   if (bk_shape_from_name(spec, &shape)) {
+    if (node) return bk_error_set(err, "--node needs a model file, not the built-in '%s'", spec);
     bk_shape_build(shape, out);
     return true;
   }
@@ -26,26 +31,36 @@ bool bk_app_load_mesh(const char* spec, bk_mesh* out, bk_error* err) {
   if (bunny) {
     snprintf(path, sizeof path, "%s/meshes/bunny.obj", bk_app_asset_dir());
   } else {
-    size_t len = strlen(spec);
-    if (len < 4 || strcmp(spec + len - 4, ".obj") != 0)
+    if (!bk_model_import_supports(spec))
       return bk_error_set(
-          err, "unknown mesh '%s': use cube, torus, eggshell, bunny, wall, slab, pillar or a .obj path",
-          spec);
+          err,
+          "unknown mesh '%s': use cube, torus, eggshell, bunny, wall, slab, pillar or a model "
+          "file (%s)",
+          spec, BK_IMPORT_EXTENSIONS);
     snprintf(path, sizeof path, "%s", spec);
   }
-  if (!bk_obj_load(path, out, err)) return false;
+  // .obj goes to our own reader, every other format to assimp (bk_model_import).
+  bk_import_def def = bk_default_import_def();
+  def.node = node;
+  bk_import_info info = {0};
+  if (!bk_model_import(path, &def, out, &info, err)) return false;
   if (bunny) normalize_to_unit_height(out);
-  bk_closure closure = bk_mesh_check_closure(out);
-  if (closure.open_edges && !closure.overused_edges) {
-    bk_error fill_err = {0};
-    int filled = bk_mesh_fill_holes(out, &fill_err);
-    if (filled < 0) {
-      bk_mesh_free(out);
-      return bk_error_set(err, "%s: mesh is not watertight (%u open edges) and cannot be repaired: %s", path,
-                          closure.open_edges, fill_err.message);
-    }
-    fprintf(stderr, "breakables: warning: %s: mesh was not watertight; closed %d hole%s (%u open edges)\n",
-            path, filled, filled == 1 ? "" : "s", closure.open_edges);
+  if (info.flipped)
+    fprintf(stderr, "breakables: warning: %s: mesh was inside out; its winding was reversed\n", path);
+  bk_repair_info repair = {0};
+  bk_error repair_err = {0};
+  if (!bk_mesh_repair(out, &repair, &repair_err)) {
+    bk_mesh_free(out);
+    return bk_error_set(err, "%s: %s", path, repair_err.message);
   }
+  if (repair.positions_split)
+    fprintf(
+        stderr,
+        "breakables: warning: %s: shells touched at a vertex or an edge; split %u position%s (%u shell%s)\n",
+        path, repair.positions_split, repair.positions_split == 1 ? "" : "s", repair.shells,
+        repair.shells == 1 ? "" : "s");
+  if (repair.holes_closed)
+    fprintf(stderr, "breakables: warning: %s: mesh was not watertight; closed %u hole%s (%u open edges)\n",
+            path, repair.holes_closed, repair.holes_closed == 1 ? "" : "s", repair.open_edges);
   return true;
 }

@@ -68,6 +68,12 @@ bool bk_loaded_scene_create(const bk_scene* scene, const bk_scene_options* optio
     }
     out->tree_count = i + 1;
     out->from_cache = out->from_cache || cached;
+    if (scene->fit_to_mesh && i == 0) {
+      // A user's model: stand it on the ground and aim at it, by its size.
+      bk_scene_fit(scene, out->trees[0].nodes[0].bounds, &out->fitted);
+      out->scene = &out->fitted;
+      object = &out->fitted.objects[0];
+    }
     bk_world_breakable_def bd = bk_scene_object_def(object, &out->trees[i], options);
     out->ids[i] = bk_world_add_breakable(out->world, &bd, err);
     if (out->ids[i].generation == 0) {

@@ -1,4 +1,6 @@
 // The scene table: what stands where, made of what, and where shots aim.
+#include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "scenes.h"
@@ -96,9 +98,71 @@ static const bk_scene scenes[] = {
      .projectile_mass = 6.0},
 };
 
-uint32_t bk_scene_count(void) { return sizeof scenes / sizeof *scenes; }
+enum { BUILT_IN = sizeof scenes / sizeof *scenes, USER_SCENES_MAX = 8, USER_PATH_MAX = 4096 };
 
-const bk_scene* bk_scene_at(uint32_t index) { return index < bk_scene_count() ? &scenes[index] : NULL; }
+// Scenes of users' models, added at run time (--mesh, the editor).
+static struct {
+  bk_scene scene;
+  char path[USER_PATH_MAX];
+  char name[64];
+  char material[BK_MATERIAL_NAME_MAX + 1];
+} user_scenes[USER_SCENES_MAX];
+static uint32_t user_scene_count;
+
+uint32_t bk_scene_count(void) { return BUILT_IN + user_scene_count; }
+
+const bk_scene* bk_scene_at(uint32_t index) {
+  if (index < BUILT_IN) return &scenes[index];
+  return index < bk_scene_count() ? &user_scenes[index - BUILT_IN].scene : NULL;
+}
+
+uint32_t bk_scene_add_mesh(const char* path, const char* material, bk_error* err) {
+  if (!bk_material_find(material)) {
+    char names[200] = {0};
+    for (uint32_t i = 0; i < bk_material_count(); ++i)
+      snprintf(names + strlen(names), sizeof names - strlen(names), "%s%s", i ? ", " : "",
+               bk_material_at(i)->name);
+    return bk_error_set(err, "unknown material '%s': use %s", material, names), UINT32_MAX;
+  }
+  if (strlen(path) >= USER_PATH_MAX) return bk_error_set(err, "mesh path too long"), UINT32_MAX;
+  if (user_scene_count == USER_SCENES_MAX)
+    return bk_error_set(err, "at most %d models at once", USER_SCENES_MAX), UINT32_MAX;
+  uint32_t i = user_scene_count++;
+  snprintf(user_scenes[i].path, USER_PATH_MAX, "%s", path);
+  const char* base = strrchr(path, '/');
+  snprintf(user_scenes[i].name, sizeof user_scenes[i].name, "%s", base ? base + 1 : path);
+  snprintf(user_scenes[i].material, sizeof user_scenes[i].material, "%s", material);
+  user_scenes[i].scene =
+      (bk_scene){.name = user_scenes[i].name,
+                 .description = "a model of yours",
+                 .pieces = 256,
+                 .aspect_bias = 1.5,
+                 .objects = {{.mesh = user_scenes[i].path, .material = user_scenes[i].material}},
+                 .object_count = 1,
+                 .fit_to_mesh = true};
+  // Until it is loaded: a unit object at the origin.
+  bk_scene_fit(&user_scenes[i].scene, (bk_aabb){{-0.5, 0, -0.5}, {0.5, 1, 0.5}}, &user_scenes[i].scene);
+  return BUILT_IN + i;
+}
+
+void bk_scene_fit(const bk_scene* scene, bk_aabb bounds, bk_scene* out) {
+  *out = *scene;
+  bk_vec3 size = bk_v3_sub(bounds.max, bounds.min);
+  double extent = fmax(size.x, fmax(size.y, size.z));
+  if (!(extent > 0.0) || !isfinite(extent)) extent = 1.0;
+  // Centred over the origin, standing on y = 0.
+  bk_vec3 offset =
+      bk_v3(-0.5 * (bounds.min.x + bounds.max.x), -bounds.min.y, -0.5 * (bounds.min.z + bounds.max.z));
+  out->objects[0].position = offset;
+  out->objects[0].scale = 0.0;
+  out->target = bk_v3(0.0, 0.5 * size.y, 0.0);
+  out->eye = bk_v3_add(out->target, bk_v3_scale(bk_v3(0.35, 0.3, 1.0), 2.2 * extent));
+  // A ball a twentieth of the object, as heavy as stone of that size.
+  out->projectile_radius = fmin(fmax(0.05 * extent, 0.01), 2.0);
+  double r = out->projectile_radius;
+  out->projectile_mass = 4.0 / 3.0 * 3.14159265358979 * r * r * r * 7800.0;
+  out->projectile_speed = 30.0;
+}
 
 const bk_scene* bk_scene_find(const char* name) {
   for (uint32_t i = 0; i < bk_scene_count(); ++i)

@@ -34,8 +34,20 @@ typedef struct bk_scene {
   bk_vec3 extra_targets[7];
   uint32_t extra_target_count;
   double projectile_speed, projectile_radius, projectile_mass;
+  /// A user's model: its one object is placed centred on the ground and the
+  /// camera, aim and projectiles are fitted to its size when it is loaded.
+  bool fit_to_mesh;
 } bk_scene;
 
 uint32_t bk_scene_count(void);
 const bk_scene* bk_scene_at(uint32_t index);
 const bk_scene* bk_scene_find(const char* name);
+/// Adds a scene of one user model (a path to any model file, an .mtree or
+/// one of our .glb exports) made of `material` (a preset name), named after
+/// the file; returns its index, or UINT32_MAX (err set) if the material is
+/// unknown, the path too long or the table of user scenes full.
+uint32_t bk_scene_add_mesh(const char* path, const char* material, bk_error* err);
+/// Fits a fit_to_mesh scene to its loaded object's bounds (in the tree frame)
+/// into `out`: the object stands centred on the ground, the camera looks at
+/// it from the front, projectiles are sized to it.
+void bk_scene_fit(const bk_scene* scene, bk_aabb bounds, bk_scene* out);

@@ -85,6 +85,20 @@ static atomic_flag warned_path_too_long = ATOMIC_FLAG_INIT;
 bool bk_app_load_tree(const char* mesh_spec, double scale, const bk_fracture_def* desc, bk_mesh_tree* out,
                       bool* from_cache, bk_error* err) {
   *from_cache = false;
+  // A tree made earlier (fracture --out) is used as it is: no fracture, its
+  // own pieces, leaves and bonds.
+  size_t spec_length = strlen(mesh_spec);
+  if (spec_length > 6 && strcmp(mesh_spec + spec_length - 6, ".mtree") == 0)
+    return bk_mesh_tree_load(mesh_spec, out, err);
+  // So is one exported by fracture --export-gltf; any other glTF is a model
+  // to fracture.
+  bool gltf = (spec_length > 4 && strcmp(mesh_spec + spec_length - 4, ".glb") == 0) ||
+              (spec_length > 5 && strcmp(mesh_spec + spec_length - 5, ".gltf") == 0);
+  if (gltf) {
+    bk_error gltf_err = {{0}};
+    if (bk_mesh_tree_load_gltf(mesh_spec, out, &gltf_err)) return true;
+    if (!strstr(gltf_err.message, "not a Breakables export")) return bk_error_set(err, "%s", gltf_err.message);
+  }
   bk_mesh source = {0};
   if (!bk_app_load_mesh(mesh_spec, &source, err)) return false;
   if (scale > 0.0 && scale != 1.0)

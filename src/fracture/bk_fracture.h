@@ -5,3 +5,12 @@
 #include <breakables/authoring.h>
 
 #include "bk_geom.h"
+
+/// The .mtree file's bytes in memory (what bk_mesh_tree_save writes): *data
+/// is allocated (free() it). `name` prefixes error messages.
+bool bk_mesh_tree_save_memory(const bk_mesh_tree* tree, const char* name, uint8_t** data, size_t* size,
+                              bk_error* err);
+/// Loads a tree from .mtree bytes in memory, with every check of
+/// bk_mesh_tree_load; `name` prefixes error messages.
+bool bk_mesh_tree_load_memory(const void* data, size_t size, const char* name, bk_mesh_tree* out,
+                              bk_error* err);

@@ -344,6 +344,26 @@ bool bk_face_simplifier_run(bk_face_simplifier* fs, bk_mesh* m) {
   return true;
 }
 
+// Nearly equal normals are not enough: a quad bent by 1e-6 (exporters round
+// coordinates) has normals equal to 1e-13, yet re-triangulating it as one
+// face would change the volume by about 1e-7 of it, and every cut of it would
+// fail its volume check. The far corner of `other` must lie on t's plane to
+// within 1e-14 of its distance from it.
+static bool other_corner_on_plane(const bk_mesh* m, uint32_t t, uint32_t other) {
+  bk_vec3 a = m->positions[bk_mesh_tri_position(m, t, 0)];
+  bk_vec3 n = bk_v3_cross(bk_v3_sub(m->positions[bk_mesh_tri_position(m, t, 1)], a),
+                          bk_v3_sub(m->positions[bk_mesh_tri_position(m, t, 2)], a));
+  for (int k = 0; k < 3; ++k) {
+    uint32_t p = bk_mesh_tri_position(m, other, k);
+    if (p == bk_mesh_tri_position(m, t, 0) || p == bk_mesh_tri_position(m, t, 1) ||
+        p == bk_mesh_tri_position(m, t, 2))
+      continue;
+    bk_vec3 d = bk_v3_sub(m->positions[p], a);
+    return fabs(bk_v3_dot(n, d)) <= 1e-14 * bk_v3_length(n) * bk_v3_length(d);
+  }
+  return true;
+}
+
 void bk_label_planar_faces(bk_mesh* m) {
   // Adjacent source triangles that share corners, material and an exact
   // plane (unit normals equal to 1e-12: source triangles are not slivers of
@@ -369,6 +389,7 @@ void bk_label_planar_faces(bk_mesh* m) {
           &tri_of_edge, bk_directed_edge_key(m->indices[3 * t + (k + 1) % 3], m->indices[3 * t + k]));
       if (!other || m->materials[*other] != m->materials[t]) continue;
       if (bk_v3_dot(normal[t], normal[*other]) < 1.0 - 1e-12) continue;
+      if (!other_corner_on_plane(m, t, *other)) continue;
       uint32_t ra = find(parent, t), rb = find(parent, *other);
       if (ra != rb) parent[ra > rb ? ra : rb] = ra < rb ? ra : rb;
     }

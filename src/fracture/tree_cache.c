@@ -282,6 +282,19 @@ static bool write_file(const char* path, const uint8_t* data, size_t size, bk_er
 }
 
 bool bk_mesh_tree_save(const bk_mesh_tree* tree, const char* path, bk_error* err) {
+  uint8_t* data = NULL;
+  size_t size = 0;
+  if (!bk_mesh_tree_save_memory(tree, path, &data, &size, err)) return false;
+  bool ok = write_file(path, data, size, err);
+  free(data);
+  return ok;
+}
+
+bool bk_mesh_tree_save_memory(const bk_mesh_tree* tree, const char* name, uint8_t** data, size_t* size,
+                              bk_error* err) {
+  *data = NULL;
+  *size = 0;
+  const char* path = name;
   bk_error why = {{0}};
   if (!check_tree(tree, &why))
     return bk_error_set(err, "%s: cannot save an invalid mesh tree: %s", path, why.message);
@@ -300,10 +313,9 @@ bool bk_mesh_tree_save(const bk_mesh_tree* tree, const char* path, bk_error* err
   store_u32(w.data + 12, MTREE_ENDIAN_MARKER);
   store_u64(w.data + 16, payload_size);
   store_u64(w.data + 24, bk_hash_bytes(BK_FNV_OFFSET, w.data + MTREE_HEADER_BYTES, (size_t)payload_size));
-
-  bool ok = write_file(path, w.data, w.size, err);
-  free(w.data);
-  return ok;
+  *data = w.data;
+  *size = w.size;
+  return true;
 }
 
 // ---------------------------------------------------------------- load
@@ -539,6 +551,15 @@ bool bk_mesh_tree_load(const char* path, bk_mesh_tree* out, bk_error* err) {
   void* contents = NULL;
   size_t size = 0;
   if (!bk_file_read(path, MTREE_MAX_FILE_BYTES, "4 GiB", &contents, &size, err)) return false;
+  bool ok = bk_mesh_tree_load_memory(contents, size, path, out, err);
+  free(contents);
+  return ok;
+}
+
+bool bk_mesh_tree_load_memory(const void* contents, size_t size, const char* name, bk_mesh_tree* out,
+                              bk_error* err) {
+  memset(out, 0, sizeof *out);
+  const char* path = name;
   const uint8_t* data = contents;
   bool ok = check_header(data, size, path, err);
   bk_mesh_tree tree = {0};
@@ -546,7 +567,6 @@ bool bk_mesh_tree_load(const char* path, bk_mesh_tree* out, bk_error* err) {
     byte_reader r = {.data = data + MTREE_HEADER_BYTES, .size = size - MTREE_HEADER_BYTES, .pos = 0};
     ok = parse_payload(&r, &tree, path, err);
   }
-  free(contents);
   if (!ok) {
     bk_mesh_tree_free(&tree); // never hand out a half-loaded tree
     return false;

@@ -11,6 +11,7 @@
 #pragma once
 
 #include <stdbool.h>
+#include <stddef.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -90,6 +91,11 @@ bool bk_ui_slider_double(const char* label, double* value, double min, double ma
                          bool logarithmic);
 /// An integer slider over *value in [min, max]; true when the value changed.
 bool bk_ui_slider_int(const char* label, int* value, int min, int max);
+/// An integer slider whose steps grow with the value (for ranges such as 1..65536).
+bool bk_ui_slider_int_log(const char* label, int* value, int min, int max);
+/// A one-line text field editing buffer (capacity bytes, NUL included); true
+/// when Enter is pressed in it.
+bool bk_ui_input_text(const char* label, char* buffer, size_t capacity);
 /// A drop-down list of `count` items; *current is the selected index. True
 /// when the selection changed.
 bool bk_ui_combo(const char* label, int* current, const char* const* items, int count);

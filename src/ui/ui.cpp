@@ -208,6 +208,17 @@ bool bk_ui_slider_int(const char* label, int* value, int min, int max) {
          ImGui::SliderInt(label, value, min, max, "%d", ImGuiSliderFlags_AlwaysClamp);
 }
 
+bool bk_ui_slider_int_log(const char* label, int* value, int min, int max) {
+  return in_frame() && value != nullptr &&
+         ImGui::SliderInt(label, value, min, max, "%d",
+                          ImGuiSliderFlags_AlwaysClamp | ImGuiSliderFlags_Logarithmic);
+}
+
+bool bk_ui_input_text(const char* label, char* buffer, size_t capacity) {
+  return in_frame() && buffer != nullptr && capacity > 0 &&
+         ImGui::InputText(label, buffer, capacity, ImGuiInputTextFlags_EnterReturnsTrue);
+}
+
 bool bk_ui_combo(const char* label, int* current, const char* const* items, int count) {
   if (!in_frame() || current == nullptr || items == nullptr || count < 0) return false;
   return ImGui::Combo(label, current, items, count);

@@ -1,0 +1,557 @@
+// glTF export (bk_mesh_tree_save_gltf) read back structurally by our own
+// JSON reader, the round trip through bk_mesh_tree_load_gltf, and refusals of
+// damaged and foreign files. With `--export DIR`, writes the exports the
+// third-party checks read (tests/js/check_gltf.mjs, run by ctest's
+// test_gltf_js) and prints one line of arguments for each.
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "bk_fracture.h"
+#include "bk_geom.h"
+#include "ensure.h"
+#include "gltf_internal.h"
+#include "gltf_json.h"
+
+// A cube of side 2 centred at (3, -2, 5): the tree's origin, the centroids and
+// the node translations are all different from each other.
+static void build_tree(uint32_t pieces, bk_mesh_tree* tree) {
+  bk_mesh cube = {0};
+  bk_shape_build(BK_SHAPE_CUBE, &cube);
+  for (uint32_t i = 0; i < cube.position_count; ++i)
+    cube.positions[i] = bk_v3_add(bk_v3_scale(cube.positions[i], 2.0), bk_v3(3, -2, 5));
+  bk_fracture_def desc = bk_default_fracture_def();
+  desc.pieces = pieces;
+  bk_error err = {{0}};
+  ENSURE_MSG(bk_mesh_tree_build(&cube, &desc, tree, &err), "%s", err.message);
+  bk_mesh_free(&cube);
+  ENSURE(tree->leaf_count == pieces && tree->bond_count > 0);
+}
+
+static uint8_t* read_all(const char* path, size_t* size) {
+  void* data = NULL;
+  bk_error err = {{0}};
+  ENSURE_MSG(bk_file_read(path, (uint64_t)1 << 32, "4 GiB", &data, size, &err), "%s", err.message);
+  return data;
+}
+
+static void write_all(const char* path, const void* data, size_t size) {
+  FILE* f = fopen(path, "wb");
+  ENSURE(f);
+  ENSURE(fwrite(data, 1, size, f) == size);
+  ENSURE(fclose(f) == 0);
+}
+
+static uint32_t u32le(const uint8_t* p) {
+  return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
+}
+
+// ---------------------------------------------------------------- reading an export back
+
+typedef struct parsed {
+  uint8_t* file;
+  size_t file_size;
+  bk_json_doc doc;
+  uint8_t* bin; // owned copy of the binary buffer
+  size_t bin_size;
+} parsed;
+
+static uint32_t get(const parsed* p, uint32_t v, const char* key) {
+  uint32_t r = bk_json_get(&p->doc, v, key);
+  ENSURE_MSG(r != BK_JSON_NONE, "missing key %s", key);
+  return r;
+}
+
+static uint64_t get_uint(const parsed* p, uint32_t v, const char* key) {
+  uint64_t n = 0;
+  ENSURE_MSG(bk_json_uint(&p->doc, get(p, v, key), UINT64_MAX, &n), "%s is not a whole number", key);
+  return n;
+}
+
+static double number_at(const parsed* p, uint32_t array, uint32_t i) {
+  double d = 0;
+  ENSURE(bk_json_number(&p->doc, bk_json_at(&p->doc, array, i), &d));
+  return d;
+}
+
+static int base64_digit(char c) {
+  const char* alphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  const char* at = strchr(alphabet, c);
+  return c && at ? (int)(at - alphabet) : -1;
+}
+
+// Checks the container (GLB header, chunk lengths and alignment) or the data
+// URI, and parses the JSON.
+static void parse_export(const char* path, bool glb, parsed* p) {
+  memset(p, 0, sizeof *p);
+  p->file = read_all(path, &p->file_size);
+  const char* json = (const char*)p->file;
+  size_t json_size = p->file_size;
+  if (glb) {
+    const uint8_t* f = p->file;
+    ENSURE(p->file_size >= 28 && p->file_size % 4 == 0);
+    ENSURE(u32le(f) == BK_GLB_MAGIC && u32le(f + 4) == 2 && u32le(f + 8) == p->file_size);
+    uint32_t json_chunk = u32le(f + 12);
+    ENSURE(u32le(f + 16) == BK_GLB_CHUNK_JSON && json_chunk % 4 == 0 &&
+           20 + (size_t)json_chunk + 8 <= p->file_size);
+    uint32_t bin_chunk = u32le(f + 20 + json_chunk);
+    ENSURE(u32le(f + 24 + json_chunk) == BK_GLB_CHUNK_BIN && bin_chunk % 4 == 0);
+    ENSURE(28 + (size_t)json_chunk + bin_chunk == p->file_size);
+    json = (const char*)f + 20;
+    json_size = json_chunk;
+    p->bin_size = bin_chunk;
+    p->bin = bk_alloc(bin_chunk);
+    memcpy(p->bin, f + 28 + json_chunk, bin_chunk);
+  }
+  char why[200];
+  ENSURE_MSG(bk_json_parse(json, json_size, &p->doc, why, sizeof why), "%s: %s", path, why);
+  uint32_t buffer = bk_json_at(&p->doc, get(p, 0, "buffers"), 0);
+  uint64_t byte_length = get_uint(p, buffer, "byteLength");
+  if (!glb) {
+    const bk_json_value* uri = &p->doc.values[get(p, buffer, "uri")];
+    size_t prefix = strlen(BK_GLTF_DATA_URI);
+    ENSURE(uri->length > prefix && memcmp(json + uri->start, BK_GLTF_DATA_URI, prefix) == 0);
+    const char* b64 = json + uri->start + prefix;
+    size_t n = uri->length - prefix;
+    ENSURE(n % 4 == 0);
+    p->bin = bk_alloc(n / 4 * 3);
+    for (size_t i = 0; i < n; i += 4) {
+      uint32_t v = 0;
+      for (int k = 0; k < 4; ++k)
+        v = v << 6 | (uint32_t)(b64[i + k] == '=' ? 0 : base64_digit(b64[i + k]));
+      p->bin[p->bin_size++] = (uint8_t)(v >> 16);
+      p->bin[p->bin_size++] = (uint8_t)(v >> 8);
+      p->bin[p->bin_size++] = (uint8_t)v;
+    }
+    p->bin_size -= (b64[n - 1] == '=') + (b64[n - 2] == '=');
+  }
+  ENSURE(byte_length == p->bin_size || (glb && byte_length <= p->bin_size && p->bin_size - byte_length < 4));
+}
+
+static void parsed_free(parsed* p) {
+  bk_json_free(&p->doc);
+  free(p->file);
+  free(p->bin);
+}
+
+// The bytes an accessor covers; checks the view's and the accessor's bounds.
+static const uint8_t* accessor_data(const parsed* p, uint32_t index, uint64_t* count, uint32_t* component,
+                                    uint32_t element_bytes) {
+  uint32_t accessor = bk_json_at(&p->doc, get(p, 0, "accessors"), index);
+  ENSURE(accessor != BK_JSON_NONE);
+  uint32_t view =
+      bk_json_at(&p->doc, get(p, 0, "bufferViews"), (uint32_t)get_uint(p, accessor, "bufferView"));
+  uint64_t view_offset = get_uint(p, view, "byteOffset"), view_length = get_uint(p, view, "byteLength");
+  uint64_t offset = get_uint(p, accessor, "byteOffset");
+  *count = get_uint(p, accessor, "count");
+  *component = (uint32_t)get_uint(p, accessor, "componentType");
+  if (*component == 5123) element_bytes = 2;
+  if (*component == 5125) element_bytes = 4;
+  ENSURE(view_offset + view_length <= p->bin_size);
+  ENSURE(offset + *count * element_bytes <= view_length);
+  ENSURE((view_offset + offset) % (element_bytes < 4 ? element_bytes : 4) == 0);
+  return p->bin + view_offset + offset;
+}
+
+static float f32_at(const uint8_t* p) {
+  float v = 0;
+  memcpy(&v, p, sizeof v);
+  return v;
+}
+
+// Everything about one export: the node list, the hierarchy and the
+// translations, every mesh against the tree's, and the extras.
+static void check_export(const bk_mesh_tree* tree, const char* path, bool glb, bk_gltf_levels levels) {
+  parsed p;
+  parse_export(path, glb, &p);
+  const bk_json_doc* d = &p.doc;
+  bool all = levels == BK_GLTF_LEVELS_ALL;
+  uint32_t nodes = get(&p, 0, "nodes");
+  uint32_t node_count = bk_json_count(d, nodes);
+  ENSURE_MSG(node_count == (all ? tree->node_count : tree->leaf_count), "%s: %u nodes", path, node_count);
+  ENSURE(bk_json_count(d, get(&p, 0, "meshes")) == node_count);
+  ENSURE(bk_json_count(d, get(&p, 0, "materials")) == 2);
+  uint32_t roots = get(&p, bk_json_at(d, get(&p, 0, "scenes"), 0), "nodes");
+  ENSURE(bk_json_count(d, roots) == (all ? 1u : tree->leaf_count));
+
+  // World translation of each glTF node: its own plus its parent's (parents come first).
+  double* world = bk_calloc(3u * node_count, sizeof(double));
+  uint32_t* parent = bk_alloc(sizeof(uint32_t) * node_count);
+  for (uint32_t i = 0; i < node_count; ++i)
+    parent[i] = BK_NULL_INDEX;
+  for (uint32_t i = 0; i < node_count; ++i) {
+    uint32_t n = bk_json_at(d, nodes, i);
+    uint32_t children = bk_json_get(d, n, "children");
+    for (uint32_t c = bk_json_first(d, children); c != BK_JSON_NONE; c = bk_json_next(d, c)) {
+      uint64_t child = 0;
+      ENSURE(bk_json_uint(d, c, node_count - 1, &child) && child > i && parent[child] == BK_NULL_INDEX);
+      parent[child] = i;
+    }
+  }
+  uint64_t bonds_seen = 0;
+  for (uint32_t i = 0; i < node_count; ++i) {
+    uint32_t n = bk_json_at(d, nodes, i);
+    uint32_t tree_index = all ? i : tree->leaf_nodes[i];
+    const bk_mesh_tree_node* tn = &tree->nodes[tree_index];
+    ENSURE(all || parent[i] == BK_NULL_INDEX);
+    ENSURE(!all || (i == 0 ? parent[i] == BK_NULL_INDEX : parent[i] == tn->parent));
+    char name[64];
+    if (tn->child_count)
+      snprintf(name, sizeof name, "node_%u", tree_index);
+    else
+      snprintf(name, sizeof name, "fragment_%u", tn->leaf_begin);
+    ENSURE_MSG(bk_json_string_is(d, get(&p, n, "name"), name), "node %u is not named %s", i, name);
+    uint32_t translation = get(&p, n, "translation");
+    for (int k = 0; k < 3; ++k)
+      world[3 * i + k] = number_at(&p, translation, (uint32_t)k) +
+                         (parent[i] == BK_NULL_INDEX ? 0 : world[3 * parent[i] + k]);
+    bk_vec3 centroid = bk_mesh_tree_mass(tree, tn->moments).centroid;
+    ENSURE_SMALL(world[3 * i + 0], centroid.x, 1e-12);
+    ENSURE_SMALL(world[3 * i + 1], centroid.y, 1e-12);
+    ENSURE_SMALL(world[3 * i + 2], centroid.z, 1e-12);
+    // Extras: node index, leaf range, the moments and bounds exactly.
+    uint32_t extras = get(&p, get(&p, n, "extras"), "breakables");
+    ENSURE(get_uint(&p, extras, "node") == tree_index);
+    uint32_t leaves = get(&p, extras, "leaves");
+    ENSURE(number_at(&p, leaves, 0) == tn->leaf_begin && number_at(&p, leaves, 1) == tn->leaf_end);
+    uint32_t moments = get(&p, extras, "moments");
+    ENSURE(number_at(&p, moments, 0) == tn->moments.v && number_at(&p, moments, 9) == tn->moments.zx);
+    double volume = 0;
+    ENSURE(bk_json_number(d, get(&p, extras, "volume"), &volume) && volume == tn->moments.v);
+    ENSURE(number_at(&p, get(&p, extras, "bounds"), 3) == tn->bounds.max.x);
+
+    // The mesh: one primitive per material present, sharing the vertices.
+    ENSURE(get_uint(&p, n, "mesh") == i);
+    uint32_t mesh = bk_json_at(d, get(&p, 0, "meshes"), i);
+    ENSURE(bk_json_string_is(d, get(&p, mesh, "name"), name));
+    uint32_t primitives = get(&p, mesh, "primitives");
+    const bk_mesh* m = &tn->mesh;
+    uint32_t per_material[2] = {0, 0};
+    for (uint32_t t = 0; t < m->triangle_count; ++t)
+      per_material[m->materials[t] == BK_MATERIAL_INTERIOR]++;
+    ENSURE(bk_json_count(d, primitives) == (uint32_t)((per_material[0] > 0) + (per_material[1] > 0)));
+    uint64_t triangles = 0;
+    for (uint32_t prim = bk_json_first(d, primitives); prim != BK_JSON_NONE; prim = bk_json_next(d, prim)) {
+      uint32_t attributes = get(&p, prim, "attributes");
+      uint64_t material = get_uint(&p, prim, "material");
+      ENSURE(material < 2);
+      uint64_t count = 0, normals = 0, uvs = 0, tangents = 0, index_count = 0;
+      uint32_t component = 0;
+      uint32_t position_accessor = (uint32_t)get_uint(&p, attributes, "POSITION");
+      const uint8_t* pos = accessor_data(&p, position_accessor, &count, &component, 12);
+      const uint8_t* nrm =
+          accessor_data(&p, (uint32_t)get_uint(&p, attributes, "NORMAL"), &normals, &component, 12);
+      (void)accessor_data(&p, (uint32_t)get_uint(&p, attributes, "TEXCOORD_0"), &uvs, &component, 8);
+      const uint8_t* tan =
+          accessor_data(&p, (uint32_t)get_uint(&p, attributes, "TANGENT"), &tangents, &component, 16);
+      ENSURE(count == m->corner_count && normals == count && uvs == count && tangents == count);
+      // min/max are the exact extremes of the positions.
+      uint32_t accessor = bk_json_at(d, get(&p, 0, "accessors"), position_accessor);
+      for (int k = 0; k < 3; ++k) {
+        float lo = INFINITY, hi = -INFINITY;
+        for (uint64_t v = 0; v < count; ++v) {
+          float x = f32_at(pos + 12 * v + 4 * k);
+          lo = x < lo ? x : lo;
+          hi = x > hi ? x : hi;
+        }
+        ENSURE_MSG(number_at(&p, get(&p, accessor, "min"), (uint32_t)k) == lo, "%s: node %u min[%d]", path, i,
+                   k);
+        ENSURE_MSG(number_at(&p, get(&p, accessor, "max"), (uint32_t)k) == hi, "%s: node %u max[%d]", path, i,
+                   k);
+      }
+      // Vertices placed by the node's world translation are the tree's positions.
+      double size = bk_v3_length(bk_v3_sub(tn->bounds.max, tn->bounds.min));
+      for (uint64_t v = 0; v < count; ++v) {
+        bk_vec3 expected = m->positions[m->corners[v].position];
+        const double e[3] = {expected.x, expected.y, expected.z};
+        for (int k = 0; k < 3; ++k)
+          ENSURE_SMALL(world[3 * i + k] + f32_at(pos + 12 * v + 4 * k), e[k], 1e-6 * size);
+        float nl = 0, tl = 0;
+        for (int k = 0; k < 3; ++k) {
+          nl += f32_at(nrm + 12 * v + 4 * k) * f32_at(nrm + 12 * v + 4 * k);
+          tl += f32_at(tan + 16 * v + 4 * k) * f32_at(tan + 16 * v + 4 * k);
+        }
+        ENSURE(fabsf(nl - 1) < 1e-5f && fabsf(tl - 1) < 1e-5f &&
+               fabsf(fabsf(f32_at(tan + 16 * v + 12)) - 1) == 0);
+      }
+      const uint8_t* idx =
+          accessor_data(&p, (uint32_t)get_uint(&p, prim, "indices"), &index_count, &component, 4);
+      ENSURE(index_count % 3 == 0 && index_count / 3 == per_material[material]);
+      ENSURE(component == (count > 65535 ? 5125u : 5123u));
+      for (uint64_t k = 0; k < index_count; ++k)
+        ENSURE((component == 5123 ? (uint32_t)(idx[2 * k] | idx[2 * k + 1] << 8) : u32le(idx + 4 * k)) <
+               count);
+      triangles += index_count / 3;
+    }
+    ENSURE(triangles == m->triangle_count);
+  }
+  uint32_t ours = get(&p, get(&p, get(&p, 0, "asset"), "extras"), "breakables");
+  uint32_t bonds = get(&p, ours, "bonds");
+  bonds_seen = bk_json_count(d, bonds);
+  ENSURE(bonds_seen == tree->bond_count);
+  uint32_t last = bk_json_at(d, bonds, tree->bond_count - 1);
+  ENSURE(number_at(&p, last, 0) == tree->bonds[tree->bond_count - 1].leaf_a);
+  ENSURE(number_at(&p, last, 2) == tree->bonds[tree->bond_count - 1].area);
+  ENSURE(number_at(&p, last, 8) == tree->bonds[tree->bond_count - 1].normal.z);
+  uint32_t fracture = get(&p, ours, "fracture");
+  ENSURE(bk_json_string_is(d, get(&p, fracture, "pattern"), "planes"));
+  ENSURE(get_uint(&p, fracture, "pieces") == tree->desc.pieces &&
+         get_uint(&p, fracture, "seed") == tree->desc.seed);
+  ENSURE(get_uint(&p, ours, "node_count") == tree->node_count);
+  free(world);
+  free(parent);
+  parsed_free(&p);
+}
+
+// ---------------------------------------------------------------- tests
+
+static void round_trip(const bk_mesh_tree* tree, const char* path) {
+  bk_mesh_tree back = {0};
+  bk_error err = {{0}};
+  ENSURE_MSG(bk_mesh_tree_load_gltf(path, &back, &err), "%s", err.message);
+  uint8_t *a = NULL, *b = NULL;
+  size_t a_size = 0, b_size = 0;
+  ENSURE(bk_mesh_tree_save_memory(tree, "tree", &a, &a_size, &err));
+  ENSURE(bk_mesh_tree_save_memory(&back, "back", &b, &b_size, &err));
+  ENSURE_MSG(a_size == b_size && memcmp(a, b, a_size) == 0, "%s: the loaded tree is not byte-identical",
+             path);
+  ENSURE(back.leaf_count == tree->leaf_count && back.bond_count == tree->bond_count);
+  for (uint32_t l = 0; l < tree->leaf_count; ++l)
+    ENSURE(bk_mesh_tree_leaf(&back, l)->moments.v == bk_mesh_tree_leaf(tree, l)->moments.v);
+  ENSURE(memcmp(back.bonds, tree->bonds, sizeof(bk_bond) * tree->bond_count) == 0);
+  free(a);
+  free(b);
+  bk_mesh_tree_free(&back);
+}
+
+static void test_exports(void) {
+  bk_mesh_tree tree = {0};
+  build_tree(16, &tree);
+  const char* paths[2][2] = {{BK_TEST_TMP "/cube16_all.glb", BK_TEST_TMP "/cube16_all.gltf"},
+                             {BK_TEST_TMP "/cube16_leaves.glb", BK_TEST_TMP "/cube16_leaves.gltf"}};
+  for (int levels = 0; levels < 2; ++levels)
+    for (int glb = 1; glb >= 0; --glb) {
+      const char* path = paths[levels][glb ? 0 : 1];
+      bk_gltf_def def = bk_default_gltf_def();
+      def.levels = levels ? BK_GLTF_LEVELS_LEAVES : BK_GLTF_LEVELS_ALL;
+      bk_error err = {{0}};
+      ENSURE_MSG(bk_mesh_tree_save_gltf(&tree, path, &def, &err), "%s", err.message);
+      check_export(&tree, path, glb, def.levels);
+      round_trip(&tree, path);
+    }
+  // Saving twice gives the same bytes; NULL def = the defaults.
+  size_t a_size = 0, b_size = 0;
+  uint8_t* a = read_all(paths[0][0], &a_size);
+  bk_error err = {{0}};
+  ENSURE(bk_mesh_tree_save_gltf(&tree, paths[0][0], NULL, &err));
+  uint8_t* b = read_all(paths[0][0], &b_size);
+  ENSURE(a_size == b_size && memcmp(a, b, a_size) == 0);
+  free(a);
+  free(b);
+  bk_mesh_tree_free(&tree);
+}
+
+// A refusal: false, one line naming the file, the output zeroed.
+static void expect_refused(const void* data, size_t size, const char* name, const char* needle) {
+  bk_mesh_tree out;
+  memset(&out, 0xab, sizeof out);
+  bk_error err = {{0}};
+  ENSURE_MSG(!bk_mesh_tree_load_gltf_memory(data, size, name, &out, &err), "%s was accepted", name);
+  static const bk_mesh_tree zero = {0};
+  ENSURE(memcmp(&out, &zero, sizeof out) == 0);
+  ENSURE(err.message[0] && !strchr(err.message, '\n'));
+  ENSURE_MSG(strncmp(err.message, name, strlen(name)) == 0, "%s", err.message);
+  ENSURE_MSG(!needle || strstr(err.message, needle), "'%s' lacks '%s'", err.message, needle);
+}
+
+static void test_damaged(void) {
+  bk_mesh_tree tree = {0};
+  build_tree(4, &tree);
+  const char* glb_path = BK_TEST_TMP "/damaged.glb";
+  const char* gltf_path = BK_TEST_TMP "/damaged.gltf";
+  bk_error err = {{0}};
+  ENSURE(bk_mesh_tree_save_gltf(&tree, glb_path, NULL, &err) &&
+         bk_mesh_tree_save_gltf(&tree, gltf_path, NULL, &err));
+  size_t size = 0, text_size = 0;
+  uint8_t* glb = read_all(glb_path, &size);
+  uint8_t* text = read_all(gltf_path, &text_size);
+  // Every truncation of the GLB is refused.
+  for (size_t cut = 0; cut < size; cut += (cut < 64 ? 1 : 97))
+    expect_refused(glb, cut, "cut.glb", NULL);
+  expect_refused(glb, 11, "cut.glb", "truncated GLB header");
+  expect_refused(glb, size - 1, "cut.glb", "truncated");
+  for (size_t cut = 0; cut < text_size; cut += 1 + text_size / 200)
+    expect_refused(text, cut, "cut.gltf", NULL);
+  uint8_t* copy = bk_alloc(size);
+  // A flipped byte in the embedded tree (the buffer's end) fails its checksum.
+  memcpy(copy, glb, size);
+  copy[size - 8] ^= 0x40;
+  expect_refused(copy, size, "flip.glb", "checksum");
+  // The header's length, version and chunk type.
+  memcpy(copy, glb, size);
+  copy[8] ^= 4;
+  expect_refused(copy, size, "length.glb", "GLB header says");
+  memcpy(copy, glb, size);
+  copy[4] = 1;
+  expect_refused(copy, size, "version.glb", "GLB version 1");
+  memcpy(copy, glb, size);
+  copy[16] = 'X';
+  expect_refused(copy, size, "chunk.glb", "not JSON");
+  // The JSON without our extras, with a wrong view or buffer index, nested too deeply.
+  const char* foreign = "{\"asset\":{\"version\":\"2.0\"},\"scenes\":[]}";
+  expect_refused(
+      foreign, strlen(foreign), "model.glb",
+      "model.glb: not a Breakables export (no asset.extras.breakables); fracture it with --mesh instead");
+  const char* old = "{\"asset\":{\"version\":\"1.0\"}}";
+  expect_refused(old, strlen(old), "old.gltf", "not a glTF 2.0 file");
+  const char* bad_view =
+      "{\"asset\":{\"version\":\"2.0\",\"extras\":{\"breakables\":{\"version\":1,\"mtree\":{"
+      "\"bufferView\":7}}}},\"bufferViews\":[]}";
+  expect_refused(bad_view, strlen(bad_view), "view.gltf", "bufferView 7 is not among the 0");
+  const char* big_view =
+      "{\"asset\":{\"version\":\"2.0\",\"extras\":{\"breakables\":{\"version\":1,\"mtree\":{"
+      "\"bufferView\":0}}}},\"bufferViews\":[{\"buffer\":0,\"byteOffset\":4,\"byteLength\":"
+      "18446744073709551615}],\"buffers\":[{\"byteLength\":8,\"uri\":\"" BK_GLTF_DATA_URI "AAAAAAAAAAA=\"}]}";
+  expect_refused(big_view, strlen(big_view), "span.gltf", "spans bytes");
+  const char* bad_b64 =
+      "{\"asset\":{\"version\":\"2.0\",\"extras\":{\"breakables\":{\"version\":1,\"mtree\":{"
+      "\"bufferView\":0}}}},\"bufferViews\":[{\"buffer\":0,\"byteLength\":1}],\"buffers\":[{"
+      "\"byteLength\":1,\"uri\":\"" BK_GLTF_DATA_URI "A*==\"}]}";
+  expect_refused(bad_b64, strlen(bad_b64), "b64.gltf", "not valid base64");
+  char deep[4000];
+  memset(deep, '[', sizeof deep);
+  memcpy(deep, "{\"a\":", 5);
+  expect_refused(deep, sizeof deep, "deep.gltf", "nested too deeply");
+  expect_refused("{\"a\":1,}", 8, "comma.gltf", "expected a key at byte 7");
+  expect_refused("\x01\x02", 2, "junk.glb", "not glTF");
+  // Counts in the JSON that are not the embedded tree's.
+  char* edited = bk_alloc(text_size + 1);
+  memcpy(edited, text, text_size);
+  edited[text_size] = '\0';
+  char* count = strstr(edited, "\"leaf_count\":4");
+  ENSURE(count);
+  count[strlen("\"leaf_count\":")] = '5';
+  expect_refused(edited, text_size, "counts.gltf", "are not the embedded tree's");
+  // A missing file.
+  bk_mesh_tree out = {0};
+  ENSURE(!bk_mesh_tree_load_gltf(BK_TEST_TMP "/no_such.glb", &out, &err) &&
+         strstr(err.message, "no_such.glb"));
+  free(edited);
+  free(copy);
+  free(glb);
+  free(text);
+  bk_mesh_tree_free(&tree);
+}
+
+static void test_save_errors(void) {
+  bk_mesh_tree tree = {0};
+  build_tree(2, &tree);
+  bk_error err = {{0}};
+  ENSURE(!bk_mesh_tree_save_gltf(&tree, BK_TEST_TMP "/x.obj", NULL, &err) && strstr(err.message, ".glb"));
+  bk_gltf_def def = bk_default_gltf_def();
+  def.material_name = "";
+  ENSURE(!bk_mesh_tree_save_gltf(&tree, BK_TEST_TMP "/x.glb", &def, &err) &&
+         strstr(err.message, "material_name"));
+  def = bk_default_gltf_def();
+  def.density = 0;
+  ENSURE(!bk_mesh_tree_save_gltf(&tree, BK_TEST_TMP "/x.glb", &def, &err) && strstr(err.message, "density"));
+  def = bk_default_gltf_def();
+  def.levels = (bk_gltf_levels)7;
+  ENSURE(!bk_mesh_tree_save_gltf(&tree, BK_TEST_TMP "/x.glb", &def, &err) && strstr(err.message, "levels"));
+  ENSURE(!bk_mesh_tree_save_gltf(&tree, BK_TEST_TMP "/no_dir/x.glb", NULL, &err) &&
+         strstr(err.message, "no_dir"));
+  tree.nodes[0].parent = 3; // an invalid tree is never written
+  ENSURE(!bk_mesh_tree_save_gltf(&tree, BK_TEST_TMP "/x.glb", NULL, &err) &&
+         strstr(err.message, "invalid mesh tree"));
+  tree.nodes[0].parent = BK_NULL_INDEX;
+  bk_mesh_tree_free(&tree);
+}
+
+// ---------------------------------------------------------------- the CLI
+#ifdef BK_BREAKABLES_EXE
+#define RUN_STDERR_PATH BK_TEST_TMP "/test_gltf.stderr"
+#include "run_exe.h"
+
+static void test_cli(void) {
+  run_result* r =
+      run("fracture --mesh cube --pieces 8 --export-gltf '" BK_TEST_TMP "/cli.glb' --gltf-levels leaves "
+          "--json");
+  ENSURE_MSG(r->status == 0, "%s", r->err);
+  ENSURE(strstr(r->out, "\"export_gltf\": \"" BK_TEST_TMP "/cli.glb\"}"));
+  bk_mesh_tree tree = {0};
+  bk_error err = {{0}};
+  ENSURE_MSG(bk_mesh_tree_load_gltf(BK_TEST_TMP "/cli.glb", &tree, &err), "%s", err.message);
+  ENSURE(tree.leaf_count == 8);
+  bk_mesh_tree_free(&tree);
+  r = run("fracture --mesh cube --pieces 2 --json");
+  ENSURE(r->status == 0 && strstr(r->out, "\"export_gltf\": null}"));
+  r = run("fracture --mesh cube --pieces 2 --export-gltf '" BK_TEST_TMP "/cli.gltf'");
+  ENSURE(r->status == 0 && strstr(r->out, "exported " BK_TEST_TMP "/cli.gltf"));
+  r = run("fracture --mesh cube --pieces 2 --export-gltf '" BK_TEST_TMP "/cli.gltf' --gltf-levels some");
+  ENSURE(r->status == 2 && strstr(r->err, "--gltf-levels must be 'all' or 'leaves'") &&
+         count_lines(r->err) == 1);
+  r = run("fracture --mesh cube --pieces 2 --export-gltf");
+  ENSURE(r->status == 2 && strstr(r->err, "--export-gltf needs a value"));
+  r = run("fracture --mesh cube --pieces 2 --export-gltf '" BK_TEST_TMP "/cli.fbx'");
+  ENSURE(r->status == 1 && strstr(r->err, "must end in .glb") && count_lines(r->err) == 1);
+  r = run("fracture --help");
+  ENSURE(strstr(r->out, "--export-gltf FILE.glb|FILE.gltf") && strstr(r->out, "--gltf-levels all|leaves"));
+}
+#endif
+
+// ---------------------------------------------------------------- exports for the JS checks
+
+static void copy_file(const char* from, const char* to) {
+  size_t size = 0;
+  uint8_t* data = read_all(from, &size);
+  write_all(to, data, size);
+  free(data);
+}
+
+static int export_for_js(const char* dir) {
+  bk_mesh_tree tree = {0};
+  build_tree(16, &tree);
+  char path[1024];
+  for (int levels = 0; levels < 2; ++levels)
+    for (int glb = 0; glb < 2; ++glb) {
+      const char* name = levels ? "leaves" : "all";
+      snprintf(path, sizeof path, "%s/cube16_%s.%s", dir, name, glb ? "glb" : "gltf");
+      bk_gltf_def def = bk_default_gltf_def();
+      def.levels = levels ? BK_GLTF_LEVELS_LEAVES : BK_GLTF_LEVELS_ALL;
+      bk_error err = {{0}};
+      ENSURE_MSG(bk_mesh_tree_save_gltf(&tree, path, &def, &err), "%s", err.message);
+      uint32_t n = levels ? tree.leaf_count : tree.node_count;
+      printf("%s --nodes %u --leaves %u --meshes %u --materials 2\n", path, n, tree.leaf_count, n);
+    }
+  // Textured, with a material name and a path that needs escaping.
+  snprintf(path, sizeof path, "%s/textures", dir);
+  mkdir(path, 0777);
+  snprintf(path, sizeof path, "%s/textures/stone albedo.png", dir);
+  copy_file(BK_ASSET_DIR "/textures/stone_albedo.png", path);
+  snprintf(path, sizeof path, "%s/textures/stone_interior.png", dir);
+  copy_file(BK_ASSET_DIR "/textures/stone_interior.png", path);
+  bk_gltf_def def = bk_default_gltf_def();
+  def.material_name = "stone";
+  def.base_color_texture = "textures/stone albedo.png";
+  def.interior_texture = "textures/stone_interior.png";
+  snprintf(path, sizeof path, "%s/cube16_textured.glb", dir);
+  bk_error err = {{0}};
+  ENSURE_MSG(bk_mesh_tree_save_gltf(&tree, path, &def, &err), "%s", err.message);
+  printf("%s --nodes %u --leaves %u --meshes %u --materials 2 --material stone --textures 2\n", path,
+         tree.node_count, tree.leaf_count, tree.node_count);
+  bk_mesh_tree_free(&tree);
+  return 0;
+}
+
+int main(int argc, char** argv) {
+  if (argc == 3 && strcmp(argv[1], "--export") == 0) return export_for_js(argv[2]);
+  RUN(test_exports);
+  RUN(test_damaged);
+  RUN(test_save_errors);
+#ifdef BK_BREAKABLES_EXE
+  RUN(test_cli);
+#endif
+  return 0;
+}
