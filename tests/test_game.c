@@ -120,6 +120,35 @@ static void test_editor(void) {
   ENSURE(s.sky_blue > 20.0 && s.center_spread > 15.0);
 }
 
+// A user's own model, exported by fracture as glTF, is shot in the game:
+// the tree is loaded as it is (its 40 fragments, not --pieces), stood in
+// front of the camera and broken by the fitted shots; the editor opens it
+// by path too.
+static void test_own_model(void) {
+  char args[2048], glb[512], shot[512];
+  snprintf(glb, sizeof glb, "%s/own_model.glb", BK_TEST_TMP);
+  snprintf(shot, sizeof shot, "%s/own_model.png", BK_TEST_TMP);
+  snprintf(args, sizeof args, "fracture --mesh torus --pieces 40 --export-gltf '%s'", glb);
+  ENSURE(run(args) == 0);
+  snprintf(args, sizeof args,
+           "play --mesh '%s' --material glass --pieces 512 --frames 120 --autofire 3 --screenshot '%s' "
+           "--width 640 --height 360",
+           glb, shot);
+  ENSURE(run(args) == 0);
+  unsigned frames = 0, bodies = 0, from = 0;
+  ENSURE_MSG(sscanf(output, "frames %u, bodies %u (from %u)", &frames, &bodies, &from) == 3, "summary: %s",
+             output);
+  ENSURE_MSG(from == 1 && bodies > 1, "the shots broke nothing (%u bodies, from %u)", bodies, from);
+  picture_stats s = measure(shot);
+  ENSURE_MSG(s.center_spread > 15.0 && s.center_sky_difference > 40.0,
+             "the model is not in view (%.1f, %.1f)", s.center_spread, s.center_sky_difference);
+  snprintf(args, sizeof args, "editor --mesh '%s' --frames 3 --width 640 --height 360", glb);
+  ENSURE(run(args) == 0);
+  unsigned fragments = 0;
+  ENSURE_MSG(sscanf(output, "frames %u, fragments %u", &frames, &fragments) == 2 && fragments == 40, "%s",
+             output);
+}
+
 // Without a display the game says so in one line and exits 1 (no crash).
 static void test_no_display(void) {
   char command[1024];
@@ -151,6 +180,7 @@ int main(void) {
   RUN(test_no_display);
   RUN(test_bad_options);
   RUN(test_editor);
+  RUN(test_own_model);
   RUN(test_scenes);
   return 0;
 }
