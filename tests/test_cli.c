@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include "bk_fracture.h"
 #include "ensure.h"
@@ -252,6 +253,40 @@ static void test_sim_own_mesh(void) {
   ENSURE(strstr(r->out, "--mesh PATH") && strstr(r->out, "--material NAME"));
 }
 
+// A textured model's material names the export's materials, and its
+// texture is referenced from the export by a path that resolves from where
+// the export is (Debian's assimp-testmodels, installed by scripts/setup.sh).
+static void test_export_keeps_material(void) {
+  const char* model = "/usr/share/assimp/models/glTF2/BoxTextured-glTF/BoxTextured.gltf";
+  run_result* r = run("fracture --mesh /usr/share/assimp/models/glTF2/BoxTextured-glTF/BoxTextured.gltf "
+                      "--pieces 8 --export-gltf '" BK_TEST_TMP "/textured.glb'");
+  ENSURE_MSG(r->status == 0, "%s: %s", model, r->err);
+  FILE* f = fopen(BK_TEST_TMP "/textured.glb", "rb");
+  ENSURE(f);
+  static char glb[1 << 20];
+  size_t n = fread(glb, 1, sizeof glb - 1, f);
+  fclose(f);
+  ENSURE(n > 20);
+  uint32_t json_length = 0;
+  memcpy(&json_length, glb + 12, 4);
+  ENSURE(json_length < n - 20);
+  glb[20 + json_length] = 0;
+  const char* json = glb + 20;
+  ENSURE_MSG(strstr(json, "{\"name\":\"Texture\"") && strstr(json, "{\"name\":\"Texture_interior\""),
+             "%.400s", strstr(json, "\"materials\""));
+  const char* uri = strstr(json, "\"images\":[{\"uri\":\"");
+  ENSURE_MSG(uri, "no image in %.300s", json);
+  uri += strlen("\"images\":[{\"uri\":\"");
+  char relative[1024] = {0};
+  for (size_t k = 0; uri[k] && uri[k] != '"' && k + 1 < sizeof relative; ++k)
+    relative[k] = uri[k];
+  ENSURE_MSG(relative[0] != '/', "the texture's uri is absolute: %s", relative);
+  char joined[2048];
+  snprintf(joined, sizeof joined, "%s/%s", BK_TEST_TMP, relative);
+  ENSURE_MSG(access(joined, R_OK) == 0 && strstr(relative, "CesiumLogoFlat.png"), "%s does not resolve",
+             joined);
+}
+
 // ---------------------------------------------------------------- number options
 
 // Every number option of every command takes exactly a number of its kind
@@ -460,8 +495,8 @@ static void test_bench_quick(void) {
   setenv("BREAKABLES_CACHE_DIR", BK_TEST_TMP "/cache", 1);
   run_result* r = run("bench --quick --out '" BK_TEST_TMP "/bench'");
   ENSURE_MSG(r->status == 0, "%s", r->err);
-  const char* sections[] = {"1. Fracture speed", "2. Meshes", "3. Maximum fragments", "4. Runtime",
-                            "5. Scaling"};
+  const char* sections[] = {"1. Fracture speed", "2. Meshes",  "3. Maximum fragments",
+                            "4. Runtime",        "5. Scaling", "6. Asset pipeline"};
   for (size_t i = 0; i < sizeof sections / sizeof *sections; ++i)
     ENSURE_MSG(strstr(r->out, sections[i]) != NULL, "stdout lacks %s", sections[i]);
 
@@ -471,9 +506,9 @@ static void test_bench_quick(void) {
   ENSURE(f != NULL);
   report[fread(report, 1, sizeof report - 1, f)] = 0;
   fclose(f);
-  const char* report_parts[] = {"bench --quick --out", "| processor |", "| memory |",
-                                "| build |",           "| date |",      "## 1. Fracture speed",
-                                "## 5. Scaling",       "| ---: |"};
+  const char* report_parts[] = {
+      "bench --quick --out",  "| processor |", "| memory |",           "| build |", "| date |",
+      "## 1. Fracture speed", "## 5. Scaling", "## 6. Asset pipeline", "| ---: |"};
   for (size_t i = 0; i < sizeof report_parts / sizeof *report_parts; ++i)
     ENSURE_MSG(strstr(report, report_parts[i]) != NULL, "report lacks %s", report_parts[i]);
   bool gnuplot = system("command -v gnuplot >/dev/null 2>&1") == 0;
@@ -550,6 +585,23 @@ static void test_bench_quick(void) {
   ensure_positive(t, scaling_keys, 4);
   ENSURE(csv_number(t, 0, "walls") == 1.0 && csv_number(t, 1, "walls") == 4.0);
   ENSURE(csv_number(t, 1, "step_ms_max") >= csv_number(t, 1, "step_ms_median"));
+  // 6. Asset pipeline: export and load-back of the cube of 1024 fragments, import of 100,000 triangles.
+  t = read_csv("assets", "step,source,nodes,triangles,file_mb,runs,ms_median,ms_min,target_ms,target_met", 3);
+  const char* asset_keys[] = {"nodes", "triangles", "file_mb", "runs", "ms_median", "ms_min"};
+  ensure_positive(t, asset_keys, sizeof asset_keys / sizeof *asset_keys);
+  ENSURE(strcmp(csv_field(t, 0, "step"), "export .glb") == 0 && csv_number(t, 0, "nodes") == 2047.0);
+  ENSURE(strcmp(csv_field(t, 1, "step"), "load back .glb") == 0 &&
+         strcmp(csv_field(t, 1, "target_met"), "-") == 0);
+  ENSURE(strcmp(csv_field(t, 2, "step"), "import .glb") == 0 && csv_number(t, 2, "triangles") == 100000.0);
+  ENSURE(csv_number(t, 0, "target_ms") == 1000.0 && csv_number(t, 2, "target_ms") == 500.0);
+  for (uint32_t i = 0; i < 3; i += 2) {
+    const char* met = csv_field(t, i, "target_met");
+    ENSURE_MSG(strcmp(met, "yes") == 0 || strcmp(met, "no") == 0, "target_met of row %u is '%s'", i, met);
+  }
+  ENSURE_MSG(strstr(report, "the target of under 1 s for 4096 fragments is ") != NULL &&
+                 strstr(report, "`--quick`; run without it to measure 4096") != NULL,
+             "the report does not state the export target and the quick cube");
+  ENSURE(!bench_file_exists("cube_1024.glb") && !bench_file_exists("torus_100000.glb"));
 
   r = run("bench --help");
   const char* options[] = {"--quick", "--out", "--seed"};
@@ -571,6 +623,7 @@ int main(void) {
   RUN(test_repairs_simple_hole);
   RUN(test_sim);
   RUN(test_sim_own_mesh);
+  RUN(test_export_keeps_material);
   RUN(test_number_options);
   RUN(test_bench_quick);
   return 0;

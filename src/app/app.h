@@ -22,7 +22,8 @@ bool bk_app_load_mesh(const char* spec, bk_mesh* out, bk_error* err);
 /// bk_app_load_mesh with a scene node to take (with its subtree; NULL = the
 /// whole scene) from a model file: shells touching at a vertex or an edge are
 /// split apart and simple holes closed (bk_mesh_repair), with a warning.
-bool bk_app_load_model(const char* spec, const char* node, bk_mesh* out, bk_error* err);
+/// info (may be NULL) gets what the import found (material, texture).
+bool bk_app_load_model(const char* spec, const char* node, bk_mesh* out, bk_import_info* info, bk_error* err);
 /// Builds the mesh tree of a mesh (scaled uniformly by `scale` when not 0 or
 /// 1), or loads it from the cache directory ($BREAKABLES_CACHE_DIR, else
 /// $XDG_CACHE_HOME/breakables, else ~/.cache/breakables) when a file made
@@ -105,6 +106,11 @@ bool bk_loaded_scene_create(const bk_scene* scene, const bk_scene_options* optio
 void bk_loaded_scene_destroy(bk_loaded_scene* scene);
 /// The i-th shot of a volley from the scene's eye towards (around) its target.
 bk_projectile_def bk_scene_shot(const bk_scene* scene, uint32_t shot, double speed);
+
+/// Writes target's path relative to the directory of from_file (for a URI
+/// in a file written there); false if either cannot be resolved or it does
+/// not fit in capacity bytes.
+bool bk_app_relative_path(const char* from_file, const char* target, char* out, size_t capacity);
 
 /// Median of values (sorted in place); 0 for none.
 double bk_median(double* values, uint32_t count);

@@ -161,7 +161,17 @@ int bk_cmd_fracture(int argc, char** argv) {
 
   bk_error err = {0};
   bk_mesh source = {0};
-  if (!bk_app_load_model(mesh_spec, node, &source, &err)) return fail(err.message);
+  bk_import_info imported = {0};
+  if (!bk_app_load_model(mesh_spec, node, &source, &imported, &err)) return fail(err.message);
+  // The model's own material and texture name the export's surface material.
+  char material_name[64] = {0}, texture_uri[4096] = {0};
+  if (imported.material[0]) {
+    snprintf(material_name, sizeof material_name, "%.63s", imported.material); // glTF def: 1..63 bytes
+    gltf.material_name = material_name;
+  }
+  if (gltf_path && imported.texture[0] &&
+      bk_app_relative_path(gltf_path, imported.texture, texture_uri, sizeof texture_uri))
+    gltf.base_color_texture = texture_uri;
   if (!bk_app_check_fracture_memory(mesh_spec, &source, &desc, out_path != NULL, &err)) {
     bk_mesh_free(&source);
     return fail(err.message);

@@ -16,10 +16,11 @@ static void normalize_to_unit_height(bk_mesh* m) {
 }
 
 bool bk_app_load_mesh(const char* spec, bk_mesh* out, bk_error* err) {
-  return bk_app_load_model(spec, NULL, out, err);
+  return bk_app_load_model(spec, NULL, out, NULL, err);
 }
 
-bool bk_app_load_model(const char* spec, const char* node, bk_mesh* out, bk_error* err) {
+bool bk_app_load_model(const char* spec, const char* node, bk_mesh* out, bk_import_info* info_out,
+                       bk_error* err) {
   bk_shape shape = BK_SHAPE_CUBE;
   if (bk_shape_from_name(spec, &shape)) {
     if (node) return bk_error_set(err, "--node needs a model file, not the built-in '%s'", spec);
@@ -44,6 +45,7 @@ bool bk_app_load_model(const char* spec, const char* node, bk_mesh* out, bk_erro
   def.node = node;
   bk_import_info info = {0};
   if (!bk_model_import(path, &def, out, &info, err)) return false;
+  if (info_out) *info_out = info;
   if (bunny) normalize_to_unit_height(out);
   if (info.flipped)
     fprintf(stderr, "breakables: warning: %s: mesh was inside out; its winding was reversed\n", path);

@@ -97,7 +97,8 @@ bool bk_app_load_tree(const char* mesh_spec, double scale, const bk_fracture_def
   if (gltf) {
     bk_error gltf_err = {{0}};
     if (bk_mesh_tree_load_gltf(mesh_spec, out, &gltf_err)) return true;
-    if (!strstr(gltf_err.message, "not a Breakables export")) return bk_error_set(err, "%s", gltf_err.message);
+    if (!strstr(gltf_err.message, "not a Breakables export"))
+      return bk_error_set(err, "%s", gltf_err.message);
   }
   bk_mesh source = {0};
   if (!bk_app_load_mesh(mesh_spec, &source, err)) return false;
