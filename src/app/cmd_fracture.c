@@ -48,7 +48,7 @@ static const char* const fracture_usage =
     "                        nodes, max_depth, ms, leaf_triangles, bonds, watertight,\n"
     "                        volume_rel_error, child_volume_rel_error, seed, texture_scale,\n"
     "                        source_triangles, peak_rss_mb, pieces_requested, pieces_made,\n"
-    "                        warnings (why fewer pieces were made than asked for) and\n"
+    "                        warnings (why fewer or more pieces were made than asked for) and\n"
     "                        export_gltf (the path written, or null)\n"
     "  --max-memory MIB      memory the fracture may use, 1..1073741824 MiB (default: the\n"
     "                        available memory); a request estimated to need more is refused\n"
@@ -210,6 +210,23 @@ int bk_cmd_fracture(int argc, char** argv) {
   char shortfall[400];
   bool short_of_pieces = bk_mesh_tree_shortfall_text(&tree, shortfall, sizeof shortfall);
   if (short_of_pieces) fprintf(stderr, "breakables fracture: warning: %s: %s\n", mesh_spec, shortfall);
+  // More than asked is no failure, but the user asked for a number: say why.
+  char overshoot[300] = {0};
+  if (tree.leaf_count > desc.pieces) {
+    bk_mesh copy = {0};
+    bk_mesh_copy(&copy, &tree.nodes[0].mesh);
+    bk_mesh* shells = NULL;
+    uint32_t shell_count = bk_mesh_split_hulls(&copy, &shells);
+    for (uint32_t i = 0; i < shell_count; ++i)
+      bk_mesh_free(&shells[i]);
+    free(shells);
+    snprintf(overshoot, sizeof overshoot,
+             "made %u pieces, %u more than the %u asked for: a cut through a concave piece or one made of "
+             "separate shells gives more than two pieces (the source has %u separate shell%s)",
+             tree.leaf_count, tree.leaf_count - desc.pieces, desc.pieces, shell_count,
+             shell_count == 1 ? "" : "s");
+  }
+  if (overshoot[0]) fprintf(stderr, "breakables fracture: note: %s: %s\n", mesh_spec, overshoot);
   if (out_path && !bk_mesh_tree_save(&tree, out_path, &err)) status = fail(err.message);
   if (status == 0 && obj_path) {
     bk_mesh* leaves = bk_alloc(sizeof(bk_mesh) * tree.leaf_count);
@@ -234,6 +251,10 @@ int bk_cmd_fracture(int argc, char** argv) {
            st.max_child_rel_error, (unsigned long long)tree.desc.seed, tree.desc.texture_scale,
            source_triangles, bk_peak_rss_mb());
     if (short_of_pieces) print_json_string(shortfall);
+    if (overshoot[0]) {
+      if (short_of_pieces) fputs(", ", stdout);
+      print_json_string(overshoot);
+    }
     fputs("], \"export_gltf\": ", stdout);
     if (gltf_path && status == 0)
       print_json_string(gltf_path);
