@@ -285,6 +285,10 @@ static void test_export_keeps_material(void) {
   snprintf(joined, sizeof joined, "%s/%s", BK_TEST_TMP, relative);
   ENSURE_MSG(access(joined, R_OK) == 0 && strstr(relative, "CesiumLogoFlat.png"), "%s does not resolve",
              joined);
+  // More pieces than asked are explained too (18 separate legs and parts).
+  r = run("fracture --mesh /usr/share/assimp/models/STL/Spider_binary.stl --pieces 16 --json");
+  ENSURE_MSG(r->status == 0 && json_number(r->out, "pieces_made") > 16, "%s%s", r->out, r->err);
+  ENSURE_MSG(strstr(r->out, "more than the 16 asked for") && strstr(r->out, "separate shells"), "%s", r->out);
 }
 
 // ---------------------------------------------------------------- number options

@@ -196,21 +196,21 @@ bk_import_def bk_default_import_def(void);
 
 /// What an import found (zeroed, then filled as far as the import got).
 typedef struct bk_import_info {
-  char format[32];   ///< the reader: "obj" (ours) or "assimp:<extension>"
+  char format[32];                   ///< the reader: "obj" (ours) or "assimp:<extension>"
   char material[BK_IMPORT_TEXT_MAX]; ///< name of the base-colour material (that of the most triangles)
   /// Base-colour texture: a path resolved relative to the model file's
   /// directory, or "" when there is none or it is embedded.
   char texture[BK_IMPORT_TEXT_MAX];
-  bool texture_embedded;    ///< the texture is an image inside the model file
-  uint32_t embedded_index;  ///< ... its index among the file's embedded images
-  char embedded_format[16]; ///< ... its format hint ("png", "jpg"; "" if raw texels)
-  float base_color[4];      ///< base colour factor, RGBA (1, 1, 1, 1 when the file gives none)
-  uint32_t materials;       ///< materials used by the imported meshes
-  uint32_t meshes;          ///< mesh instances placed (a mesh used by two nodes counts twice)
-  uint32_t nodes;           ///< nodes in the scene
-  uint32_t nodes_used;      ///< nodes whose meshes were placed
-  uint32_t triangles_in;    ///< triangles read (after triangulation)
-  uint32_t dropped_primitives; ///< point and line primitives dropped
+  bool texture_embedded;         ///< the texture is an image inside the model file
+  uint32_t embedded_index;       ///< ... its index among the file's embedded images
+  char embedded_format[16];      ///< ... its format hint ("png", "jpg"; "" if raw texels)
+  float base_color[4];           ///< base colour factor, RGBA (1, 1, 1, 1 when the file gives none)
+  uint32_t materials;            ///< materials used by the imported meshes
+  uint32_t meshes;               ///< mesh instances placed (a mesh used by two nodes counts twice)
+  uint32_t nodes;                ///< nodes in the scene
+  uint32_t nodes_used;           ///< nodes whose meshes were placed
+  uint32_t triangles_in;         ///< triangles read (after triangulation)
+  uint32_t dropped_primitives;   ///< point and line primitives dropped
   uint32_t degenerate_triangles; ///< triangles dropped because two corners share a welded position
   uint32_t mirrored_meshes;      ///< mesh instances under a mirroring transform (their winding reversed)
   uint32_t welded_positions;     ///< positions merged by welding (UV and normal seams)
@@ -314,8 +314,11 @@ uint32_t bk_mesh_split_hulls(bk_mesh* mesh, bk_mesh** out);
 /// Parameters of a fracture: bk_default_fracture_def() fills every field;
 /// bk_fracture_def_validate (and the build) take them as given.
 typedef struct bk_fracture_def {
-  uint32_t pieces; ///< target leaf count, >= 1 (exactly this many unless a piece cannot be cut); default 256
-  uint64_t seed;   ///< random seed; the same seed gives the same tree; default 3000
+  /// Target leaf count, >= 1; default 256. Fewer come out only when a piece
+  /// cannot be cut (see bk_fracture_shortfall); a few more when a cut
+  /// through a concave piece, or one of separate shells, gives more than two.
+  uint32_t pieces;
+  uint64_t seed;        ///< random seed; the same seed gives the same tree; default 3000
   double texture_scale; ///< world size of one interior texture tile, > 0; default 0.1
   /// Plane offset jitter, fraction of the piece's extent, in [0, 0.5]
   /// (0 = exactly through the centroid); default 0.05
