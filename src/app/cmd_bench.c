@@ -1,22 +1,18 @@
 // breakables bench: the measurements of the thesis's chapter 6 (fracture
 // speed, meshes, maximum fragment count, the runtime cost of a break) plus
-// scaling, written to a directory as a Markdown report with CSV tables and
-// gnuplot plots, and printed as tables.
+// scaling and the asset pipeline (bench_assets.c), written to a directory as a
+// Markdown report with CSV tables and gnuplot plots (bench_report.c), and
+// printed as tables.
 #include <errno.h>
-#include <limits.h>
 #include <malloc.h>
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
-#include <sys/types.h>
 #include <sys/wait.h>
-#include <time.h>
 #include <unistd.h>
 
 #include "app.h"
+#include "bench_report.h"
 
 static const char* const bench_usage =
     "usage: breakables bench [--quick] [--out DIR] [--seed S]\n"
@@ -33,11 +29,15 @@ static const char* const bench_usage =
     "  4. runtime: an anchored wall and a free cube hit by one projectile; the cost\n"
     "     of the break and of later steps, mesh-tree colliders against plain BCRB\n"
     "  5. scaling: 1, 4 and 16 walls of 256 fragments hit at the same time\n"
+    "  6. asset pipeline: the cube of 4096 fragments exported to .glb and loaded\n"
+    "     back, and a torus of 100,000 triangles imported from a .glb (assimp),\n"
+    "     against issue 15's targets (export under 1 s, import under 0.5 s)\n"
     "\n"
     "options:\n"
     "  --quick     a short run (under a minute): fracture speed up to 1024 fragments,\n"
-    "              maximum fragments up to 2048, runtime up to 256, 1 and 4 walls.\n"
-    "              The full run goes to 65536, 65536, 4096 and 16 walls (minutes).\n"
+    "              maximum fragments up to 2048, runtime up to 256, 1 and 4 walls,\n"
+    "              the export with a cube of 1024 fragments. The full run goes to\n"
+    "              65536, 65536, 4096, 16 walls and 4096 fragments (minutes).\n"
     "  --out DIR   output directory, created if missing (default: bench-out);\n"
     "              files of the same names in it are replaced\n"
     "  --seed S    fracture seed of every mesh, 0..18446744073709551615 (default: 3000)\n"
@@ -47,7 +47,6 @@ static const char* const bench_usage =
 
 enum {
   MAX_RUNS = 5,            ///< timed builds per fracture measurement
-  CELL_SIZE = 48,          ///< characters per table cell
   SCALING_PIECES = 256,    ///< fragments per wall in section 5
   REFERENCE_PIECES = 1024, ///< fragment count the runtime answer quotes (or the largest measured)
 };
@@ -67,248 +66,7 @@ static const bk_scene cube_scene = {
     .projectile_radius = 0.1,
     .projectile_mass = 8.0};
 
-// ---------------------------------------------------------------- run state and output files
-
-typedef struct bench {
-  bool quick;
-  uint64_t seed;
-  const char* dir;
-  const char* terminal; ///< gnuplot's PNG terminal (pngcairo or png); NULL when plots are skipped
-  FILE* report;         ///< DIR/report.md (its temporary name until the end)
-} bench;
-
-/// A file written under a temporary name and renamed into place when complete.
-typedef struct output {
-  FILE* file;
-  char path[PATH_MAX];
-  char temp[PATH_MAX + 8];
-} output;
-
-static bool output_open(const bench* b, const char* name, output* out) {
-  snprintf(out->path, sizeof out->path, "%s/%s", b->dir, name);
-  snprintf(out->temp, sizeof out->temp, "%s.tmp", out->path);
-  out->file = fopen(out->temp, "wb");
-  if (out->file) return true;
-  fprintf(stderr, "breakables bench: cannot write %s: %s\n", out->path, strerror(errno));
-  return false;
-}
-
-/// Closes the file and renames it into place (keep = true), or removes it.
-static bool output_close(output* out, bool keep) {
-  if (!out->file) return false;
-  errno = 0;
-  bool ok = !ferror(out->file);
-  ok = fclose(out->file) == 0 && ok;
-  out->file = NULL;
-  if (keep && ok && rename(out->temp, out->path) == 0) return true;
-  int saved = errno ? errno : EIO;
-  remove(out->temp);
-  if (keep) fprintf(stderr, "breakables bench: cannot write %s: %s\n", out->path, strerror(saved));
-  return false;
-}
-
-static void say(const bench* b, const char* format, ...) __attribute__((format(printf, 2, 3)));
-static void say(const bench* b, const char* format, ...) {
-  va_list args;
-  va_start(args, format);
-  vfprintf(b->report, format, args);
-  va_end(args);
-}
-
-/// Starts a section: a heading on stdout, a heading and what is measured in the report.
-static void section(const bench* b, const char* title, const char* method) {
-  printf("\n%s\n", title);
-  say(b, "\n## %s\n\n%s\n\n", title, method);
-}
-
-// ---------------------------------------------------------------- tables
-
-typedef struct column {
-  const char* key;   ///< CSV header
-  const char* title; ///< stdout and Markdown header
-} column;
-
-/// Rows of formatted cells, written once as CSV, as text on stdout and as Markdown.
-typedef struct table {
-  const char* name; ///< CSV file DIR/<name>.csv
-  const column* columns;
-  uint32_t column_count;
-  char (*cells)[CELL_SIZE];
-  uint32_t cell_count, capacity;
-} table;
-
-static table table_make(const char* name, const column* columns, uint32_t column_count) {
-  return (table){.name = name, .columns = columns, .column_count = column_count};
-}
-
-static void table_cell(table* t, const char* format, ...) __attribute__((format(printf, 2, 3)));
-static void table_cell(table* t, const char* format, ...) {
-  if (t->cell_count == t->capacity) {
-    t->capacity = t->capacity ? 2 * t->capacity : 64;
-    t->cells = bk_realloc(t->cells, sizeof *t->cells * t->capacity);
-  }
-  va_list args;
-  va_start(args, format);
-  vsnprintf(t->cells[t->cell_count++], CELL_SIZE, format, args);
-  va_end(args);
-}
-
-static uint32_t table_rows(const table* t) { return t->cell_count / t->column_count; }
-static const char* table_at(const table* t, uint32_t row, uint32_t col) {
-  return t->cells[row * t->column_count + col];
-}
-
-static void table_free(table* t) {
-  free(t->cells);
-  t->cells = NULL;
-  t->cell_count = t->capacity = 0;
-}
-
-/// Writes DIR/<name>.csv, prints the table aligned on stdout and appends it to the report as Markdown.
-static bool table_write(const bench* b, const table* t) {
-  char name[128];
-  snprintf(name, sizeof name, "%s.csv", t->name);
-  output csv = {0};
-  if (!output_open(b, name, &csv)) return false;
-  uint32_t rows = table_rows(t);
-  for (uint32_t c = 0; c < t->column_count; ++c)
-    fprintf(csv.file, "%s%s", c ? "," : "", t->columns[c].key);
-  fputc('\n', csv.file);
-  for (uint32_t r = 0; r < rows; ++r)
-    for (uint32_t c = 0; c < t->column_count; ++c)
-      fprintf(csv.file, "%s%s", table_at(t, r, c), c + 1 < t->column_count ? "," : "\n");
-  if (!output_close(&csv, true)) return false;
-
-  int* widths = bk_calloc(t->column_count, sizeof(int));
-  for (uint32_t c = 0; c < t->column_count; ++c) {
-    widths[c] = (int)strlen(t->columns[c].title);
-    for (uint32_t r = 0; r < rows; ++r)
-      if ((int)strlen(table_at(t, r, c)) > widths[c]) widths[c] = (int)strlen(table_at(t, r, c));
-  }
-  for (uint32_t c = 0; c < t->column_count; ++c)
-    printf("  %*s", widths[c], t->columns[c].title);
-  putchar('\n');
-  for (uint32_t r = 0; r < rows; ++r) {
-    for (uint32_t c = 0; c < t->column_count; ++c)
-      printf("  %*s", widths[c], table_at(t, r, c));
-    putchar('\n');
-  }
-  fflush(stdout);
-  free(widths);
-
-  for (uint32_t c = 0; c < t->column_count; ++c)
-    say(b, "| %s ", t->columns[c].title);
-  say(b, "|\n");
-  for (uint32_t c = 0; c < t->column_count; ++c)
-    say(b, "| ---: ");
-  say(b, "|\n");
-  for (uint32_t r = 0; r < rows; ++r) {
-    for (uint32_t c = 0; c < t->column_count; ++c)
-      say(b, "| %s ", table_at(t, r, c));
-    say(b, "|\n");
-  }
-  say(b, "\nCSV: [%s](%s)\n\n", name, name);
-  return true;
-}
-
-// ---------------------------------------------------------------- plots
-
-/// True if an executable of this name is in a PATH directory.
-static bool on_path(const char* program) {
-  const char* path = getenv("PATH");
-  if (!path) return false;
-  while (*path) {
-    size_t length = strcspn(path, ":");
-    char candidate[PATH_MAX];
-    snprintf(candidate, sizeof candidate, "%.*s/%s", (int)(length ? length : 1), length ? path : ".",
-             program);
-    if (access(candidate, X_OK) == 0) return true;
-    path += length;
-    if (*path == ':') ++path;
-  }
-  return false;
-}
-
-/// gnuplot's PNG terminal: pngcairo, else png; NULL if gnuplot is missing or has neither.
-static const char* gnuplot_terminal(void) {
-  if (!on_path("gnuplot")) return NULL;
-  fflush(NULL);
-  FILE* pipe = popen("gnuplot -e 'set terminal' 2>&1 </dev/null", "r");
-  if (!pipe) return NULL;
-  bool cairo = false, plain = false;
-  char line[512];
-  while (fgets(line, sizeof line, pipe)) {
-    char word[32] = {0};
-    if (sscanf(line, "%31s", word) != 1) continue;
-    cairo = cairo || strcmp(word, "pngcairo") == 0;
-    plain = plain || strcmp(word, "png") == 0;
-  }
-  pclose(pipe);
-  return cairo ? "pngcairo" : plain ? "png" : NULL;
-}
-
-/// Writes a gnuplot single-quoted string ('' stands for ').
-static void gnuplot_quoted(FILE* out, const char* text) {
-  fputc('\'', out);
-  for (const char* p = text; *p; ++p)
-    fputs(*p == '\'' ? "''" : (char[2]){*p, 0}, out);
-  fputc('\'', out);
-}
-
-/// A gnuplot script being put together.
-typedef struct gnuplot_script {
-  char text[8192];
-  size_t length;
-} gnuplot_script;
-
-static void script_add(gnuplot_script* s, const char* format, ...) __attribute__((format(printf, 2, 3)));
-static void script_add(gnuplot_script* s, const char* format, ...) {
-  size_t room = sizeof s->text - s->length;
-  va_list args;
-  va_start(args, format);
-  int n = vsnprintf(s->text + s->length, room, format, args);
-  va_end(args);
-  if (n > 0) s->length += (size_t)n < room ? (size_t)n : room - 1;
-}
-
-/// Renders DIR/<name>.png with gnuplot (run in DIR, so the script names the
-/// CSV files plainly) and embeds it in the report; notes it when skipped.
-static bool plot(const bench* b, const char* name, const char* caption, int width, int height,
-                 const gnuplot_script* script) {
-  if (!b->terminal) {
-    say(b, "*Plot %s.png (%s) skipped: gnuplot is not on PATH.*\n\n", name, caption);
-    return true;
-  }
-  fflush(NULL);
-  FILE* gnuplot = popen("gnuplot", "w");
-  if (!gnuplot) {
-    fprintf(stderr, "breakables bench: cannot run gnuplot: %s\n", strerror(errno));
-    return false;
-  }
-  fputs("cd ", gnuplot);
-  gnuplot_quoted(gnuplot, b->dir);
-  fprintf(gnuplot, "\nset terminal %s size %d,%d%s\n", b->terminal, width, height,
-          strcmp(b->terminal, "pngcairo") == 0 ? " font 'sans,10' linewidth 1.5" : "");
-  fprintf(gnuplot, "set output '%s.png'\nset datafile separator ','\nset datafile columnheaders\n", name);
-  // The key goes under the plot, where it hides no data; its blank title keeps it off the axis label.
-  fputs("set key outside bottom center horizontal maxrows 2 title ' '\n"
-        "set grid\nset logscale xy\nset format x '%g'\nset format y '%g'\n",
-        gnuplot);
-  fprintf(gnuplot, "%s\nunset output\n", script->text);
-  int status = pclose(gnuplot);
-  char path[PATH_MAX];
-  snprintf(path, sizeof path, "%s/%s.png", b->dir, name);
-  if (status != 0 || access(path, R_OK) != 0) {
-    fprintf(stderr, "breakables bench: gnuplot could not draw %s\n", path);
-    return false;
-  }
-  say(b, "![%s](%s.png)\n\n", caption, name);
-  return true;
-}
-
 // ---------------------------------------------------------------- small statistics
-
-/// Median of the values (sorts them in place).
 
 /// Slope of log(y) over log(x) by least squares: the exponent of y ~ x^k.
 static double log_log_slope(const double* x, const double* y, uint32_t count) {
@@ -368,18 +126,19 @@ static double leaf_volume_error(const bk_mesh_tree* tree) {
 // ---------------------------------------------------------------- 1. fracture speed
 
 static bool section_fracture_speed(const bench* b) {
-  static const column columns[] = {{"fragments", "fragments"}, {"leaves", "leaves"},
-                                   {"nodes", "nodes"},         {"leaf_triangles", "leaf triangles"},
-                                   {"runs", "runs"},           {"ms_median", "median ms"},
-                                   {"ms_min", "fastest ms"},   {"us_per_fragment", "us/fragment"}};
+  static const bench_column columns[] = {{"fragments", "fragments"}, {"leaves", "leaves"},
+                                         {"nodes", "nodes"},         {"leaf_triangles", "leaf triangles"},
+                                         {"runs", "runs"},           {"ms_median", "median ms"},
+                                         {"ms_min", "fastest ms"},   {"us_per_fragment", "us/fragment"}};
   uint32_t cap = b->quick ? 1024 : 65536;
-  section(b, "1. Fracture speed",
-          "Time to build the mesh tree of a unit cube (slicing, caps, face simplification, hull "
-          "separation, bonds) for 2, 4, 8, ... fragments: the median of several builds (fewer for large "
-          "counts, see *runs*), with the tree's size.");
+  bench_section(
+      b, "1. Fracture speed",
+      "Time to build the mesh tree of a unit cube (slicing, caps, face simplification, hull "
+      "separation, bonds) for 2, 4, 8, ... fragments: the median of several builds (fewer for large "
+      "counts, see *runs*), with the tree's size.");
   bk_mesh cube = {0};
   bk_shape_build(BK_SHAPE_CUBE, &cube);
-  table t = table_make("fracture_speed", columns, sizeof columns / sizeof *columns);
+  bench_table t = bench_table_make("fracture_speed", columns, sizeof columns / sizeof *columns);
   double counts[20] = {0}, times[20] = {0}, ms_256 = 0.0, ms_4096 = 0.0, triangles_per_leaf = 0.0;
   uint32_t levels = 0;
   bool ok = true;
@@ -394,14 +153,14 @@ static bool section_fracture_speed(const bench* b) {
       break;
     }
     uint32_t triangles = leaf_triangles(&tree);
-    table_cell(&t, "%u", pieces);
-    table_cell(&t, "%u", tree.leaf_count);
-    table_cell(&t, "%u", tree.node_count);
-    table_cell(&t, "%u", triangles);
-    table_cell(&t, "%u", runs);
-    table_cell(&t, "%.4g", ms);
-    table_cell(&t, "%.4g", fastest);
-    table_cell(&t, "%.3g", 1000.0 * ms / tree.leaf_count);
+    bench_table_cell(&t, "%u", pieces);
+    bench_table_cell(&t, "%u", tree.leaf_count);
+    bench_table_cell(&t, "%u", tree.node_count);
+    bench_table_cell(&t, "%u", triangles);
+    bench_table_cell(&t, "%u", runs);
+    bench_table_cell(&t, "%.4g", ms);
+    bench_table_cell(&t, "%.4g", fastest);
+    bench_table_cell(&t, "%.3g", 1000.0 * ms / tree.leaf_count);
     counts[levels] = pieces;
     times[levels++] = ms;
     triangles_per_leaf = (double)triangles / tree.leaf_count;
@@ -410,19 +169,20 @@ static bool section_fracture_speed(const bench* b) {
     bk_mesh_tree_free(&tree);
   }
   bk_mesh_free(&cube);
-  ok = ok && table_write(b, &t);
-  table_free(&t);
+  ok = ok && bench_table_write(b, &t);
+  bench_table_free(&t);
   if (!ok) return false;
 
   double last_count = counts[levels - 1], last_ms = times[levels - 1];
-  gnuplot_script s = {0};
-  script_add(&s,
-             "set title 'Building the mesh tree of a cube'\nset xlabel 'fragments'\nset ylabel 'time (ms)'\n"
-             "plot 'fracture_speed.csv' using 'fragments':'ms_median' with linespoints pt 7 "
-             "title 'median build time', \\\n"
-             "     %.6g*x with lines dt 2 lc rgb 'gray50' title 'linear (same time per fragment)'",
-             last_ms / last_count);
-  if (!plot(b, "fracture_speed", "Fracture time against fragment count (log-log)", 800, 540, &s))
+  bench_script s = {0};
+  bench_script_add(
+      &s,
+      "set title 'Building the mesh tree of a cube'\nset xlabel 'fragments'\nset ylabel 'time (ms)'\n"
+      "plot 'fracture_speed.csv' using 'fragments':'ms_median' with linespoints pt 7 "
+      "title 'median build time', \\\n"
+      "     %.6g*x with lines dt 2 lc rgb 'gray50' title 'linear (same time per fragment)'",
+      last_ms / last_count);
+  if (!bench_plot(b, "fracture_speed", "Fracture time against fragment count (log-log)", 800, 540, &s))
     return false;
 
   // The growth exponent over the counts where fixed costs no longer dominate.
@@ -430,13 +190,15 @@ static bool section_fracture_speed(const bench* b) {
   while (first + 2 < levels && counts[first] < 64)
     ++first;
   double slope = log_log_slope(counts + first, times + first, levels - first);
-  say(b,
+  bench_say(
+      b,
       "**How long does the modeller take for a given number of fragments?** The thesis asked because "
       "every parameter change in the editor starts the modeller over. Here a cube becomes %.0f fragments in "
       "%.4g ms",
       last_count, last_ms);
-  if (ms_4096 > 0.0 && last_count != 4096) say(b, " (4096 fragments: %.4g ms)", ms_4096);
-  say(b,
+  if (ms_4096 > 0.0 && last_count != 4096) bench_say(b, " (4096 fragments: %.4g ms)", ms_4096);
+  bench_say(
+      b,
       ", %.3g us per fragment. From %.0f fragments on, the time grows as fragments^%.2f (%s): the largest "
       "piece is split next and faces stay lean (a fragment keeps %.1f triangles on average), so a cut "
       "costs about the same at any depth. The 256 fragments of the thesis's mesh test take %.3g ms, so "
@@ -475,22 +237,23 @@ static leaf_sizes measure_leaf_sizes(const bk_mesh_tree* tree) {
 }
 
 static bool section_meshes(const bench* b) {
-  static const column columns[] = {{"mesh", "mesh"},
-                                   {"source_triangles", "source triangles"},
-                                   {"leaves", "fragments"},
-                                   {"runs", "runs"},
-                                   {"ms_median", "median ms"},
-                                   {"leaf_triangles", "leaf triangles"},
-                                   {"volume_spread", "largest/smallest leaf"},
-                                   {"tiny_leaves", "leaves < 1% of mean"},
-                                   {"watertight", "watertight"}};
+  static const bench_column columns[] = {{"mesh", "mesh"},
+                                         {"source_triangles", "source triangles"},
+                                         {"leaves", "fragments"},
+                                         {"runs", "runs"},
+                                         {"ms_median", "median ms"},
+                                         {"leaf_triangles", "leaf triangles"},
+                                         {"volume_spread", "largest/smallest leaf"},
+                                         {"tiny_leaves", "leaves < 1% of mean"},
+                                         {"watertight", "watertight"}};
   static const char* const meshes[] = {"cube", "torus", "eggshell", "bunny"};
   enum { MESH_COUNT = sizeof meshes / sizeof *meshes, MESH_PIECES = 256 };
-  section(b, "2. Meshes",
-          "The thesis's four meshes of rising complexity, each into 256 fragments: build time (median), "
-          "how even the fragments are (largest over smallest leaf volume, and the number of leaves under "
-          "1% of the mean leaf volume), leaf triangles, and whether every node of the tree is closed.");
-  table t = table_make("meshes", columns, sizeof columns / sizeof *columns);
+  bench_section(
+      b, "2. Meshes",
+      "The thesis's four meshes of rising complexity, each into 256 fragments: build time (median), "
+      "how even the fragments are (largest over smallest leaf volume, and the number of leaves under "
+      "1% of the mean leaf volume), leaf triangles, and whether every node of the tree is closed.");
+  bench_table t = bench_table_make("meshes", columns, sizeof columns / sizeof *columns);
   leaf_sizes sizes[MESH_COUNT] = {0};
   double ms[MESH_COUNT] = {0};
   bool watertight = true, ok = true;
@@ -508,23 +271,24 @@ static bool section_meshes(const bench* b) {
       bk_mesh_tree_stats st = bk_mesh_tree_measure(&tree);
       sizes[m] = measure_leaf_sizes(&tree);
       watertight = watertight && st.open_nodes == 0;
-      table_cell(&t, "%s", meshes[m]);
-      table_cell(&t, "%u", source.triangle_count);
-      table_cell(&t, "%u", tree.leaf_count);
-      table_cell(&t, "%u", runs);
-      table_cell(&t, "%.4g", ms[m]);
-      table_cell(&t, "%u", st.leaf_triangles);
-      table_cell(&t, "%.4g", sizes[m].spread);
-      table_cell(&t, "%u", sizes[m].tiny);
-      table_cell(&t, "%s", st.open_nodes == 0 ? "true" : "false");
+      bench_table_cell(&t, "%s", meshes[m]);
+      bench_table_cell(&t, "%u", source.triangle_count);
+      bench_table_cell(&t, "%u", tree.leaf_count);
+      bench_table_cell(&t, "%u", runs);
+      bench_table_cell(&t, "%.4g", ms[m]);
+      bench_table_cell(&t, "%u", st.leaf_triangles);
+      bench_table_cell(&t, "%.4g", sizes[m].spread);
+      bench_table_cell(&t, "%u", sizes[m].tiny);
+      bench_table_cell(&t, "%s", st.open_nodes == 0 ? "true" : "false");
     }
     bk_mesh_tree_free(&tree);
     bk_mesh_free(&source);
   }
-  ok = ok && table_write(b, &t);
-  table_free(&t);
+  ok = ok && bench_table_write(b, &t);
+  bench_table_free(&t);
   if (!ok) return false;
-  say(b,
+  bench_say(
+      b,
       "**Does the modeller handle meshes of any complexity, and are the fragments even?** The thesis's "
       "modeller produced fragments for all four meshes but left clusters of very small fragments on "
       "protruding meshes such as the bunny. Here %s, built in %.3g (cube), %.3g (torus), %.3g (eggshell) "
@@ -535,46 +299,47 @@ static bool section_meshes(const bench* b) {
       ms[1], ms[2], ms[3], sizes[0].spread, sizes[1].spread, sizes[2].spread, sizes[3].spread, sizes[3].tiny,
       sizes[0].tiny);
   if (sizes[3].spread <= 2.0 * sizes[0].spread)
-    say(b, ": splitting the largest piece next keeps the bunny's fragments as even as the cube's");
-  say(b, ".");
+    bench_say(b, ": splitting the largest piece next keeps the bunny's fragments as even as the cube's");
+  bench_say(b, ".");
   for (uint32_t m = 0; m < MESH_COUNT; ++m) {
     if (sizes[m].spread <= 100.0) continue;
-    say(b, " The %s has %u tiny leaves; its smallest (%.2g of the mesh's volume) ", meshes[m], sizes[m].tiny,
-        sizes[m].smallest);
+    bench_say(b, " The %s has %u tiny leaves; its smallest (%.2g of the mesh's volume) ", meshes[m],
+              sizes[m].tiny, sizes[m].smallest);
     if (sizes[m].smallest_hulls > 2)
-      say(b,
-          "is one of %u hulls that a single cut made of one piece; such slivers are never split again, "
-          "since the largest piece always goes first.",
-          sizes[m].smallest_hulls);
+      bench_say(b,
+                "is one of %u hulls that a single cut made of one piece; such slivers are never split again, "
+                "since the largest piece always goes first.",
+                sizes[m].smallest_hulls);
     else
-      say(b, "comes from a plain two-way cut.");
+      bench_say(b, "comes from a plain two-way cut.");
   }
-  say(b, "\n");
+  bench_say(b, "\n");
   return true;
 }
 
 // ---------------------------------------------------------------- 3. maximum fragments
 
 static bool section_max_fragments(const bench* b) {
-  static const column columns[] = {{"fragments", "fragments"},
-                                   {"leaves", "leaves"},
-                                   {"nodes", "nodes"},
-                                   {"ms", "ms"},
-                                   {"watertight", "watertight"},
-                                   {"open_nodes", "open nodes"},
-                                   {"volume_rel_error", "volume error"},
-                                   {"child_volume_rel_error", "worst child volume error"}};
+  static const bench_column columns[] = {{"fragments", "fragments"},
+                                         {"leaves", "leaves"},
+                                         {"nodes", "nodes"},
+                                         {"ms", "ms"},
+                                         {"watertight", "watertight"},
+                                         {"open_nodes", "open nodes"},
+                                         {"volume_rel_error", "volume error"},
+                                         {"child_volume_rel_error", "worst child volume error"}};
   static const double volume_tolerance = 1e-9;
   uint32_t cap = b->quick ? 2048 : 65536;
-  section(b, "3. Maximum fragments",
-          "A cube into 2, 4, 8, ... fragments, one build per level, as in the thesis. Every node of the "
-          "tree is checked for closure (each edge used once in each direction); the volume error compares "
-          "the sum of the leaves' mesh volumes with the cube's, and the child error is the worst "
-          "|sum of children - parent| / parent over the inner nodes. A level fails if the build fails, a "
-          "node is open or the volume error exceeds 1e-9.");
+  bench_section(
+      b, "3. Maximum fragments",
+      "A cube into 2, 4, 8, ... fragments, one build per level, as in the thesis. Every node of the "
+      "tree is checked for closure (each edge used once in each direction); the volume error compares "
+      "the sum of the leaves' mesh volumes with the cube's, and the child error is the worst "
+      "|sum of children - parent| / parent over the inner nodes. A level fails if the build fails, a "
+      "node is open or the volume error exceeds 1e-9.");
   bk_mesh cube = {0};
   bk_shape_build(BK_SHAPE_CUBE, &cube);
-  table t = table_make("max_fragments", columns, sizeof columns / sizeof *columns);
+  bench_table t = bench_table_make("max_fragments", columns, sizeof columns / sizeof *columns);
   char failure[600] = "";
   double worst_error = 0.0;
   for (uint32_t pieces = 2; pieces <= cap; pieces *= 2) {
@@ -585,14 +350,14 @@ static bool section_max_fragments(const bench* b) {
     bk_mesh_tree_stats st = bk_mesh_tree_measure(&tree);
     double error = built ? leaf_volume_error(&tree) : NAN;
     bool good = built && st.open_nodes == 0 && error <= volume_tolerance;
-    table_cell(&t, "%u", pieces);
-    table_cell(&t, "%u", tree.leaf_count);
-    table_cell(&t, "%u", tree.node_count);
-    table_cell(&t, "%.4g", ms);
-    table_cell(&t, "%s", built && st.open_nodes == 0 ? "true" : "false");
-    table_cell(&t, "%u", st.open_nodes);
-    table_cell(&t, "%.2e", error);
-    table_cell(&t, "%.2e", built ? st.max_child_rel_error : NAN);
+    bench_table_cell(&t, "%u", pieces);
+    bench_table_cell(&t, "%u", tree.leaf_count);
+    bench_table_cell(&t, "%u", tree.node_count);
+    bench_table_cell(&t, "%.4g", ms);
+    bench_table_cell(&t, "%s", built && st.open_nodes == 0 ? "true" : "false");
+    bench_table_cell(&t, "%u", st.open_nodes);
+    bench_table_cell(&t, "%.2e", error);
+    bench_table_cell(&t, "%.2e", built ? st.max_child_rel_error : NAN);
     if (built) worst_error = fmax(worst_error, error);
     if (!good && !failure[0])
       snprintf(failure, sizeof failure, "%u fragments (%s)", pieces,
@@ -602,27 +367,28 @@ static bool section_max_fragments(const bench* b) {
     bk_mesh_tree_free(&tree);
   }
   bk_mesh_free(&cube);
-  bool ok = table_write(b, &t);
-  table_free(&t);
+  bool ok = bench_table_write(b, &t);
+  bench_table_free(&t);
   if (!ok) return false;
   if (failure[0]) {
     printf("  first failure: %s\n", failure);
-    say(b, "First failure: %s.\n\n", failure);
+    bench_say(b, "First failure: %s.\n\n", failure);
   } else {
     printf("  first failure: none up to %u\n", cap);
-    say(b, "First failure: none up to %u.\n\n", cap);
+    bench_say(b, "First failure: none up to %u.\n\n", cap);
   }
-  say(b, "**How many fragments can the modeller make?** The thesis's modeller started failing at 2048 "
-         "fragments of a cube: its edge linker compared vectors, and floating-point error broke the links "
-         "once fragments got small. This one links cut edges by vertex index, so caps always close: ");
+  bench_say(b,
+            "**How many fragments can the modeller make?** The thesis's modeller started failing at 2048 "
+            "fragments of a cube: its edge linker compared vectors, and floating-point error broke the links "
+            "once fragments got small. This one links cut edges by vertex index, so caps always close: ");
   if (failure[0])
-    say(b, "the first failure here is at %s; the worst volume error before it is %.2g.\n", failure,
-        worst_error);
+    bench_say(b, "the first failure here is at %s; the worst volume error before it is %.2g.\n", failure,
+              worst_error);
   else
-    say(b,
-        "every level up to %u fragments is watertight, with a volume error of at most %.2g (double "
-        "precision rounding), so no failure was found up to %u.\n",
-        cap, worst_error, cap);
+    bench_say(b,
+              "every level up to %u fragments is watertight, with a volume error of at most %.2g (double "
+              "precision rounding), so no failure was found up to %u.\n",
+              cap, worst_error, cap);
   return true;
 }
 
@@ -698,71 +464,72 @@ static double collider_ratio(const runtime_row* row) {
   return (double)row->naive.colliders / row->tree.colliders;
 }
 
-static void runtime_cells(table* t, const char* object, const runtime_row* row) {
-  table_cell(t, "%s", object);
-  table_cell(t, "%u", row->pieces);
-  table_cell(t, "%u", row->tree.bodies);
-  table_cell(t, "%u", row->tree.colliders);
-  table_cell(t, "%u", row->naive.colliders);
-  table_cell(t, "%.4g", collider_ratio(row));
-  table_cell(t, "%.4g", row->tree.before_ms);
-  table_cell(t, "%.4g", row->naive.before_ms);
-  table_cell(t, "%.4g", before_ratio(row));
-  table_cell(t, "%.4g", row->tree.hit_physics_ms);
-  table_cell(t, "%.4g", row->tree.hit_break_ms);
-  table_cell(t, "%.4g", row->naive.hit_physics_ms);
-  table_cell(t, "%.4g", row->naive.hit_break_ms);
-  table_cell(t, "%.4g", row->tree.hit_median_ms);
-  table_cell(t, "%.4g", row->naive.hit_median_ms);
-  table_cell(t, "%.4g", step_ratio(row));
-  table_cell(t, "%.4g", row->tree.after_ms);
-  table_cell(t, "%.4g", row->naive.after_ms);
+static void runtime_cells(bench_table* t, const char* object, const runtime_row* row) {
+  bench_table_cell(t, "%s", object);
+  bench_table_cell(t, "%u", row->pieces);
+  bench_table_cell(t, "%u", row->tree.bodies);
+  bench_table_cell(t, "%u", row->tree.colliders);
+  bench_table_cell(t, "%u", row->naive.colliders);
+  bench_table_cell(t, "%.4g", collider_ratio(row));
+  bench_table_cell(t, "%.4g", row->tree.before_ms);
+  bench_table_cell(t, "%.4g", row->naive.before_ms);
+  bench_table_cell(t, "%.4g", before_ratio(row));
+  bench_table_cell(t, "%.4g", row->tree.hit_physics_ms);
+  bench_table_cell(t, "%.4g", row->tree.hit_break_ms);
+  bench_table_cell(t, "%.4g", row->naive.hit_physics_ms);
+  bench_table_cell(t, "%.4g", row->naive.hit_break_ms);
+  bench_table_cell(t, "%.4g", row->tree.hit_median_ms);
+  bench_table_cell(t, "%.4g", row->naive.hit_median_ms);
+  bench_table_cell(t, "%.4g", step_ratio(row));
+  bench_table_cell(t, "%.4g", row->tree.after_ms);
+  bench_table_cell(t, "%.4g", row->naive.after_ms);
 }
 
 /// One line of a runtime plot: a column of runtime.csv on the rows of one object (a
 /// gnuplot string expression), with a point style and a title; `more` continues the plot command.
-static void runtime_series(gnuplot_script* s, const char* object, const char* key, const char* style,
+static void runtime_series(bench_script* s, const char* object, const char* key, const char* style,
                            const char* title, bool more) {
-  script_add(s,
-             "'runtime.csv' using 'fragments':(strcol('object') eq %s ? column('%s') : 1/0) "
-             "with linespoints %s title '%s'%s",
-             object, key, style, title, more ? ", \\\n     " : "\n");
+  bench_script_add(s,
+                   "'runtime.csv' using 'fragments':(strcol('object') eq %s ? column('%s') : 1/0) "
+                   "with linespoints %s title '%s'%s",
+                   object, key, style, title, more ? ", \\\n     " : "\n");
 }
 
 /// Both plots of section 4, from runtime.csv.
 static bool runtime_plots(const bench* b) {
-  gnuplot_script s = {0};
-  script_add(&s, "set multiplot layout 1,2 title 'The worst step after the hit'\n"
-                 "set xlabel 'fragments'\nset ylabel 'ms'\nset yrange [0.001:*]\n"
-                 "do for [object in 'wall cube'] {\n  set title object\n  plot ");
+  bench_script s = {0};
+  bench_script_add(&s, "set multiplot layout 1,2 title 'The worst step after the hit'\n"
+                       "set xlabel 'fragments'\nset ylabel 'ms'\nset yrange [0.001:*]\n"
+                       "do for [object in 'wall cube'] {\n  set title object\n  plot ");
   runtime_series(&s, "object", "hit_physics_ms", "pt 7 lc 1", "physics, mesh tree", true);
   runtime_series(&s, "object", "hit_break_ms", "pt 5 lc 2", "break handling, mesh tree", true);
   runtime_series(&s, "object", "naive_hit_physics_ms", "pt 6 dt 2 lc 1", "physics, naive", true);
   runtime_series(&s, "object", "naive_hit_break_ms", "pt 4 dt 2 lc 2", "break handling, naive", true);
-  script_add(&s, "%.4f with lines dt 3 lc rgb 'gray30' title 'one 60 Hz frame'\n}\nunset multiplot",
-             frame_budget_ms);
-  if (!plot(b, "runtime", "Physics and break handling of the worst step after the hit (log-log)", 1200, 540,
-            &s))
+  bench_script_add(&s, "%.4f with lines dt 3 lc rgb 'gray30' title 'one 60 Hz frame'\n}\nunset multiplot",
+                   frame_budget_ms);
+  if (!bench_plot(b, "runtime", "Physics and break handling of the worst step after the hit (log-log)", 1200,
+                  540, &s))
     return false;
 
-  s = (gnuplot_script){0};
-  script_add(&s, "set multiplot layout 1,3 title 'Mesh-tree colliders against plain BCRB (naive)'\n"
-                 "set xlabel 'fragments'\n"
-                 "set title 'colliders at the end'\nset ylabel 'colliders'\nplot ");
+  s = (bench_script){0};
+  bench_script_add(&s, "set multiplot layout 1,3 title 'Mesh-tree colliders against plain BCRB (naive)'\n"
+                       "set xlabel 'fragments'\n"
+                       "set title 'colliders at the end'\nset ylabel 'colliders'\nplot ");
   runtime_series(&s, "'wall'", "colliders", "pt 7 lc 1", "wall, mesh tree", true);
   runtime_series(&s, "'cube'", "colliders", "pt 5 lc 2", "cube, mesh tree", true);
   runtime_series(&s, "'wall'", "naive_colliders", "pt 6 dt 2 lc 3", "naive (one per fragment)", false);
   const char* titles[] = {"median step before the hit", "median step from the shot on"};
   const char* keys[][2] = {{"before_ms", "naive_before_ms"}, {"hit_median_ms", "naive_hit_median_ms"}};
   for (int panel = 0; panel < 2; ++panel) {
-    script_add(&s, "set title '%s'\nset ylabel 'ms'\nplot ", titles[panel]);
+    bench_script_add(&s, "set title '%s'\nset ylabel 'ms'\nplot ", titles[panel]);
     runtime_series(&s, "'wall'", keys[panel][0], "pt 7 lc 1", "wall, mesh tree", true);
     runtime_series(&s, "'wall'", keys[panel][1], "pt 6 dt 2 lc 1", "wall, naive", true);
     runtime_series(&s, "'cube'", keys[panel][0], "pt 5 lc 2", "cube, mesh tree", true);
     runtime_series(&s, "'cube'", keys[panel][1], "pt 4 dt 2 lc 2", "cube, naive", false);
   }
-  script_add(&s, "unset multiplot");
-  return plot(b, "colliders", "Colliders and step time, mesh tree against naive (log-log)", 1500, 540, &s);
+  bench_script_add(&s, "unset multiplot");
+  return bench_plot(b, "colliders", "Colliders and step time, mesh tree against naive (log-log)", 1500, 540,
+                    &s);
 }
 
 /// The answer quotes the cube (the thesis's test object) at REFERENCE_PIECES, or the largest count run.
@@ -776,35 +543,37 @@ static void runtime_answer(const bench* b, const runtime_row* walls, const runti
   }
   const runtime_row* c = &cubes[ref];
   const runtime_row* w = &walls[ref];
-  say(b,
-      "**How many fragments before a hit lags?** The thesis's cube lagged noticeably from 64 fragments "
-      "(75 ms in physics), mostly from setting up new colliders and rebuilding the edges of connected "
-      "parts. Here the cube's worst step after the hit stays within one 60 Hz frame (%.1f ms) ",
-      frame_budget_ms);
+  bench_say(b,
+            "**How many fragments before a hit lags?** The thesis's cube lagged noticeably from 64 fragments "
+            "(75 ms in physics), mostly from setting up new colliders and rebuilding the edges of connected "
+            "parts. Here the cube's worst step after the hit stays within one 60 Hz frame (%.1f ms) ",
+            frame_budget_ms);
   if (smooth == levels)
-    say(b, "at every count measured, up to %u fragments", cubes[levels - 1].pieces);
+    bench_say(b, "at every count measured, up to %u fragments", cubes[levels - 1].pieces);
   else if (smooth == 0)
-    say(b, "at no count measured");
+    bench_say(b, "at no count measured");
   else
-    say(b, "up to %u fragments (%u: %.3g ms)", cubes[smooth - 1].pieces, cubes[smooth].pieces,
-        cubes[smooth].tree.hit_step_ms);
-  say(b, ", and break handling alone (the thesis's bottleneck) stays within a frame ");
+    bench_say(b, "up to %u fragments (%u: %.3g ms)", cubes[smooth - 1].pieces, cubes[smooth].pieces,
+              cubes[smooth].tree.hit_step_ms);
+  bench_say(b, ", and break handling alone (the thesis's bottleneck) stays within a frame ");
   if (smooth_break == levels)
-    say(b, "up to %u fragments", cubes[levels - 1].pieces);
+    bench_say(b, "up to %u fragments", cubes[levels - 1].pieces);
   else if (smooth_break == 0)
-    say(b, "at no count measured");
+    bench_say(b, "at no count measured");
   else
-    say(b, "up to %u fragments", cubes[smooth_break - 1].pieces);
-  say(b,
+    bench_say(b, "up to %u fragments", cubes[smooth_break - 1].pieces);
+  bench_say(
+      b,
       ". At %u fragments the worst physics step after the hit takes %.3g ms and the worst break handling "
       "%.3g ms (naive: %.3g and %.3g ms)",
       c->pieces, c->tree.hit_physics_ms, c->tree.hit_break_ms, c->naive.hit_physics_ms,
       c->naive.hit_break_ms);
   if (c->tree.hit_physics_ms > 2.0 * c->tree.hit_break_ms)
-    say(b, ": the cost is the physics of the new bodies (%u on the cube at the end), not making them",
-        c->tree.bodies);
-  say(b, ".\n\n");
-  say(b,
+    bench_say(b, ": the cost is the physics of the new bodies (%u on the cube at the end), not making them",
+              c->tree.bodies);
+  bench_say(b, ".\n\n");
+  bench_say(
+      b,
       "**What do mesh-tree colliders save over plain BCRB?** At %u fragments the mesh tree ends with %u "
       "colliders on the cube and %u on the wall where plain BCRB needs %u: %.3gx and %.3gx fewer. An "
       "unbroken object is one collider, so before the hit a step costs %.3g ms against %.3g ms naive on "
@@ -814,45 +583,46 @@ static void runtime_answer(const bench* b, const runtime_row* walls, const runti
       collider_ratio(w), c->tree.before_ms, c->naive.before_ms, before_ratio(c), c->tree.hit_median_ms,
       c->naive.hit_median_ms, step_ratio(c), w->tree.hit_median_ms, w->naive.hit_median_ms, step_ratio(w));
   if (step_ratio(c) < 1.5 && step_ratio(w) < 1.5)
-    say(b, ": once many fragments fly free as bodies of their own, both modes pay for about the same "
-           "bodies and contacts, and the saving is in what stays whole");
-  say(b, ".\n");
+    bench_say(b, ": once many fragments fly free as bodies of their own, both modes pay for about the same "
+                 "bodies and contacts, and the saving is in what stays whole");
+  bench_say(b, ".\n");
 }
 
 static bool section_runtime(const bench* b) {
-  static const column columns[] = {{"object", "object"},
-                                   {"fragments", "fragments"},
-                                   {"bodies", "bodies at end"},
-                                   {"colliders", "colliders"},
-                                   {"naive_colliders", "naive colliders"},
-                                   {"collider_ratio", "collider ratio"},
-                                   {"before_ms", "before"},
-                                   {"naive_before_ms", "naive before"},
-                                   {"before_ratio", "before ratio"},
-                                   {"hit_physics_ms", "hit physics"},
-                                   {"hit_break_ms", "hit break"},
-                                   {"naive_hit_physics_ms", "naive hit physics"},
-                                   {"naive_hit_break_ms", "naive hit break"},
-                                   {"hit_median_ms", "median"},
-                                   {"naive_hit_median_ms", "naive median"},
-                                   {"step_ratio", "step ratio"},
-                                   {"after_ms", "after"},
-                                   {"naive_after_ms", "naive after"}};
+  static const bench_column columns[] = {{"object", "object"},
+                                         {"fragments", "fragments"},
+                                         {"bodies", "bodies at end"},
+                                         {"colliders", "colliders"},
+                                         {"naive_colliders", "naive colliders"},
+                                         {"collider_ratio", "collider ratio"},
+                                         {"before_ms", "before"},
+                                         {"naive_before_ms", "naive before"},
+                                         {"before_ratio", "before ratio"},
+                                         {"hit_physics_ms", "hit physics"},
+                                         {"hit_break_ms", "hit break"},
+                                         {"naive_hit_physics_ms", "naive hit physics"},
+                                         {"naive_hit_break_ms", "naive hit break"},
+                                         {"hit_median_ms", "median"},
+                                         {"naive_hit_median_ms", "naive median"},
+                                         {"step_ratio", "step ratio"},
+                                         {"after_ms", "after"},
+                                         {"naive_after_ms", "naive after"}};
   uint32_t cap = b->quick ? 256 : 4096;
-  section(b, "4. Runtime",
-          "An anchored stone wall (scene `wall`) and a free glass unit cube resting on the ground, each hit "
-          "by one projectile (8 kg, 40 m/s) after 30 steps of 1/60 s and then simulated for a few seconds "
-          "more. Each runs twice: with colliders from the minimal mesh-tree node sets, and as plain BCRB "
-          "(one collider per fragment, `--naive`). *Colliders* and *bodies* are counted at the end; "
-          "*before* is the median step over the 30 steps before the shot; *hit physics* and *hit break* "
-          "are the worst physics part and the worst break handling (damage, components, minimal node sets, "
-          "new bodies) of any step after the shot; *median* is the median step from the shot on; *after* "
-          "is the median of the last 30 steps. Times are milliseconds per step; ratios are naive over mesh "
-          "tree.");
+  bench_section(
+      b, "4. Runtime",
+      "An anchored stone wall (scene `wall`) and a free glass unit cube resting on the ground, each hit "
+      "by one projectile (8 kg, 40 m/s) after 30 steps of 1/60 s and then simulated for a few seconds "
+      "more. Each runs twice: with colliders from the minimal mesh-tree node sets, and as plain BCRB "
+      "(one collider per fragment, `--naive`). *Colliders* and *bodies* are counted at the end; "
+      "*before* is the median step over the 30 steps before the shot; *hit physics* and *hit break* "
+      "are the worst physics part and the worst break handling (damage, components, minimal node sets, "
+      "new bodies) of any step after the shot; *median* is the median step from the shot on; *after* "
+      "is the median of the last 30 steps. Times are milliseconds per step; ratios are naive over mesh "
+      "tree.");
   const bk_scene* scenes[2] = {bk_scene_find("wall"), &cube_scene};
   runtime_row rows[2][16] = {0};
   uint32_t levels = 0;
-  table t = table_make("runtime", columns, sizeof columns / sizeof *columns);
+  bench_table t = bench_table_make("runtime", columns, sizeof columns / sizeof *columns);
   bool ok = scenes[0] != NULL;
   for (uint32_t s = 0; ok && s < 2; ++s) {
     levels = 0;
@@ -877,8 +647,8 @@ static bool section_runtime(const bench* b) {
       runtime_cells(&t, scenes[s]->name, row);
     }
   }
-  ok = ok && table_write(b, &t);
-  table_free(&t);
+  ok = ok && bench_table_write(b, &t);
+  bench_table_free(&t);
   if (!ok || !runtime_plots(b)) return false;
   runtime_answer(b, rows[0], rows[1], levels);
   return true;
@@ -887,24 +657,25 @@ static bool section_runtime(const bench* b) {
 // ---------------------------------------------------------------- 5. scaling
 
 static bool section_scaling(const bench* b) {
-  static const column columns[] = {{"walls", "walls"},
-                                   {"fragments", "fragments"},
-                                   {"bodies", "bodies after"},
-                                   {"colliders", "colliders after"},
-                                   {"step_ms_median", "median step ms"},
-                                   {"step_ms_max", "max step ms"},
-                                   {"break_ms_max", "max break ms"},
-                                   {"start_rss_mb", "start RSS MB"},
-                                   {"peak_rss_mb", "peak RSS MB"}};
+  static const bench_column columns[] = {{"walls", "walls"},
+                                         {"fragments", "fragments"},
+                                         {"bodies", "bodies after"},
+                                         {"colliders", "colliders after"},
+                                         {"step_ms_median", "median step ms"},
+                                         {"step_ms_max", "max step ms"},
+                                         {"break_ms_max", "max break ms"},
+                                         {"start_rss_mb", "start RSS MB"},
+                                         {"peak_rss_mb", "peak RSS MB"}};
   static const uint32_t wall_counts[] = {1, 4, 16};
   uint32_t configurations = b->quick ? 2 : 3;
-  section(b, "5. Scaling",
-          "1, 4 and 16 walls of 256 fragments side by side (2.5 m apart), each hit by its own projectile "
-          "in the same step. Median and worst step from the shot on, the worst break handling, and the "
-          "peak resident memory of a process that runs only this configuration (a child process; *start* "
-          "is its resident memory when it begins, inherited from the benchmark).");
+  bench_section(
+      b, "5. Scaling",
+      "1, 4 and 16 walls of 256 fragments side by side (2.5 m apart), each hit by its own projectile "
+      "in the same step. Median and worst step from the shot on, the worst break handling, and the "
+      "peak resident memory of a process that runs only this configuration (a child process; *start* "
+      "is its resident memory when it begins, inherited from the benchmark).");
   const bk_scene* wall = bk_scene_find("wall");
-  table t = table_make("scaling", columns, sizeof columns / sizeof *columns);
+  bench_table t = bench_table_make("scaling", columns, sizeof columns / sizeof *columns);
   bk_impact_result results[3] = {0};
   bool ok = wall != NULL;
   for (uint32_t i = 0; ok && i < configurations; ++i) {
@@ -916,26 +687,27 @@ static bool section_scaling(const bench* b) {
       break;
     }
     const bk_impact_result* r = &results[i];
-    table_cell(&t, "%u", wall_counts[i]);
-    table_cell(&t, "%u", wall_counts[i] * SCALING_PIECES);
-    table_cell(&t, "%u", r->bodies);
-    table_cell(&t, "%u", r->colliders);
-    table_cell(&t, "%.4g", r->hit_median_ms);
-    table_cell(&t, "%.4g", r->hit_step_ms);
-    table_cell(&t, "%.4g", r->hit_break_ms);
-    table_cell(&t, "%.1f", r->start_rss_mb);
-    table_cell(&t, "%.1f", r->peak_rss_mb);
+    bench_table_cell(&t, "%u", wall_counts[i]);
+    bench_table_cell(&t, "%u", wall_counts[i] * SCALING_PIECES);
+    bench_table_cell(&t, "%u", r->bodies);
+    bench_table_cell(&t, "%u", r->colliders);
+    bench_table_cell(&t, "%.4g", r->hit_median_ms);
+    bench_table_cell(&t, "%.4g", r->hit_step_ms);
+    bench_table_cell(&t, "%.4g", r->hit_break_ms);
+    bench_table_cell(&t, "%.1f", r->start_rss_mb);
+    bench_table_cell(&t, "%.1f", r->peak_rss_mb);
   }
-  ok = ok && table_write(b, &t);
-  table_free(&t);
+  ok = ok && bench_table_write(b, &t);
+  bench_table_free(&t);
   if (!ok) return false;
-  say(b, "**How does the cost grow with the number of objects broken at once?**");
+  bench_say(b, "**How does the cost grow with the number of objects broken at once?**");
   for (uint32_t i = 0; i < configurations; ++i)
-    say(b, "%s %u wall%s: median step %.3g ms, worst %.3g ms, peak memory %.0f MB", i ? ";" : "",
-        wall_counts[i], wall_counts[i] == 1 ? "" : "s", results[i].hit_median_ms, results[i].hit_step_ms,
-        results[i].peak_rss_mb);
+    bench_say(b, "%s %u wall%s: median step %.3g ms, worst %.3g ms, peak memory %.0f MB", i ? ";" : "",
+              wall_counts[i], wall_counts[i] == 1 ? "" : "s", results[i].hit_median_ms,
+              results[i].hit_step_ms, results[i].peak_rss_mb);
   const bk_impact_result* last = &results[configurations - 1];
-  say(b,
+  bench_say(
+      b,
       ". With %u times the walls, the median step costs %.3gx and the worst step %.3gx as much, and the "
       "process needs %.0f MB more at its peak.\n",
       wall_counts[configurations - 1], last->hit_median_ms / results[0].hit_median_ms,
@@ -943,111 +715,7 @@ static bool section_scaling(const bench* b) {
   return true;
 }
 
-// ---------------------------------------------------------------- report header
-
-/// The first "model name" of /proc/cpuinfo, or "unknown".
-static void cpu_model(char* out, size_t size) {
-  snprintf(out, size, "unknown");
-  FILE* f = fopen("/proc/cpuinfo", "r");
-  if (!f) return;
-  char line[512];
-  while (fgets(line, sizeof line, f)) {
-    const char* colon = strchr(line, ':');
-    if (strncmp(line, "model name", 10) != 0 || !colon) continue;
-    colon += strspn(colon + 1, " \t") + 1;
-    snprintf(out, size, "%.*s", (int)strcspn(colon, "\n"), colon);
-    break;
-  }
-  fclose(f);
-}
-
-/// MemTotal of /proc/meminfo in GiB (0 if unknown).
-static double memory_gib(void) {
-  FILE* f = fopen("/proc/meminfo", "r");
-  if (!f) return 0.0;
-  char line[256];
-  double kib = 0.0;
-  while (fgets(line, sizeof line, f))
-    if (sscanf(line, "MemTotal: %lf kB", &kib) == 1) break;
-  fclose(f);
-  return kib / (1024.0 * 1024.0);
-}
-
-static const char* build_type(void) {
-#if defined(__SANITIZE_ADDRESS__)
-  return "Debug with AddressSanitizer (timings are not representative)";
-#elif defined(__OPTIMIZE__) && defined(NDEBUG)
-  return "Release (optimised, assertions off)";
-#elif defined(__OPTIMIZE__)
-  return "optimised with assertions";
-#else
-  return "Debug (not optimised; timings are not representative)";
-#endif
-}
-
-/// The command as run: the executable (relative to the working directory
-/// when inside it) and the arguments, quoted where needed.
-static void command_line(int argc, char** argv, char* out, size_t size) {
-  char exe[PATH_MAX] = "breakables", cwd[PATH_MAX] = "";
-  ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
-  exe[n > 0 ? n : (ssize_t)strlen("breakables")] = 0;
-  const char* shown = exe;
-  size_t cwd_length = getcwd(cwd, sizeof cwd) ? strlen(cwd) : 0;
-  if (cwd_length && strncmp(exe, cwd, cwd_length) == 0 && exe[cwd_length] == '/')
-    shown = exe + cwd_length + 1;
-  size_t used = (size_t)snprintf(out, size, "%s", shown);
-  for (int i = 0; i < argc && used < size; ++i) {
-    bool plain = argv[i][0] && strspn(argv[i], "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
-                                               "0123456789-_./=:,+") == strlen(argv[i]);
-    used += (size_t)snprintf(out + used, size - used, plain ? " %s" : " '%s'", argv[i]);
-  }
-}
-
-static void report_header(const bench* b, int argc, char** argv) {
-  char command[2048] = "", cpu[256] = "", date[64] = "";
-  command_line(argc, argv, command, sizeof command);
-  cpu_model(cpu, sizeof cpu);
-  time_t now = time(NULL);
-  struct tm local = {0};
-  strftime(date, sizeof date, "%Y-%m-%d %H:%M %Z", localtime_r(&now, &local));
-  say(b,
-      "# Breakables benchmarks\n\n"
-      "The tests of the thesis's chapter 6 (*Tests and Results*) run on this implementation%s, plus "
-      "scaling to several objects. Tables are also in the CSV files next to this report; plots are drawn "
-      "from them.\n\n",
-      b->quick ? " (`--quick`: smaller counts)" : "");
-  say(b, "| | |\n| --- | --- |\n");
-  say(b, "| command | `%s` |\n", command);
-  say(b, "| date | %s |\n", date);
-  say(b, "| processor | %s, %ld cores |\n", cpu, sysconf(_SC_NPROCESSORS_ONLN));
-  say(b, "| memory | %.1f GiB |\n", memory_gib());
-  say(b, "| build | %s, %s |\n", build_type(), "compiler " __VERSION__);
-  say(b, "| fracture seed | %llu |\n", (unsigned long long)b->seed);
-  if (b->terminal)
-    say(b, "| plots | gnuplot, %s terminal |\n", b->terminal);
-  else
-    say(b, "| plots | none: gnuplot is not on PATH |\n");
-  say(b, "\nThe thesis's machine was a dual-core AMD Opteron 180 at 2.4 GHz with 4 GB of memory, running "
-         "Unity 4.0.\n");
-}
-
 // ---------------------------------------------------------------- the command
-
-static bool make_directories(const char* path) {
-  char buffer[PATH_MAX];
-  snprintf(buffer, sizeof buffer, "%s", path);
-  for (char* p = buffer + 1; *p; ++p) {
-    if (*p != '/') continue;
-    *p = 0;
-    if (mkdir(buffer, 0755) != 0 && errno != EEXIST) return false;
-    *p = '/';
-  }
-  if (mkdir(buffer, 0755) != 0 && errno != EEXIST) return false;
-  struct stat st = {0};
-  if (stat(buffer, &st) != 0) return false;
-  if (!S_ISDIR(st.st_mode)) return errno = ENOTDIR, false;
-  return true;
-}
 
 static int usage_error(const char* option, const char* what) {
   fprintf(stderr, "breakables bench: %s %s (see 'breakables bench --help')\n", option, what);
@@ -1078,23 +746,23 @@ int bk_cmd_bench(int argc, char** argv) {
       return 2;
     }
   }
-  if (!make_directories(b.dir)) {
+  if (!bench_make_directories(b.dir)) {
     fprintf(stderr, "breakables bench: cannot create directory %s: %s\n", b.dir, strerror(errno));
     return 1;
   }
-  output report = {0};
-  if (!output_open(&b, "report.md", &report)) return 1;
+  bench_output report = {0};
+  if (!bench_output_open(&b, "report.md", &report)) return 1;
   b.report = report.file;
-  b.terminal = gnuplot_terminal();
+  b.terminal = bench_gnuplot_terminal();
   if (!b.terminal)
     fprintf(stderr, "breakables bench: gnuplot (with a png or pngcairo terminal) is not on PATH: "
                     "writing the CSV files and the report without plots\n");
-  report_header(&b, argc, argv);
+  bench_report_header(&b, argc, argv);
   double start = bk_now_ms();
   bool ok = section_fracture_speed(&b) && section_meshes(&b) && section_max_fragments(&b) &&
-            section_runtime(&b) && section_scaling(&b);
-  if (ok) say(&b, "\n---\n\nThe whole run took %.0f s.\n", (bk_now_ms() - start) / 1000.0);
-  ok = output_close(&report, ok) && ok;
+            section_runtime(&b) && section_scaling(&b) && bench_section_assets(&b);
+  if (ok) bench_say(&b, "\n---\n\nThe whole run took %.0f s.\n", (bk_now_ms() - start) / 1000.0);
+  ok = bench_output_close(&report, ok) && ok;
   if (!ok) return 1;
   printf("\nwrote %s/report.md (%.0f s)\n", b.dir, (bk_now_ms() - start) / 1000.0);
   return 0;
