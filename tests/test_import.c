@@ -232,6 +232,23 @@ static void write_gltf(const char* path, uint32_t index_limit) {
 }
 
 static bool poison_first_position; // make_glb writes a NaN coordinate
+static const char* glb_patch[2];   // make_glb replaces glb_patch[0] in the JSON with glb_patch[1]
+
+// Replaces the first `find` in the text of b with `replace`.
+static void patch_text(bytes* b, const char* find, const char* replace) {
+  static bytes patched;
+  ENSURE(b->length < sizeof b->data);
+  b->data[b->length] = 0;
+  char* at = strstr((char*)b->data, find);
+  ENSURE_MSG(at != NULL, "'%s' is not in the fixture", find);
+  size_t head = (size_t)(at - (char*)b->data), n = strlen(find);
+  patched.length = 0;
+  put_raw(&patched, b->data, head);
+  put_text(&patched, "%s", replace);
+  put_raw(&patched, b->data + head + n, b->length - head - n);
+  memcpy(b->data, patched.data, patched.length);
+  b->length = patched.length;
+}
 
 // Returns the .glb bytes in scratch_a (JSON chunk padded with blanks, BIN chunk with zeros).
 static void make_glb(uint32_t index_limit) {
@@ -242,6 +259,7 @@ static void make_glb(uint32_t index_limit) {
     memcpy(scratch_b.data + 4, &nan, 4);
   }
   gltf_json(&json, true, &scratch_b);
+  if (glb_patch[0]) patch_text(&json, glb_patch[0], glb_patch[1]);
   while (json.length % 4)
     put_raw(&json, " ", 1);
   while (scratch_b.length % 4)
@@ -492,6 +510,174 @@ static void test_hostile_input(void) {
   expect_refusal(TMP "limited.ply", &def, "file larger than 100 bytes");
 }
 
+// A glTF fixture (.gltf or .glb) with `find` replaced by `replace` must be
+// refused before assimp reads it, from a file and from memory, with `words`
+// (the field) in the message.
+static void expect_gltf_refusal(bool glb, const char* find, const char* replace, const char* words) {
+  const char* path = glb ? TMP "precheck.glb" : TMP "precheck.gltf";
+  if (glb) {
+    glb_patch[0] = find, glb_patch[1] = replace;
+    make_glb(36);
+    glb_patch[0] = glb_patch[1] = NULL;
+  } else {
+    gltf_buffer(&scratch_b, 36);
+    gltf_json(&scratch_a, false, &scratch_b);
+    patch_text(&scratch_a, find, replace);
+  }
+  write_bytes(path, scratch_a.data, scratch_a.length);
+  expect_refusal(path, NULL, words);
+  bk_mesh m;
+  bk_error err = {0};
+  ENSURE(!bk_model_import_memory(scratch_a.data, scratch_a.length, glb ? "glb" : "gltf", "mem", NULL, &m,
+                                 NULL, &err));
+  ENSURE_MSG(strncmp(err.message, "mem: ", 5) == 0 && strstr(err.message, words), "from memory: %s",
+             err.message);
+}
+
+// The glTF JSON is checked before assimp reads it (assimp 5.2 crashes on a
+// missing accessor type, a bufferView without byteLength, an unknown image
+// mimeType...): each refusal names the field.
+static void test_gltf_precheck(void) {
+  for (int glb = 0; glb < 2; ++glb) { // the unpatched fixtures pass
+    const char* path = glb ? TMP "valid.glb" : TMP "valid.gltf";
+    if (glb) {
+      make_glb(36);
+      write_bytes(path, scratch_a.data, scratch_a.length);
+    } else {
+      write_gltf(path, 36);
+    }
+    bk_mesh m;
+    bk_error err = {0};
+    ENSURE_MSG(bk_model_import(path, NULL, &m, NULL, &err), "%s", err.message);
+    bk_mesh_free(&m);
+  }
+  expect_gltf_refusal(false, "\"count\":36,\"type\":\"SCALAR\"", "\"count\":36",
+                      "accessors[3].type is missing");
+  expect_gltf_refusal(true, "\"count\":36,\"type\":\"SCALAR\"", "\"count\":36,\"type\":\"VEC5\"",
+                      "accessors[3].type 'VEC5' is not one of SCALAR");
+  expect_gltf_refusal(false, "{\"bufferView\":1,", "{\"bufferView\":7,",
+                      "accessors[1].bufferView is 7, out of range (5 bufferViews)");
+  expect_gltf_refusal(
+      true, "\"componentType\":5123,\"count\":36", "\"componentType\":5123,\"count\":37",
+      "accessors[3]: 37 elements of 2 bytes from byteOffset 0 do not fit bufferViews[3] (72 bytes)");
+  expect_gltf_refusal(true, "\"componentType\":5126,\"count\":24,\"type\":\"VEC2\"",
+                      "\"componentType\":5127,\"count\":24,\"type\":\"VEC2\"",
+                      "accessors[2].componentType 5127");
+  expect_gltf_refusal(false, "{\"name\":\"child\",\"mesh\":0}",
+                      "{\"name\":\"child\",\"mesh\":0,\"children\":[0]}", "nodes[0] is its own ancestor");
+  expect_gltf_refusal(false, "\"name\":\"other\",", "\"name\":\"other\",\"children\":[1],",
+                      "nodes[2].children[0]: nodes[1] is already a child of nodes[0]");
+  expect_gltf_refusal(false, "\"scale\":[2,2,2]", "\"scale\":[2,2]",
+                      "nodes[0].scale is not an array of 3 numbers");
+  expect_gltf_refusal(true, "\"image/png\"", "\"headerpng\"",
+                      "images[0].mimeType 'headerpng' is not image/png or image/jpeg");
+  expect_gltf_refusal(true, "\"byteLength\":8}", "\"byteLeng\":8}", "bufferViews[4].byteLength is missing");
+  expect_gltf_refusal(
+      true, "\"byteOffset\":840,\"byteLength\":8", "\"byteOffset\":844,\"byteLength\":8",
+      "bufferViews[4]: byteOffset 844 + byteLength 8 is past the end of buffers[0] (848 bytes)");
+  expect_gltf_refusal(true, "\"buffers\":[{\"byteLength\":848", "\"buffers\":[{\"byteLength\":4096",
+                      "buffers[0].byteLength is 4096, more than the BIN chunk's 848 bytes");
+  expect_gltf_refusal(false, "\"NORMAL\":1,", "\"NORMAL\":1,\"COLOR_0\":4,",
+                      "meshes[0].primitives[0].attributes.COLOR_0 is 4, out of range (4 accessors)");
+  expect_gltf_refusal(false, "\"indices\":3,\"material\":0", "\"indices\":3,\"material\":0,\"mode\":7",
+                      "meshes[0].primitives[0].mode is 7, not in 0..6");
+  expect_gltf_refusal(false, "\"textures\":[{\"source\":0}]", "\"textures\":[{\"source\":1}]",
+                      "textures[0].source is 1, out of range (1 images)");
+  expect_gltf_refusal(
+      false, "\"baseColorTexture\":{\"index\":0}", "\"baseColorTexture\":{\"index\":2}",
+      "materials[0].pbrMetallicRoughness.baseColorTexture.index is 2, out of range (1 textures)");
+  expect_gltf_refusal(false, "\"nodes\":[0,2]", "\"nodes\":[0,3]",
+                      "scenes[0].nodes[1] is 3, out of range (3 nodes)");
+  expect_gltf_refusal(false, "\"version\":\"2.0\"", "\"version\":\"1.0\"", "asset.version '1.0' is not 2.x");
+  expect_gltf_refusal(false, "\"asset\":{\"version\":\"2.0\"},", "\"asset\":{\"version\":\"2.0\"},]",
+                      "malformed glTF JSON");
+}
+
+// 3DS: chunks of a 16-bit id and a 32-bit length (header included).
+static size_t chunk_begin(bytes* b, uint16_t id) {
+  size_t at = b->length;
+  put_raw(b, &id, 2);
+  put_u32(b, 0);
+  return at;
+}
+
+static void chunk_end(bytes* b, size_t at) {
+  uint32_t length = (uint32_t)(b->length - at);
+  memcpy(b->data + at + 2, &length, 4);
+}
+
+// The box as a 3DS file: MAIN > EDITOR > object "box" > mesh (8 vertices,
+// 12 faces), and a keyframer track with `keys` position keys declared (one written).
+static void write_3ds(const char* path, uint32_t keys, uint16_t vertices) {
+  bytes* b = &scratch_a;
+  b->length = 0;
+  size_t main_chunk = chunk_begin(b, 0x4D4D), editor = chunk_begin(b, 0x3D3D),
+         object = chunk_begin(b, 0x4000);
+  put_raw(b, "box", 4);
+  size_t mesh = chunk_begin(b, 0x4100), list = chunk_begin(b, 0x4110);
+  uint16_t n = vertices;
+  put_raw(b, &n, 2);
+  for (int i = 0; i < 8; ++i) {
+    float p[3];
+    box_corner(i, box_size, p);
+    put_raw(b, p, sizeof p);
+  }
+  chunk_end(b, list);
+  list = chunk_begin(b, 0x4120);
+  n = 12;
+  put_raw(b, &n, 2);
+  for (int f = 0; f < 6; ++f)
+    for (int t = 0; t < 2; ++t) {
+      uint16_t face[4] = {(uint16_t)box_faces[f][0], (uint16_t)box_faces[f][1 + t],
+                          (uint16_t)box_faces[f][2 + t], 0};
+      put_raw(b, face, sizeof face);
+    }
+  chunk_end(b, list);
+  chunk_end(b, mesh);
+  chunk_end(b, object);
+  chunk_end(b, editor);
+  size_t keyframer = chunk_begin(b, 0xB000), track = chunk_begin(b, 0xB002), name = chunk_begin(b, 0xB010);
+  put_raw(b, "box\0\0\0\0\0\xff\xff", 10); // name, two unknown shorts, hierarchy -1
+  chunk_end(b, name);
+  size_t position = chunk_begin(b, 0xB020);
+  put_raw(b, "\0\0\0\0\0\0\0\0\0\0", 10);
+  put_u32(b, keys);
+  put_raw(b, "\0\0\0\0\0\0", 6); // frame 0, no TCB flags
+  for (int i = 0; i < 3; ++i)
+    put_f32(b, 0.0f);
+  chunk_end(b, position);
+  chunk_end(b, track);
+  chunk_end(b, keyframer);
+  chunk_end(b, main_chunk);
+  write_bytes(path, b->data, b->length);
+}
+
+// assimp's 3DS reader reserves a keyframe track by its 32-bit key count
+// before reading a key (40 bytes asked it for 40 GB): the chunk tree and its
+// counts are checked first.
+static void test_3ds_precheck(void) {
+  write_3ds(TMP "box.3ds", 1, 8);
+  bk_mesh m;
+  bk_error err = {0};
+  ENSURE_MSG(bk_model_import(TMP "box.3ds", NULL, &m, NULL, &err), "%s", err.message);
+  ENSURE(bk_mesh_is_closed(&m));
+  ENSURE_SMALL(bk_mesh_volume(&m), box_size[0] * box_size[1] * box_size[2], 1e-9);
+  bk_mesh_free(&m);
+  write_3ds(TMP "keys.3ds", 0x65762001u, 8);
+  expect_refusal(TMP "keys.3ds", NULL,
+                 "3DS chunk 0xB020 at byte 264 declares 1702240257 keys, more than its 38 bytes");
+  ENSURE(!bk_model_import_memory(scratch_a.data, scratch_a.length, "3ds", "mem", NULL, &m, NULL, &err));
+  ENSURE_MSG(strstr(err.message, "mem: 3DS chunk 0xB020"), "%s", err.message);
+  write_3ds(TMP "vertices.3ds", 1, 60000);
+  expect_refusal(TMP "vertices.3ds", NULL, "3DS chunk 0x4110 at byte 28 declares 60000 vertices");
+  write_3ds(TMP "nesting.3ds", 1, 8);
+  uint32_t length = 4000; // the vertex list (at byte 28) longer than its mesh chunk
+  memcpy(scratch_a.data + 28 + 2, &length, 4);
+  write_bytes(TMP "nesting.3ds", scratch_a.data, scratch_a.length);
+  expect_refusal(TMP "nesting.3ds", NULL,
+                 "3DS chunk 0x4110 at byte 28 has length 4000, which does not fit in its parent");
+}
+
 // Two unit cubes as one mesh: sharing an edge (offset (1, 1, 0)) or a vertex
 // (offset (1, 1, 1)); each is closed on its own once split.
 static void two_cubes(bk_mesh* m, double dx, double dy, double dz) {
@@ -599,6 +785,8 @@ int main(void) {
   RUN(test_fbx);
   RUN(test_mirrored_node);
   RUN(test_hostile_input);
+  RUN(test_gltf_precheck);
+  RUN(test_3ds_precheck);
   RUN(test_split_touching_shells);
   RUN(test_repair_holes_and_sheets);
   RUN(test_repair_refusal_names_place);

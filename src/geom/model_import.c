@@ -487,7 +487,9 @@ bool bk_model_import_memory(const void* data, size_t size, const char* format, c
     return bk_obj_parse(data, size, name, out, err);
   }
   size_t head = size < BK_IMPORT_PRECHECK_BYTES ? size : BK_IMPORT_PRECHECK_BYTES;
-  if (!bk_import_precheck(name, ext, data, head, size, err)) return false;
+  if (!bk_import_precheck(name, ext, data, head, size, err) ||
+      !bk_import_precheck_content(name, ext, data, size, size, err))
+    return false;
   pthread_mutex_lock(&import_lock);
   bk_c_locale locale = bk_c_locale_begin();
   const struct aiScene* scene = read_scene(NULL, data, size, ext, name, err);
@@ -495,6 +497,21 @@ bool bk_model_import_memory(const void* data, size_t size, const char* format, c
   aiReleaseImport(scene);
   bk_c_locale_end(&locale);
   pthread_mutex_unlock(&import_lock);
+  return ok;
+}
+
+// Reads the first `bytes` of the file (at most its size, which is within
+// def.max_file_bytes) for bk_import_precheck_content.
+static bool precheck_content(const char* path, const char* ext, uint64_t bytes, uint64_t file_size,
+                             bk_error* err) {
+  FILE* f = fopen(path, "rb");
+  if (!f) return bk_error_set(err, "%s: cannot open: %s", path, strerror(errno));
+  char* data = bk_alloc((size_t)bytes);
+  size_t got = fread(data, 1, (size_t)bytes, f);
+  fclose(f);
+  bool ok = got == bytes ? bk_import_precheck_content(path, ext, data, got, file_size, err)
+                         : bk_error_set(err, "%s: cannot read: the file changed while it was read", path);
+  free(data);
   return ok;
 }
 
@@ -522,6 +539,8 @@ bool bk_model_import(const char* path, const bk_import_def* def_in, bk_mesh* out
     return bk_error_set(err, "%s: cannot open: not a regular file", path);
   }
   bool plausible = bk_import_precheck(path, ext, head, head_size, (uint64_t)st.st_size, err);
+  uint64_t content =
+      plausible ? bk_import_precheck_content_bytes(ext, head, head_size, (uint64_t)st.st_size) : 0;
   free(head);
   if (!plausible) return false;
   char limit[32];
@@ -529,6 +548,7 @@ bool bk_model_import(const char* path, const bk_import_def* def_in, bk_mesh* out
     return bk_error_set(err, "%s: file larger than %s, refusing to load", path,
                         limit_text(def.max_file_bytes, limit, sizeof limit));
   if (st.st_size == 0) return bk_error_set(err, "%s: empty file", path);
+  if (content > 0 && !precheck_content(path, ext, content, (uint64_t)st.st_size, err)) return false;
   if (strcmp(ext, "obj") == 0) {
     if (def.node) return bk_error_set(err, "%s: node selection is not supported for OBJ files", path);
     void* data = NULL;

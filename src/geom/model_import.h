@@ -36,6 +36,22 @@ typedef struct import_state {
 bool bk_import_precheck(const char* name, const char* ext, const void* head, size_t size, uint64_t file_size,
                         bk_error* err);
 
+/// How many leading bytes of a file bk_import_precheck_content needs, after
+/// bk_import_precheck accepted its `head`: the whole text of a .gltf and of a
+/// .3ds, a .glb up to its BIN chunk's header; 0 for the other formats.
+uint64_t bk_import_precheck_content_bytes(const char* ext, const void* head, size_t size, uint64_t file_size);
+/// Checks what assimp's readers trust beyond the header: a glTF document's
+/// JSON (bk_import_precheck_gltf), a 3DS file's chunk tree and the counts in
+/// it. `data` is the file's first `size` bytes (at least
+/// bk_import_precheck_content_bytes of them).
+bool bk_import_precheck_content(const char* name, const char* ext, const void* data, size_t size,
+                                uint64_t file_size, bk_error* err);
+/// Refuses a glTF 2.0 document (`ext` "gltf": the text; "glb": the file up to
+/// its BIN chunk's header) that leaves out what the specification requires
+/// or points outside its arrays or buffers; the message names the field.
+bool bk_import_precheck_gltf(const char* name, const char* ext, const void* data, size_t size,
+                             uint64_t file_size, bk_error* err);
+
 /// Copies text, cut to fit `size` and with control characters made blanks.
 void bk_import_copy_text(char* dst, size_t size, const char* src, size_t length);
 /// Fills info's material fields from the material of the most triangles placed.

@@ -2,7 +2,9 @@
 // readers size their arrays from counts in the header (PLY, OFF): a count
 // the file cannot possibly hold is refused here, so a 200-byte file claiming
 // four billion vertices costs nothing instead of a 48 GB allocation. A .glb
-// must have a consistent binary glTF header for the same reason.
+// must have a consistent binary glTF header for the same reason. Beyond the
+// header, bk_import_precheck_content walks a 3DS file's chunk tree (below)
+// and checks a glTF document's JSON (model_precheck_gltf.c).
 #include <stdlib.h>
 #include <string.h>
 
@@ -179,6 +181,162 @@ static bool precheck_glb(const char* name, const unsigned char* head, size_t siz
     if (bin > length - next - 8)
       return bk_error_set(err, "%s: corrupt binary glTF (chunk of %u bytes past the file's end)", name, bin);
   }
+  return true;
+}
+
+// ---------------------------------------------------------------- 3DS
+// assimp's 3DS reader (5.2) follows the chunk tree MAIN (0x4D4D) > EDITOR
+// (0x3D3D objects, 0xB000 keyframer) > ... and sizes its arrays from counts it
+// reads inside chunks: in a keyframer track (position, rotation, roll keys)
+// a 32-bit key count is reserved before a single key is read, so 40 bytes can
+// ask for 40 GB. The walk below follows the same contexts and requires every
+// chunk to nest inside its parent (assimp only logs a chunk that does not,
+// and reads on) and every count to fit the bytes left in its chunk.
+
+typedef struct tds_walk {
+  const char* name;
+  const unsigned char* data;
+  bk_error* err;
+} tds_walk;
+
+enum { TDS_MAIN, TDS_EDITOR, TDS_OBJECTS, TDS_OBJECT, TDS_MESH, TDS_KEYFRAMER, TDS_TRACK };
+
+static uint16_t read_u16le(const unsigned char* p) { return (uint16_t)(p[0] | p[1] << 8); }
+
+// `count` items of at least `item` bytes each must fit in [at, end) of the
+// chunk starting at `chunk`.
+static bool tds_count(const tds_walk* w, uint16_t id, size_t chunk, size_t at, size_t end, uint64_t count,
+                      uint64_t item, const char* what) {
+  if (at > end || count > (end - at) / item)
+    return bk_error_set(w->err,
+                        "%s: 3DS chunk 0x%04X at byte %zu declares %llu %s, more than its %zu bytes can hold",
+                        w->name, id, chunk, (unsigned long long)count, what, end - chunk);
+  return true;
+}
+
+static bool tds_chunks(const tds_walk* w, size_t begin, size_t end, int context, uint16_t parent) {
+  const unsigned char* d = w->data;
+  for (size_t at = begin; end - at >= 6;) {
+    uint16_t id = read_u16le(d + at);
+    uint32_t length = read_u32le(d + at + 2);
+    if (length < 6 || length > end - at)
+      return bk_error_set(w->err,
+                          "%s: 3DS chunk 0x%04X at byte %zu has length %u, which does not fit in its parent "
+                          "(%zu bytes left)",
+                          w->name, id, at, length, end - at);
+    size_t body = at + 6, stop = at + length;
+    bool ok = true;
+    switch (context) {
+    case TDS_MAIN:
+      if (id == 0x4D4D) ok = tds_chunks(w, body, stop, TDS_EDITOR, id);
+      break;
+    case TDS_EDITOR:
+      if (id == 0x3D3D) ok = tds_chunks(w, body, stop, TDS_OBJECTS, id);
+      if (id == 0xB000) ok = tds_chunks(w, body, stop, TDS_KEYFRAMER, id);
+      break;
+    case TDS_OBJECTS:
+      if (id == 0x4000) { // a NUL-terminated name, then the object's chunks
+        const unsigned char* nul = memchr(d + body, 0, stop - body);
+        if (!nul)
+          return bk_error_set(w->err, "%s: 3DS object chunk at byte %zu has an unterminated name", w->name,
+                              at);
+        ok = tds_chunks(w, (size_t)(nul - d) + 1, stop, TDS_OBJECT, id);
+      }
+      break;
+    case TDS_OBJECT:
+      if (id == 0x4100) ok = tds_chunks(w, body, stop, TDS_MESH, id);
+      break;
+    case TDS_MESH: // vertices (3 floats), UVs (2 floats), faces (4 shorts): 16-bit counts
+      if (id == 0x4110 || id == 0x4140 || id == 0x4120) {
+        if (stop - body < 2)
+          return bk_error_set(w->err, "%s: 3DS chunk 0x%04X at byte %zu has no count", w->name, id, at);
+        uint64_t item = id == 0x4110 ? 12 : 8;
+        const char* what = id == 0x4110 ? "vertices" : id == 0x4140 ? "texture coordinates" : "faces";
+        ok = tds_count(w, id, at, body + 2, stop, read_u16le(d + body), item, what);
+      }
+      break;
+    case TDS_KEYFRAMER:
+      if (id >= 0xB002 && id <= 0xB007) ok = tds_chunks(w, body, stop, TDS_TRACK, id);
+      break;
+    case TDS_TRACK: // 10 bytes of flags, the key count, then keys of a time, TCB flags and values
+      if (id == 0xB020 || id == 0xB021 || (id == 0xB024 && parent == 0xB003)) {
+        uint64_t values = id == 0xB020 ? 12 : id == 0xB021 ? 16 : 4;
+        if (stop - body < 14)
+          return bk_error_set(w->err, "%s: 3DS track chunk 0x%04X at byte %zu has no key count", w->name, id,
+                              at);
+        ok = tds_count(w, id, at, body + 14, stop, read_u32le(d + body + 10), 6 + values, "keys");
+      } else if (id == 0xB022) {
+        if (stop - body < 14)
+          return bk_error_set(w->err, "%s: 3DS track chunk 0x%04X at byte %zu has no key count", w->name, id,
+                              at);
+        ok = tds_count(w, id, at, body + 14, stop, read_u16le(d + body + 10), 18, "keys");
+      }
+      break;
+    }
+    if (!ok) return false;
+    at = stop;
+  }
+  return true;
+}
+
+static bool precheck_3ds(const char* name, const unsigned char* data, size_t size, uint64_t file_size,
+                         bk_error* err) {
+  if (size < file_size)
+    return bk_error_set(err, "%s: 3DS file larger than the %zu bytes checked", name,
+                        size); // the callers read it all
+  tds_walk w = {.name = name, .data = data, .err = err};
+  return tds_chunks(&w, 0, size, TDS_MAIN, 0);
+}
+
+// Collada: assimp 5.2 reads the index lists of <p>, <vcount> and <v> with a
+// parser that, on a character that is neither a digit nor a space (a "*" or
+// a "[" in a damaged file), keeps allocating until it asks for gigabytes.
+// Those lists may hold only unsigned integers and whitespace.
+static bool precheck_dae(const char* name, const void* data, size_t size, bk_error* err) {
+  const char* text = data;
+  const char* end = text + size;
+  static const char* const tags[] = {"<p>", "<p ", "<vcount>", "<vcount ", "<v>", "<v "};
+  for (const char* at = text; at < end; ++at) {
+    if (*at != '<') continue;
+    size_t tag = 0, count = sizeof tags / sizeof *tags;
+    while (tag < count &&
+           ((size_t)(end - at) < strlen(tags[tag]) || memcmp(at, tags[tag], strlen(tags[tag])) != 0))
+      ++tag;
+    if (tag == count) continue;
+    const char* open_end = memchr(at, '>', (size_t)(end - at));
+    if (!open_end)
+      return bk_error_set(err, "%s: Collada element at byte %zu is not closed", name, (size_t)(at - text));
+    if (open_end[-1] == '/') continue; // an empty element
+    for (const char* c = open_end + 1;; ++c) {
+      if (c == end)
+        return bk_error_set(err, "%s: Collada index list at byte %zu has no end", name, (size_t)(at - text));
+      if (*c == '<') break;
+      if (!(*c >= '0' && *c <= '9') && *c != ' ' && *c != '\t' && *c != '\r' && *c != '\n')
+        return bk_error_set(err, "%s: Collada index list at byte %zu holds '%c', not a whole number", name,
+                            (size_t)(c - text), *c >= 32 && *c < 127 ? *c : '?');
+    }
+  }
+  return true;
+}
+
+uint64_t bk_import_precheck_content_bytes(const char* ext, const void* head, size_t size,
+                                          uint64_t file_size) {
+  if (strcmp(ext, "gltf") == 0 || strcmp(ext, "3ds") == 0 || strcmp(ext, "dae") == 0) return file_size;
+  if (strcmp(ext, "glb") == 0) { // up to the BIN chunk's header (bk_import_precheck checked the header)
+    if (size < 20) return size;
+    uint64_t want = 20ull + read_u32le((const unsigned char*)head + 12) + 8;
+    return want < file_size ? want : file_size;
+  }
+  return 0;
+}
+
+bool bk_import_precheck_content(const char* name, const char* ext, const void* data, size_t size,
+                                uint64_t file_size, bk_error* err) {
+  if (file_size == 0) return true;
+  if (strcmp(ext, "gltf") == 0 || strcmp(ext, "glb") == 0)
+    return bk_import_precheck_gltf(name, ext, data, size, file_size, err);
+  if (strcmp(ext, "3ds") == 0) return precheck_3ds(name, data, size, file_size, err);
+  if (strcmp(ext, "dae") == 0) return precheck_dae(name, data, size, err);
   return true;
 }
 
