@@ -142,11 +142,17 @@ static void test_own_model(void) {
   picture_stats s = measure(shot);
   ENSURE_MSG(s.center_spread > 15.0 && s.center_sky_difference > 40.0,
              "the model is not in view (%.1f, %.1f)", s.center_spread, s.center_sky_difference);
-  snprintf(args, sizeof args, "editor --mesh '%s' --frames 3 --width 640 --height 360", glb);
+  snprintf(args, sizeof args, "editor --mesh '%s' --frames 3 --width 640 --height 360 --export '%s/edited'",
+           glb, BK_TEST_TMP);
   ENSURE(run(args) == 0);
   unsigned fragments = 0;
   ENSURE_MSG(sscanf(output, "frames %u, fragments %u", &frames, &fragments) == 2 && fragments == 40, "%s",
              output);
+  // The export the run ends with: the tree again, as .mtree and as .glb.
+  ENSURE_MSG(strstr(output, "wrote ") && strstr(output, "edited.glb"), "%s", output);
+  snprintf(args, sizeof args, "sim --mesh '%s/edited.glb' --shots 0 --steps 1 --json", BK_TEST_TMP);
+  ENSURE(run(args) == 0);
+  ENSURE_MSG(strstr(output, "\"pieces\": 40"), "%s", output);
 }
 
 // Without a display the game says so in one line and exits 1 (no crash).

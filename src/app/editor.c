@@ -1,7 +1,7 @@
 // breakables editor: preview the fragments of a mesh (thesis Appendix A).
 // Orbit with Alt + left drag, zoom with Alt + right drag, pull the fragments
 // apart with Shift + drag or the explode slider; change mesh, pieces, seed
-// and texture scale; export the fragments to OBJ and the tree to .mtree.
+// and texture scale; export the fragments to OBJ and the tree to .mtree and .glb.
 #include <GLFW/glfw3.h>
 #include <stdio.h>
 #include <string.h>
@@ -23,8 +23,9 @@ static const char* const editor_usage =
     "  --seed S              fracture seed, 0..2147483647 (default: 3000)\n"
     "  --texture-scale X     world size of one interior texture tile, 1e-6..1e6 (default: 0.1)\n"
     "  --explode X           pull fragments apart, 0..3 (default: 0)\n"
-    "  --export PATH         where the panel's export writes: PATH.obj and PATH.mtree\n"
-    "                        (default: fragments, in the current directory)\n"
+    "  --export PATH         where the panel's export writes: PATH.obj, PATH.mtree and PATH.glb\n"
+    "                        (default: fragments, in the current directory); a run with\n"
+    "                        --frames exports there when it ends\n"
     "  --frames N            run N frames, 1..10000000, then exit with a one-line summary\n"
     "  --screenshot FILE.png save the last frame\n"
     "  --width W --height H  window size, each 64..8192 (default: 1280x720)\n"
@@ -113,18 +114,20 @@ static void handle_mouse(editor* e) {
 
 static void export_files(editor* e) {
   bk_error err = {0};
-  char obj[4200], mtree[4200];
+  char obj[4200], mtree[4200], glb[4200];
   snprintf(obj, sizeof obj, "%s.obj", e->export_path);
   snprintf(mtree, sizeof mtree, "%s.mtree", e->export_path);
+  snprintf(glb, sizeof glb, "%s.glb", e->export_path);
   bk_mesh* leaves = bk_alloc(sizeof(bk_mesh) * e->tree.leaf_count);
   for (uint32_t i = 0; i < e->tree.leaf_count; ++i)
     leaves[i] = bk_mesh_tree_leaf(&e->tree, i)->mesh;
+  bk_gltf_def gltf = bk_default_gltf_def();
   bool ok = e->export_path[0] && bk_obj_save(obj, leaves, e->tree.leaf_count, &err) &&
-            bk_mesh_tree_save(&e->tree, mtree, &err);
+            bk_mesh_tree_save(&e->tree, mtree, &err) && bk_mesh_tree_save_gltf(&e->tree, glb, &gltf, &err);
   free(leaves);
   if (!e->export_path[0]) snprintf(err.message, sizeof err.message, "export: the path is empty");
   if (ok)
-    snprintf(e->status, sizeof e->status, "wrote %.280s and %.280s", obj, mtree);
+    snprintf(e->status, sizeof e->status, "wrote %.180s, %.180s and %.180s", obj, mtree, glb);
   else
     snprintf(e->status, sizeof e->status, "%s", err.message);
 }
@@ -167,7 +170,7 @@ static void panel(editor* e) {
   bk_ui_slider_double("explode", &e->explode, 0.0, 3.0, "%.2f", false);
   bk_ui_tooltip("or Shift + drag");
   bk_ui_input_text("export to", e->export_path, sizeof e->export_path);
-  bk_ui_tooltip("writes <path>.obj (the fragments) and <path>.mtree (the tree)");
+  bk_ui_tooltip("writes <path>.obj (the fragments), <path>.mtree (the tree) and <path>.glb (glTF 2.0)");
   if (bk_ui_button("export")) export_files(e);
   bk_ui_text("%s", e->status);
   bk_ui_end_window();
@@ -182,6 +185,7 @@ int bk_cmd_editor(int argc, char** argv) {
   editor* e = bk_calloc(1, sizeof *e);
   snprintf(e->mesh, sizeof e->mesh, "bunny");
   snprintf(e->export_path, sizeof e->export_path, "fragments");
+  bool export_given = false;
   e->pieces = 64, e->seed = 3000, e->texture_scale = 0.1, e->pitch = 0.35, e->yaw = 0.6, e->show_panel = true;
   for (int i = 1; i < argc; ++i) {
     const char* arg = argv[i];
@@ -206,7 +210,8 @@ int bk_cmd_editor(int argc, char** argv) {
     else if (ok && strcmp(arg, "--max-memory") == 0)
       ok = bk_app_parse_max_memory("editor", value);
     else if (ok && strcmp(arg, "--export") == 0)
-      ok = snprintf(e->export_path, sizeof e->export_path, "%s", value) < (int)sizeof e->export_path;
+      ok = snprintf(e->export_path, sizeof e->export_path, "%s", value) < (int)sizeof e->export_path,
+      export_given = true;
     else if (ok && strcmp(arg, "--explode") == 0)
       ok = bk_option_double("editor", arg, value, 0.0, 3.0, &e->explode);
     else {
@@ -289,6 +294,12 @@ int bk_cmd_editor(int argc, char** argv) {
   if (wo.frames)
     printf("frames %u, fragments %u, mean frame ms %.2f, gl errors %s\n", frame, e->tree.leaf_count,
            frame ? frame_ms_sum / frame : 0.0, gl_error ? "yes" : "none");
+  // A scripted run given --export ends with the export the panel's button makes.
+  if (wo.frames && export_given) {
+    export_files(e);
+    printf("%s\n", e->status);
+    if (strncmp(e->status, "wrote ", 6) != 0) status = 1;
+  }
   if (gl_error) status = 1;
   if (e->ui) bk_ui_destroy();
   bk_renderer_release_tree(e->renderer, e->render_tree);
