@@ -377,6 +377,24 @@ typedef struct bk_fracture_shortfall {
   uint32_t missed;         ///< ... the plane left everything on one side (thinner than the cut tolerance)
 } bk_fracture_shortfall;
 
+/// Closed solid shells of a source that overlap another (interpenetrating
+/// or nested solids; a cavity, such as the inside of an eggshell, is part of
+/// its solid and overlaps nothing). A plane through overlapping shells cuts
+/// cross-sections no cap can close, so bk_mesh_tree_build makes each
+/// overlapping shell a child of the root of its own, and all the other shells
+/// together one more child, each fractured as a whole source would be (the
+/// pieces are shared by volume: the largest leaf of the whole tree is cut
+/// next). Such children share no cut, so no bond joins them, and the root's
+/// volume is the sum of the shells' volumes (their overlap counted twice).
+/// Shells that only touch (coincident faces) do not overlap.
+typedef struct bk_fracture_overlap {
+  uint32_t shells;           ///< solid shells that overlap at least one other (0: none)
+  uint32_t pairs;            ///< overlapping pairs of shells
+  uint32_t shell_a, shell_b; ///< the first pair, numbered from 1 in the source's order (of first triangle)
+  double volume_a, volume_b; ///< their volumes
+  bk_vec3 point; ///< a point where they overlap (a contained vertex or a crossing of their surfaces)
+} bk_fracture_overlap;
+
 /// How many planes are tried on a piece before it stays whole.
 #define BK_FRACTURE_SPLIT_ATTEMPTS 16
 /// How far the pieces of one cut may miss their whole's volume, relative to
@@ -410,11 +428,17 @@ typedef struct bk_mesh_tree {
   /// Pieces that could not be cut while building (not stored in cache files:
   /// a loaded tree has it zeroed).
   bk_fracture_shortfall shortfall;
+  /// Shells that overlapped and were fractured each on its own (not stored
+  /// in cache files: a loaded tree has it zeroed).
+  bk_fracture_overlap overlap;
 } bk_mesh_tree;
 
 /// Builds the mesh tree of a closed mesh: repeatedly splits the largest-volume
 /// leaf by a random plane through its centroid; every piece is kept. Computes
-/// bonds. Fails with a clear message on an open mesh or a bad def.
+/// bonds. Fails with a clear message on an open mesh or a bad def. A source
+/// whose solid shells overlap is first split into shells (see
+/// bk_fracture_overlap; only when pieces >= 2), which may give more leaves
+/// than asked for when there are more such shells than pieces.
 bool bk_mesh_tree_build(const bk_mesh* source, const bk_fracture_def* def, bk_mesh_tree* out, bk_error* err);
 /// Releases everything; safe on a zeroed tree.
 void bk_mesh_tree_free(bk_mesh_tree* tree);
@@ -428,6 +452,11 @@ bk_mass_properties bk_mesh_tree_mass(const bk_mesh_tree* tree, bk_moments moment
 /// One line saying why the tree has fewer leaves than desc.pieces, written to
 /// `text`; false (and an empty text) when it has them all.
 bool bk_mesh_tree_shortfall_text(const bk_mesh_tree* tree, char* text, size_t size);
+/// One line naming the shells that overlapped and were fractured each on its
+/// own ("shells 1 and 2 overlap (volumes 1 and 0.125 near (x, y, z)); each was
+/// fractured on its own"), written to `text`; false (and an empty text) when
+/// none did.
+bool bk_mesh_tree_overlap_text(const bk_mesh_tree* tree, char* text, size_t size);
 /// Node index of leaf i.
 static inline const bk_mesh_tree_node* bk_mesh_tree_leaf(const bk_mesh_tree* tree, uint32_t leaf) {
   return &tree->nodes[tree->leaf_nodes[leaf]];

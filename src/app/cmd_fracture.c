@@ -24,7 +24,9 @@ static const char* const fracture_usage =
     "                        are combined with their node transforms. Shells touching\n"
     "                        at a vertex or an edge are split apart and simple holes\n"
     "                        closed, with a warning; other open meshes are refused with\n"
-    "                        the count and place of the open edges.\n"
+    "                        the count and place of the open edges. Closed shells that\n"
+    "                        overlap (nested or interpenetrating) are fractured each on\n"
+    "                        its own, with a warning naming them.\n"
     "  --node NAME           take only this node of the model's scene (and its children)\n"
     "  --pieces N            number of fragments, 1..1048576 (default: 256). Exactly N\n"
     "                        unless a cut separates a piece into several hulls (more), or\n"
@@ -48,7 +50,8 @@ static const char* const fracture_usage =
     "                        nodes, max_depth, ms, leaf_triangles, bonds, watertight,\n"
     "                        volume_rel_error, child_volume_rel_error, seed, texture_scale,\n"
     "                        source_triangles, peak_rss_mb, pieces_requested, pieces_made,\n"
-    "                        warnings (why fewer or more pieces were made than asked for) and\n"
+    "                        warnings (why fewer or more pieces were made than asked for,\n"
+    "                        which shells overlapped) and\n"
     "                        export_gltf (the path written, or null)\n"
     "  --max-memory MIB      memory the fracture may use, 1..1073741824 MiB (default: the\n"
     "                        available memory); a request estimated to need more is refused\n"
@@ -210,6 +213,9 @@ int bk_cmd_fracture(int argc, char** argv) {
   char shortfall[400];
   bool short_of_pieces = bk_mesh_tree_shortfall_text(&tree, shortfall, sizeof shortfall);
   if (short_of_pieces) fprintf(stderr, "breakables fracture: warning: %s: %s\n", mesh_spec, shortfall);
+  char overlap[400];
+  bool overlapped = bk_mesh_tree_overlap_text(&tree, overlap, sizeof overlap);
+  if (overlapped) fprintf(stderr, "breakables fracture: warning: %s: %s\n", mesh_spec, overlap);
   // More than asked is no failure, but the user asked for a number: say why.
   char overshoot[300] = {0};
   if (tree.leaf_count > desc.pieces) {
@@ -251,8 +257,12 @@ int bk_cmd_fracture(int argc, char** argv) {
            st.max_child_rel_error, (unsigned long long)tree.desc.seed, tree.desc.texture_scale,
            source_triangles, bk_peak_rss_mb());
     if (short_of_pieces) print_json_string(shortfall);
-    if (overshoot[0]) {
+    if (overlapped) {
       if (short_of_pieces) fputs(", ", stdout);
+      print_json_string(overlap);
+    }
+    if (overshoot[0]) {
+      if (short_of_pieces || overlapped) fputs(", ", stdout);
       print_json_string(overshoot);
     }
     fputs("], \"export_gltf\": ", stdout);

@@ -139,6 +139,8 @@ bool bk_app_load_tree(const char* mesh_spec, double scale, const bk_fracture_def
   char shortfall[400];
   if (built && bk_mesh_tree_shortfall_text(out, shortfall, sizeof shortfall))
     fprintf(stderr, "breakables: warning: %s: %s\n", mesh_spec, shortfall);
+  if (built && bk_mesh_tree_overlap_text(out, shortfall, sizeof shortfall))
+    fprintf(stderr, "breakables: warning: %s: %s\n", mesh_spec, shortfall);
   if (!built || !cached) return built;
   bk_error save_err = {{0}};
   char failed[sizeof at.dir] = {0};

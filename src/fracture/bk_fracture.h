@@ -14,3 +14,12 @@ bool bk_mesh_tree_save_memory(const bk_mesh_tree* tree, const char* name, uint8_
 /// bk_mesh_tree_load; `name` prefixes error messages.
 bool bk_mesh_tree_load_memory(const void* data, size_t size, const char* name, bk_mesh_tree* out,
                               bk_error* err);
+
+/// Splits a closed mesh into the parts bk_mesh_tree_build fractures on their
+/// own when some of its solid shells (bk_mesh_split_hulls: cavities stay with
+/// their solid) overlap another: each overlapping shell alone, in the shells'
+/// order, then all the other shells together (if any). Returns the number of
+/// parts written to *parts (allocated; free each mesh and the array), or 0
+/// (and *parts NULL) when no two shells overlap. *overlap says which did, in
+/// the mesh's coordinates.
+uint32_t bk_mesh_split_overlapping_shells(const bk_mesh* mesh, bk_mesh** parts, bk_fracture_overlap* overlap);

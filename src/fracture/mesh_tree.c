@@ -271,6 +271,12 @@ bool bk_mesh_tree_build(const bk_mesh* source, const bk_fracture_def* desc_in, b
   // Tags identify cuts of this tree and planar faces of the source, which
   // lets each piece's faces be re-triangulated over their true corners.
   bk_label_planar_faces(&root);
+  // Overlapping shells cannot be cut together: the root is split into them
+  // first (see bk_fracture_overlap), and each is cut on its own below.
+  bk_mesh* shell_parts = NULL;
+  bk_fracture_overlap overlap = {0};
+  uint32_t shell_part_count =
+      d.pieces >= 2 ? bk_mesh_split_overlapping_shells(&root, &shell_parts, &overlap) : 0;
   add_node(tree, &capacity, &root, bk_mesh_moments(&root), BK_NULL_INDEX);
 
   // Largest volume first (keys negated), ties by lower node index.
@@ -284,8 +290,25 @@ bool bk_mesh_tree_build(const bk_mesh* source, const bk_fracture_def* desc_in, b
     bk_plane plane = {0};
     bk_mesh* pieces = NULL;
     split_failure why = SPLIT_MISSED;
-    uint32_t count = split_node(slicer, simplifier, &tree->nodes[split], split, &d, &frame, &rng, &plane,
-                                &pieces, &moments, &why);
+    uint32_t count = 0;
+    if (split == 0 && shell_part_count) {
+      // The root's children are its overlapping shells (and the rest); no
+      // cap carries the root's tag, so its plane is only a unit placeholder.
+      moments = bk_realloc(moments, sizeof(bk_moments) * shell_part_count);
+      if (pieces_hold(&tree->nodes[0], shell_parts, shell_part_count, moments, &why)) {
+        pieces = shell_parts;
+        count = shell_part_count;
+        plane = (bk_plane){{0, 0, 1}, 0};
+        tree->overlap = overlap;
+      } else {
+        free_pieces(shell_parts, shell_part_count);
+      }
+      shell_parts = NULL;
+      shell_part_count = 0;
+    }
+    if (count == 0)
+      count = split_node(slicer, simplifier, &tree->nodes[split], split, &d, &frame, &rng, &plane, &pieces,
+                         &moments, &why);
     if (count == 0) { // no cut held: stays a leaf
       count_shortfall(&tree->shortfall, why);
       continue;
@@ -306,6 +329,7 @@ bool bk_mesh_tree_build(const bk_mesh* source, const bk_fracture_def* desc_in, b
       break;
     }
   }
+  free_pieces(shell_parts, shell_part_count);
   free(moments);
   bk_heap_free(&heap);
   bk_slicer_destroy(slicer);
@@ -324,6 +348,14 @@ bool bk_mesh_tree_build(const bk_mesh* source, const bk_fracture_def* desc_in, b
     node->bounds = bk_mesh_bounds(&node->mesh);
     node->moments = bk_tree_frame_moments_to_world(frame, node->moments);
     if (node->child_count) node->plane = bk_tree_frame_plane_to_world(frame, node->plane);
+  }
+  if (tree->overlap.pairs) { // named in the source's coordinates
+    bk_fracture_overlap* o = &tree->overlap;
+    o->volume_a = ldexp(o->volume_a, 3 * frame.exponent);
+    o->volume_b = ldexp(o->volume_b, 3 * frame.exponent);
+    o->point = bk_v3_add(bk_v3(ldexp(o->point.x, frame.exponent), ldexp(o->point.y, frame.exponent),
+                               ldexp(o->point.z, frame.exponent)),
+                         frame.origin);
   }
   number_leaves(tree);
   tree->source_hash = bk_mesh_hash(source);
@@ -365,6 +397,23 @@ bool bk_mesh_tree_shortfall_text(const bk_mesh_tree* tree, char* text, size_t si
   snprintf(text + n, size > (size_t)n ? size - (size_t)n : 0,
            ": %u piece%s could not be cut in %d tries each (%u of them because %s)", s->uncut,
            s->uncut == 1 ? "" : "s", BK_FRACTURE_SPLIT_ATTEMPTS, top, most);
+  return true;
+}
+
+bool bk_mesh_tree_overlap_text(const bk_mesh_tree* tree, char* text, size_t size) {
+  if (size) text[0] = 0;
+  const bk_fracture_overlap* o = &tree->overlap;
+  if (o->pairs == 0) return false;
+  int n = snprintf(text, size, "shells %u and %u overlap (volumes %.6g and %.6g m^3 near (%.6g, %.6g, %.6g))",
+                   o->shell_a, o->shell_b, o->volume_a, o->volume_b, o->point.x, o->point.y, o->point.z);
+  if (n < 0 || (size_t)n > size) n = (int)size;
+  if (o->pairs > 1)
+    n +=
+        snprintf(text + n, size > (size_t)n ? size - (size_t)n : 0, ", and %u more pair%s (%u shells in all)",
+                 o->pairs - 1, o->pairs == 2 ? "" : "s", o->shells);
+  if (n < 0 || (size_t)n > size) n = (int)size;
+  snprintf(text + n, size > (size_t)n ? size - (size_t)n : 0,
+           "; each was fractured on its own (no bonds between them)");
   return true;
 }
 
