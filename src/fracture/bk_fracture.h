@@ -15,6 +15,12 @@ bool bk_mesh_tree_save_memory(const bk_mesh_tree* tree, const char* name, uint8_
 bool bk_mesh_tree_load_memory(const void* data, size_t size, const char* name, bk_mesh_tree* out,
                               bk_error* err);
 
+/// Winding number of a closed mesh around a point (sum of signed solid
+/// angles, Van Oosterom-Strackee): ~1 inside, ~0 outside, 1/2 on the
+/// surface. With tri_component, only the triangles labelled `component` count.
+double bk_mesh_winding_number(const bk_mesh* mesh, const uint32_t* tri_component, uint32_t component,
+                              bk_vec3 q);
+
 /// Splits a closed mesh into the parts bk_mesh_tree_build fractures on their
 /// own when some of its solid shells (bk_mesh_split_hulls: cavities stay with
 /// their solid) overlap another: each overlapping shell alone, in the shells'

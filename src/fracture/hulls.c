@@ -14,12 +14,11 @@ static uint32_t find_root(uint32_t* parent, uint32_t i) {
   return i;
 }
 
-// Winding number of a closed mesh around a point (sum of signed solid angles,
-// Van Oosterom-Strackee): ~1 inside, ~0 outside, robust for any closed mesh.
-static double winding_number(const bk_mesh* m, const uint32_t* tri_component, uint32_t component, bk_vec3 q) {
+double bk_mesh_winding_number(const bk_mesh* m, const uint32_t* tri_component, uint32_t component,
+                              bk_vec3 q) {
   double total = 0.0;
   for (uint32_t t = 0; t < m->triangle_count; ++t) {
-    if (tri_component[t] != component) continue;
+    if (tri_component && tri_component[t] != component) continue;
     bk_vec3 a = bk_v3_sub(m->positions[bk_mesh_tri_position(m, t, 0)], q);
     bk_vec3 b = bk_v3_sub(m->positions[bk_mesh_tri_position(m, t, 1)], q);
     bk_vec3 c = bk_v3_sub(m->positions[bk_mesh_tri_position(m, t, 2)], q);
@@ -92,7 +91,7 @@ uint32_t bk_mesh_split_hulls(bk_mesh* m, bk_mesh** out) {
     uint32_t best = largest;
     for (uint32_t j = 0; j < components; ++j) {
       if (!(volume[j] > 0.0) || volume[j] >= volume[best]) continue;
-      if (winding_number(m, tri_component, j, m->positions[first_position[k]]) > 0.5) best = j;
+      if (bk_mesh_winding_number(m, tri_component, j, m->positions[first_position[k]]) > 0.5) best = j;
     }
     output_of[k] = output_of[best];
   }

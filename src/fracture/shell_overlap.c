@@ -25,22 +25,6 @@
 
 #include "bk_fracture.h"
 
-// Winding number of a closed mesh around a point (sum of signed solid angles,
-// Van Oosterom-Strackee): ~1 inside, ~0 outside, 1/2 on the surface.
-static double winding_number(const bk_mesh* m, bk_vec3 q) {
-  double total = 0.0;
-  for (uint32_t t = 0; t < m->triangle_count; ++t) {
-    bk_vec3 a = bk_v3_sub(m->positions[bk_mesh_tri_position(m, t, 0)], q);
-    bk_vec3 b = bk_v3_sub(m->positions[bk_mesh_tri_position(m, t, 1)], q);
-    bk_vec3 c = bk_v3_sub(m->positions[bk_mesh_tri_position(m, t, 2)], q);
-    double la = bk_v3_length(a), lb = bk_v3_length(b), lc = bk_v3_length(c);
-    double num = bk_v3_dot(a, bk_v3_cross(b, c));
-    double den = la * lb * lc + bk_v3_dot(a, b) * lc + bk_v3_dot(b, c) * la + bk_v3_dot(c, a) * lb;
-    total += 2.0 * atan2(num, den);
-  }
-  return total / (4.0 * 3.14159265358979323846);
-}
-
 static bool boxes_overlap(bk_aabb a, bk_aabb b) {
   return a.min.x <= b.max.x && b.min.x <= a.max.x && a.min.y <= b.max.y && b.min.y <= a.max.y &&
          a.min.z <= b.max.z && b.min.z <= a.max.z;
@@ -137,7 +121,7 @@ static bool vertex_inside(const bk_mesh* inner, const bk_mesh* outer, bk_aabb ou
     bk_vec3 p = inner->positions[(uint32_t)((uint64_t)k * n / tries)];
     bk_aabb point = {p, p};
     if (!boxes_overlap(point, outer_box)) continue;
-    if (winding_number(outer, p) > 0.75) {
+    if (bk_mesh_winding_number(outer, NULL, 0, p) > 0.75) {
       *at = p;
       return true;
     }

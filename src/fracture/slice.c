@@ -364,8 +364,8 @@ static void add_cap(bk_slicer* s, const bk_mesh* m, bk_mesh* out, int side, cons
   }
 }
 
-bool bk_slicer_slice(bk_slicer* s, const bk_mesh* m, const bk_slice_def* desc, bk_mesh* below,
-                     bk_mesh* above, bk_error* err) {
+bool bk_slicer_slice(bk_slicer* s, const bk_mesh* m, const bk_slice_def* desc, bk_mesh* below, bk_mesh* above,
+                     bk_error* err) {
   memset(below, 0, sizeof *below);
   memset(above, 0, sizeof *above);
   bk_vec3 n = desc->plane.normal;
