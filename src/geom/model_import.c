@@ -461,6 +461,33 @@ static void begin(bk_mesh* out, bk_import_info* info, const char* format) {
     snprintf(info->format, sizeof info->format, "assimp:%s", format);
 }
 
+// PLY read by our own reader: the counts, and a mesh inside out as a whole
+// turned, as for assimp's formats.
+static bool finish_ply(bool ok, const char* name, const bk_import_def* def, bk_mesh* out,
+                       bk_import_info* info, bk_error* err) {
+  if (!ok) return false;
+  if (out->triangle_count > def->max_triangles) {
+    bk_mesh_free(out);
+    return bk_error_set(err, "%s: too many triangles (more than %u)", name, def->max_triangles);
+  }
+  snprintf(info->format, sizeof info->format, "ply");
+  info->triangles_in = out->triangle_count;
+  info->meshes = 1;
+  if (bk_mesh_volume(out) < 0.0) {
+    for (uint32_t t = 0; t < out->triangle_count; ++t) {
+      uint32_t swap = out->indices[3 * t + 1];
+      out->indices[3 * t + 1] = out->indices[3 * t + 2];
+      out->indices[3 * t + 2] = swap;
+    }
+    for (uint32_t c = 0; c < out->corner_count; ++c)
+      for (int k = 0; k < 3; ++k)
+        out->corners[c].normal[k] = -out->corners[c].normal[k];
+    bk_mesh_compute_tangents(out);
+    info->flipped = true;
+  }
+  return true;
+}
+
 bool bk_model_import_memory(const void* data, size_t size, const char* format, const char* name,
                             const bk_import_def* def_in, bk_mesh* out, bk_import_info* info_in,
                             bk_error* err) {
@@ -490,6 +517,10 @@ bool bk_model_import_memory(const void* data, size_t size, const char* format, c
   if (!bk_import_precheck(name, ext, data, head, size, err) ||
       !bk_import_precheck_content(name, ext, data, size, size, err))
     return false;
+  if (strcmp(ext, "ply") == 0) {
+    if (def.node) return bk_error_set(err, "%s: node selection is not supported for PLY files", name);
+    return finish_ply(bk_ply_parse(data, size, name, out, err), name, &def, out, info, err);
+  }
   pthread_mutex_lock(&import_lock);
   bk_c_locale locale = bk_c_locale_begin();
   const struct aiScene* scene = read_scene(NULL, data, size, ext, name, err);
@@ -549,12 +580,15 @@ bool bk_model_import(const char* path, const bk_import_def* def_in, bk_mesh* out
                         limit_text(def.max_file_bytes, limit, sizeof limit));
   if (st.st_size == 0) return bk_error_set(err, "%s: empty file", path);
   if (content > 0 && !precheck_content(path, ext, content, (uint64_t)st.st_size, err)) return false;
-  if (strcmp(ext, "obj") == 0) {
-    if (def.node) return bk_error_set(err, "%s: node selection is not supported for OBJ files", path);
+  if (strcmp(ext, "obj") == 0 || strcmp(ext, "ply") == 0) { // our own readers
+    bool ply = ext[0] == 'p';
+    if (def.node)
+      return bk_error_set(err, "%s: node selection is not supported for %s files", path, ply ? "PLY" : "OBJ");
     void* data = NULL;
     size_t length = 0;
     if (!bk_file_read(path, BK_IMPORT_MAX_FILE_BYTES, "1 GiB", &data, &length, err)) return false;
-    bool ok = bk_obj_parse(data, length, path, out, err);
+    bool ok = ply ? finish_ply(bk_ply_parse(data, length, path, out, err), path, &def, out, info, err)
+                  : bk_obj_parse(data, length, path, out, err);
     free(data);
     return ok;
   }

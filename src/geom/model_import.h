@@ -49,6 +49,8 @@ bool bk_import_precheck_content(const char* name, const char* ext, const void* d
 /// Refuses a glTF 2.0 document (`ext` "gltf": the text; "glb": the file up to
 /// its BIN chunk's header) that leaves out what the specification requires
 /// or points outside its arrays or buffers; the message names the field.
+/// Reads a PLY file (ply_reader.c: ours, not assimp's).
+bool bk_ply_parse(const void* data, size_t size, const char* name, bk_mesh* out, bk_error* err);
 bool bk_import_precheck_gltf(const char* name, const char* ext, const void* data, size_t size,
                              uint64_t file_size, bk_error* err);
 

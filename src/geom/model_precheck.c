@@ -118,7 +118,19 @@ static bool precheck_ply(const char* name, const char* head, size_t size, uint64
         min_bytes += binary ? ply_type_size(word, length) : 2;
       }
       ok = ok && next_word(&cursor, eol, &word, &length); // the property's name
-    } // other lines are comments to assimp (exporters write free text)
+    } else {
+      // assimp 5.2's header parser corrupts its heap or jumps through a null
+      // pointer on lines it does not know in damaged files (found by
+      // fuzz_import), so only PLY's own keywords pass. Old Blender exports
+      // wrote a free-text line without "comment": those are refused by name.
+      return bk_error_set(err,
+                          "%s: malformed PLY header at line %u: '%.*s' is not a PLY keyword (free text must "
+                          "follow 'comment')",
+                          name, number, (int)(length < 24 ? length : 24), word);
+    }
+    // Header lines are plain ASCII text: anything else is a damaged file.
+    for (const char* c = line; c < eol && ok; ++c)
+      ok = ((unsigned char)*c >= 0x20 && (unsigned char)*c < 0x7f) || *c == '\t' || *c == '\r';
     if (!ok) return bk_error_set(err, "%s: malformed PLY header at line %u", name, number);
     line = eol + 1;
   }
@@ -321,7 +333,9 @@ static bool precheck_dae(const char* name, const void* data, size_t size, bk_err
 
 uint64_t bk_import_precheck_content_bytes(const char* ext, const void* head, size_t size,
                                           uint64_t file_size) {
-  if (strcmp(ext, "gltf") == 0 || strcmp(ext, "3ds") == 0 || strcmp(ext, "dae") == 0) return file_size;
+  if (strcmp(ext, "gltf") == 0 || strcmp(ext, "3ds") == 0 || strcmp(ext, "dae") == 0 ||
+      strcmp(ext, "ply") == 0)
+    return file_size;
   if (strcmp(ext, "glb") == 0) { // up to the BIN chunk's header (bk_import_precheck checked the header)
     if (size < 20) return size;
     uint64_t want = 20ull + read_u32le((const unsigned char*)head + 12) + 8;
