@@ -135,32 +135,14 @@ int bk_cmd_sim(int argc, char** argv) {
       if (!bk_option_double("sim", arg, value, 1.0, 1e5, &options.density)) return 2;
     }
   }
-  if (mesh && scene_given) return usage_error("--mesh", "and --scene cannot be used together");
   bk_error err = {0};
-  if (material && !bk_material_find(material)) {
-    bk_scene_add_mesh("", material, &err); // names the presets
-    fprintf(stderr, "breakables sim: --material: %s\n", err.message);
+  uint32_t scene_index = bk_scene_resolve(scene_name, scene_given, mesh, material, &err);
+  if (scene_index == UINT32_MAX) {
+    fprintf(stderr, "breakables sim: %s\n", err.message);
     return 2;
   }
+  const bk_scene* scene = bk_scene_at(scene_index);
   options.material = material;
-  const bk_scene* scene = NULL;
-  if (mesh) {
-    uint32_t index = bk_scene_add_mesh(mesh, material ? material : "stone", &err);
-    if (index == UINT32_MAX) {
-      fprintf(stderr, "breakables sim: --mesh: %s\n", err.message);
-      return 2;
-    }
-    scene = bk_scene_at(index);
-  } else {
-    scene = bk_scene_find(scene_name);
-  }
-  if (!scene) {
-    fprintf(
-        stderr,
-        "breakables sim: unknown scene '%s': use wall, eggshell, pillar, slab, bunny, torus or showcase\n",
-        scene_name);
-    return 2;
-  }
 
   bk_loaded_scene loaded = {0};
   if (!bk_loaded_scene_create(scene, &options, &loaded, &err)) {

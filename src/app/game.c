@@ -319,32 +319,13 @@ int bk_cmd_play(int argc, char** argv) {
       return free(g), 2;
     }
   }
-  if (mesh && scene_given) {
-    fprintf(stderr, "breakables play: --mesh and --scene cannot be used together\n");
-    return free(g), 2;
-  }
   bk_error err = {0};
-  if (material && !bk_material_find(material)) {
-    bk_scene_add_mesh("", material, &err); // names the presets
-    fprintf(stderr, "breakables play: --material: %s\n", err.message);
+  uint32_t scene_index = bk_scene_resolve(scene_name, scene_given, mesh, material, &err);
+  if (scene_index == UINT32_MAX) {
+    fprintf(stderr, "breakables play: %s\n", err.message);
     return free(g), 2;
   }
   g->options.material = material;
-  int scene_index = -1;
-  if (mesh) {
-    uint32_t index = bk_scene_add_mesh(mesh, material ? material : "stone", &err);
-    if (index == UINT32_MAX) {
-      fprintf(stderr, "breakables play: --mesh: %s\n", err.message);
-      return free(g), 2;
-    }
-    scene_index = (int)index;
-  }
-  for (uint32_t i = 0; i < bk_scene_count() && !mesh; ++i)
-    if (strcmp(bk_scene_at(i)->name, scene_name) == 0) scene_index = (int)i;
-  if (scene_index < 0) {
-    fprintf(stderr, "breakables play: unknown scene '%s' (see 'breakables play --help')\n", scene_name);
-    return free(g), 2;
-  }
 
   void* window = NULL;
   if (!bk_window_open("Breakables", &wo, &window, &g->renderer, &err)) {
@@ -359,7 +340,7 @@ int bk_cmd_play(int argc, char** argv) {
   glfwSetKeyCallback(g->window, key_callback);
   glfwSetMouseButtonCallback(g->window, mouse_callback);
   g->ui = bk_ui_create(g->window);
-  if (!bk_game_load_scene(g, (uint32_t)scene_index, &err)) {
+  if (!bk_game_load_scene(g, scene_index, &err)) {
     fprintf(stderr, "breakables play: %s\n", err.message);
     bk_game_unload_scene(g);
     bk_particles_free(&g->particles);

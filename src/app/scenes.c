@@ -116,14 +116,34 @@ const bk_scene* bk_scene_at(uint32_t index) {
   return index < bk_scene_count() ? &user_scenes[index - BUILT_IN].scene : NULL;
 }
 
+bool bk_scene_check_material(const char* material, bk_error* err) {
+  if (bk_material_find(material)) return true;
+  char names[200] = {0};
+  for (uint32_t i = 0; i < bk_material_count(); ++i)
+    snprintf(names + strlen(names), sizeof names - strlen(names), "%s%s", i ? ", " : "",
+             bk_material_at(i)->name);
+  return bk_error_set(err, "unknown material '%s': use %s", material, names);
+}
+
+uint32_t bk_scene_resolve(const char* scene_name, bool scene_given, const char* mesh, const char* material,
+                          bk_error* err) {
+  if (mesh && scene_given) return bk_error_set(err, "--mesh and --scene cannot be used together"), UINT32_MAX;
+  if (material && !bk_scene_check_material(material, err)) return UINT32_MAX;
+  if (mesh) return bk_scene_add_mesh(mesh, material ? material : "stone", err);
+  for (uint32_t i = 0; i < BUILT_IN; ++i)
+    if (strcmp(scenes[i].name, scene_name) == 0) return i;
+  char names[200] = {0};
+  for (uint32_t i = 0; i < BUILT_IN; ++i)
+    snprintf(names + strlen(names), sizeof names - strlen(names), "%s%s",
+             i == 0              ? ""
+             : i + 1 == BUILT_IN ? " or "
+                                 : ", ",
+             scenes[i].name);
+  return bk_error_set(err, "unknown scene '%s': use %s", scene_name, names), UINT32_MAX;
+}
+
 uint32_t bk_scene_add_mesh(const char* path, const char* material, bk_error* err) {
-  if (!bk_material_find(material)) {
-    char names[200] = {0};
-    for (uint32_t i = 0; i < bk_material_count(); ++i)
-      snprintf(names + strlen(names), sizeof names - strlen(names), "%s%s", i ? ", " : "",
-               bk_material_at(i)->name);
-    return bk_error_set(err, "unknown material '%s': use %s", material, names), UINT32_MAX;
-  }
+  if (!bk_scene_check_material(material, err)) return UINT32_MAX;
   if (strlen(path) >= USER_PATH_MAX) return bk_error_set(err, "mesh path too long"), UINT32_MAX;
   if (user_scene_count == USER_SCENES_MAX)
     return bk_error_set(err, "at most %d models at once", USER_SCENES_MAX), UINT32_MAX;

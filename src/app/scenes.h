@@ -47,6 +47,13 @@ const bk_scene* bk_scene_find(const char* name);
 /// the file; returns its index, or UINT32_MAX (err set) if the material is
 /// unknown, the path too long or the table of user scenes full.
 uint32_t bk_scene_add_mesh(const char* path, const char* material, bk_error* err);
+/// True for a preset name; else err lists the presets.
+bool bk_scene_check_material(const char* material, bk_error* err);
+/// What a command's --scene NAME (scene_given: it was on the command line),
+/// --mesh PATH and --material NAME choose: a scene's index, or UINT32_MAX
+/// with err saying which option is wrong (one line, for the command to print).
+uint32_t bk_scene_resolve(const char* scene_name, bool scene_given, const char* mesh, const char* material,
+                          bk_error* err);
 /// Fits a fit_to_mesh scene to its loaded object's bounds (in the tree frame)
 /// into `out`: the object stands centred on the ground, the camera looks at
 /// it from the front, projectiles are sized to it.
