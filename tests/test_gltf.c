@@ -163,7 +163,16 @@ static float f32_at(const uint8_t* p) {
 
 // Everything about one export: the node list, the hierarchy and the
 // translations, every mesh against the tree's, and the extras.
-static void check_export(const bk_mesh_tree* tree, const char* path, bool glb, bk_gltf_levels levels) {
+// The export material of a triangle: 2 per source material (surface, cut
+// faces); sources past the export's `sources` use the first's.
+static uint32_t export_material(uint8_t id, uint32_t sources) {
+  uint32_t source = bk_material_source(id);
+  return 2u * (source < sources ? source : 0u) + (bk_material_is_interior(id) ? 1u : 0u);
+}
+
+// `sources`: the source materials the export was given (1 for the default).
+static void check_export(const bk_mesh_tree* tree, const char* path, bool glb, bk_gltf_levels levels,
+                         uint32_t sources) {
   parsed p;
   parse_export(path, glb, &p);
   const bk_json_doc* d = &p.doc;
@@ -172,7 +181,7 @@ static void check_export(const bk_mesh_tree* tree, const char* path, bool glb, b
   uint32_t node_count = bk_json_count(d, nodes);
   ENSURE_MSG(node_count == (all ? tree->node_count : tree->leaf_count), "%s: %u nodes", path, node_count);
   ENSURE(bk_json_count(d, get(&p, 0, "meshes")) == node_count);
-  ENSURE(bk_json_count(d, get(&p, 0, "materials")) == 2);
+  ENSURE(bk_json_count(d, get(&p, 0, "materials")) == 2u * sources);
   uint32_t roots = get(&p, bk_json_at(d, get(&p, 0, "scenes"), 0), "nodes");
   ENSURE(bk_json_count(d, roots) == (all ? 1u : tree->leaf_count));
 
@@ -228,15 +237,18 @@ static void check_export(const bk_mesh_tree* tree, const char* path, bool glb, b
     ENSURE(bk_json_string_is(d, get(&p, mesh, "name"), name));
     uint32_t primitives = get(&p, mesh, "primitives");
     const bk_mesh* m = &tn->mesh;
-    uint32_t per_material[2] = {0, 0};
+    uint32_t per_material[2 * BK_MATERIAL_SOURCES_MAX] = {0};
     for (uint32_t t = 0; t < m->triangle_count; ++t)
-      per_material[m->materials[t] == BK_MATERIAL_INTERIOR]++;
-    ENSURE(bk_json_count(d, primitives) == (uint32_t)((per_material[0] > 0) + (per_material[1] > 0)));
+      per_material[export_material(m->materials[t], sources)]++;
+    uint32_t present = 0;
+    for (uint32_t k = 0; k < 2u * sources; ++k)
+      present += per_material[k] > 0;
+    ENSURE(bk_json_count(d, primitives) == present);
     uint64_t triangles = 0;
     for (uint32_t prim = bk_json_first(d, primitives); prim != BK_JSON_NONE; prim = bk_json_next(d, prim)) {
       uint32_t attributes = get(&p, prim, "attributes");
       uint64_t material = get_uint(&p, prim, "material");
-      ENSURE(material < 2);
+      ENSURE(material < 2u * sources);
       uint64_t count = 0, normals = 0, uvs = 0, tangents = 0, index_count = 0;
       uint32_t component = 0;
       uint32_t position_accessor = (uint32_t)get_uint(&p, attributes, "POSITION");
@@ -338,7 +350,7 @@ static void test_exports(void) {
       def.levels = levels ? BK_GLTF_LEVELS_LEAVES : BK_GLTF_LEVELS_ALL;
       bk_error err = {{0}};
       ENSURE_MSG(bk_mesh_tree_save_gltf(&tree, path, &def, &err), "%s", err.message);
-      check_export(&tree, path, glb, def.levels);
+      check_export(&tree, path, glb, def.levels, 1);
       round_trip(&tree, path);
     }
   // Saving twice gives the same bytes; NULL def = the defaults.
@@ -350,6 +362,95 @@ static void test_exports(void) {
   ENSURE(a_size == b_size && memcmp(a, b, a_size) == 0);
   free(a);
   free(b);
+  bk_mesh_tree_free(&tree);
+}
+
+// Two boxes apart, of source materials 0 and 3 (x < 0 and x > 0): every cut
+// face takes the material of the box it cuts, so each leaf is of one source
+// material, its cut faces that material's interior.
+static void build_two_material_tree(uint32_t pieces, bk_mesh_tree* tree) {
+  bk_mesh a = {0}, b = {0}, both = {0};
+  bk_shape_build(BK_SHAPE_CUBE, &a);
+  bk_shape_build(BK_SHAPE_CUBE, &b);
+  for (uint32_t i = 0; i < a.position_count; ++i) {
+    a.positions[i] = bk_v3_add(a.positions[i], bk_v3(-1.0, 0, 0));
+    b.positions[i] = bk_v3_add(bk_v3_scale(b.positions[i], 1.5), bk_v3(1.5, 0, 0));
+  }
+  for (uint32_t t = 0; t < b.triangle_count; ++t)
+    b.materials[t] = bk_material_id(3, false);
+  bk_mesh_append(&both, &a);
+  bk_mesh_append(&both, &b);
+  bk_fracture_def desc = bk_default_fracture_def();
+  desc.pieces = pieces;
+  bk_error err = {{0}};
+  ENSURE_MSG(bk_mesh_tree_build(&both, &desc, tree, &err), "%s", err.message);
+  bk_mesh_free(&a);
+  bk_mesh_free(&b);
+  bk_mesh_free(&both);
+}
+
+static void test_two_materials(void) {
+  bk_mesh_tree tree = {0};
+  build_two_material_tree(24, &tree);
+  uint32_t caps[2] = {0, 0}; // cut-face triangles of sources 0 and 3
+  for (uint32_t l = 0; l < tree.leaf_count; ++l) {
+    const bk_mesh* m = &bk_mesh_tree_leaf(&tree, l)->mesh;
+    bool right = m->positions[0].x > 0.0;
+    for (uint32_t t = 0; t < m->triangle_count; ++t) {
+      ENSURE_MSG(bk_material_source(m->materials[t]) == (right ? 3u : 0u), "leaf %u triangle %u: material %u",
+                 l, t, m->materials[t]);
+      if (bk_material_is_interior(m->materials[t])) caps[right]++;
+    }
+  }
+  ENSURE(caps[0] > 0 && caps[1] > 0);
+
+  // Exported with four materials, the image of the first written in once
+  // though two materials use it; with one, source 3 falls back to source 0.
+  size_t png_size = 0;
+  uint8_t* png = read_all(BK_ASSET_DIR "/textures/stone_albedo.png", &png_size);
+  bk_gltf_material list[4];
+  const char* names[4] = {"left", "unused", "spare", "right"};
+  for (int i = 0; i < 4; ++i) {
+    list[i] = bk_default_gltf_material();
+    list[i].name = names[i];
+  }
+  list[0].texture = (bk_gltf_image){.data = png, .size = png_size};
+  list[3].texture = list[0].texture;
+  list[3].interior_texture = (bk_gltf_image){.uri = "right_interior.png"};
+  list[3].base_color[1] = 0.5f;
+  bk_gltf_def def = bk_default_gltf_def();
+  def.materials = list;
+  def.material_count = 4;
+  bk_error err = {{0}};
+  for (int glb = 0; glb < 2; ++glb) {
+    const char* path = glb ? BK_TEST_TMP "/two.glb" : BK_TEST_TMP "/two.gltf";
+    ENSURE_MSG(bk_mesh_tree_save_gltf(&tree, path, &def, &err), "%s", err.message);
+    check_export(&tree, path, glb, BK_GLTF_LEVELS_ALL, 4);
+    round_trip(&tree, path);
+    parsed p;
+    parse_export(path, glb, &p);
+    uint32_t materials = get(&p, 0, "materials");
+    ENSURE(bk_json_string_is(&p.doc, get(&p, bk_json_at(&p.doc, materials, 6), "name"), "right"));
+    ENSURE(bk_json_string_is(&p.doc, get(&p, bk_json_at(&p.doc, materials, 7), "name"), "right_interior"));
+    uint32_t color =
+        get(&p, get(&p, bk_json_at(&p.doc, materials, 6), "pbrMetallicRoughness"), "baseColorFactor");
+    ENSURE(number_at(&p, color, 1) == 0.5);
+    uint32_t images = get(&p, 0, "images");
+    ENSURE(bk_json_count(&p.doc, images) == 2);
+    uint32_t image = bk_json_at(&p.doc, images, 0);
+    ENSURE(bk_json_string_is(&p.doc, get(&p, image, "mimeType"), "image/png"));
+    uint32_t view =
+        bk_json_at(&p.doc, get(&p, 0, "bufferViews"), (uint32_t)get_uint(&p, image, "bufferView"));
+    uint64_t offset = get_uint(&p, view, "byteOffset");
+    ENSURE(get_uint(&p, view, "byteLength") == png_size && offset % 4 == 0 &&
+           offset + png_size <= p.bin_size);
+    ENSURE_MSG(memcmp(p.bin + offset, png, png_size) == 0, "%s: the image bytes differ from the file", path);
+    parsed_free(&p);
+  }
+  def.material_count = 1;
+  ENSURE_MSG(bk_mesh_tree_save_gltf(&tree, BK_TEST_TMP "/two_one.glb", &def, &err), "%s", err.message);
+  check_export(&tree, BK_TEST_TMP "/two_one.glb", true, BK_GLTF_LEVELS_ALL, 1);
+  free(png);
   bk_mesh_tree_free(&tree);
 }
 
@@ -451,9 +552,30 @@ static void test_save_errors(void) {
   bk_error err = {{0}};
   ENSURE(!bk_mesh_tree_save_gltf(&tree, BK_TEST_TMP "/x.obj", NULL, &err) && strstr(err.message, ".glb"));
   bk_gltf_def def = bk_default_gltf_def();
-  def.material_name = "";
+  bk_gltf_material material = bk_default_gltf_material();
+  def.materials = &material;
+  def.material_count = 1;
+  material.name = "";
   ENSURE(!bk_mesh_tree_save_gltf(&tree, BK_TEST_TMP "/x.glb", &def, &err) &&
-         strstr(err.message, "material_name"));
+         strstr(err.message, "materials[0].name must be 1 to 63 bytes"));
+  material = bk_default_gltf_material();
+  material.base_color[2] = NAN;
+  ENSURE(!bk_mesh_tree_save_gltf(&tree, BK_TEST_TMP "/x.glb", &def, &err) &&
+         strstr(err.message, "materials[0].base_color[2] must be in [0, 1]"));
+  material = bk_default_gltf_material();
+  material.interior_texture = (bk_gltf_image){.data = "GIF89a..", .size = 8};
+  ENSURE(!bk_mesh_tree_save_gltf(&tree, BK_TEST_TMP "/x.glb", &def, &err) &&
+         strstr(err.message, "materials[0].interior_texture.data is neither PNG nor JPEG"));
+  material.interior_texture = (bk_gltf_image){.data = "\xff\xd8\xff", .size = 3, .uri = "a.jpg"};
+  ENSURE(!bk_mesh_tree_save_gltf(&tree, BK_TEST_TMP "/x.glb", &def, &err) &&
+         strstr(err.message, "materials[0].interior_texture has both data and uri"));
+  def.materials = NULL;
+  ENSURE(!bk_mesh_tree_save_gltf(&tree, BK_TEST_TMP "/x.glb", &def, &err) &&
+         strstr(err.message, "material_count is 1 but materials is NULL"));
+  def.material_count = BK_MATERIAL_SOURCES_MAX + 1;
+  def.materials = &material;
+  ENSURE(!bk_mesh_tree_save_gltf(&tree, BK_TEST_TMP "/x.glb", &def, &err) &&
+         strstr(err.message, "material_count is 129, more than 128"));
   def = bk_default_gltf_def();
   def.density = 0;
   ENSURE(!bk_mesh_tree_save_gltf(&tree, BK_TEST_TMP "/x.glb", &def, &err) && strstr(err.message, "density"));
@@ -533,14 +655,49 @@ static int export_for_js(const char* dir) {
   snprintf(path, sizeof path, "%s/textures/stone_interior.png", dir);
   copy_file(BK_ASSET_DIR "/textures/stone_interior.png", path);
   bk_gltf_def def = bk_default_gltf_def();
-  def.material_name = "stone";
-  def.base_color_texture = "textures/stone albedo.png";
-  def.interior_texture = "textures/stone_interior.png";
+  bk_gltf_material stone = bk_default_gltf_material();
+  stone.name = "stone";
+  stone.texture.uri = "textures/stone albedo.png";
+  stone.interior_texture.uri = "textures/stone_interior.png";
+  def.materials = &stone;
+  def.material_count = 1;
   snprintf(path, sizeof path, "%s/cube16_textured.glb", dir);
   bk_error err = {{0}};
   ENSURE_MSG(bk_mesh_tree_save_gltf(&tree, path, &def, &err), "%s", err.message);
   printf("%s --nodes %u --leaves %u --meshes %u --materials 2 --material stone --textures 2\n", path,
          tree.node_count, tree.leaf_count, tree.node_count);
+  bk_mesh_tree_free(&tree);
+  // Two source materials, the images inside the file (both kinds of file).
+  build_two_material_tree(24, &tree);
+  size_t png_size = 0, jpeg_size = 0;
+  uint8_t* png = read_all(BK_ASSET_DIR "/textures/brick_albedo.png", &png_size);
+  uint8_t* interior = read_all(BK_ASSET_DIR "/textures/brick_interior.png", &jpeg_size);
+  bk_gltf_material list[4];
+  const char* names[4] = {"plaster", "unused", "spare", "brick"};
+  for (int i = 0; i < 4; ++i) {
+    list[i] = bk_default_gltf_material();
+    list[i].name = names[i];
+  }
+  list[3].texture = (bk_gltf_image){.data = png, .size = png_size};
+  list[3].interior_texture = (bk_gltf_image){.data = interior, .size = jpeg_size};
+  def.materials = list;
+  def.material_count = 4;
+  // three.js sees the materials the meshes use: a source's surface and its cut faces.
+  bool used[8] = {false};
+  for (uint32_t n = 0; n < tree.node_count; ++n)
+    for (uint32_t t = 0; t < tree.nodes[n].mesh.triangle_count; ++t)
+      used[export_material(tree.nodes[n].mesh.materials[t], 4)] = true;
+  uint32_t used_count = 0;
+  for (int i = 0; i < 8; ++i)
+    used_count += used[i];
+  for (int glb = 0; glb < 2; ++glb) {
+    snprintf(path, sizeof path, "%s/two_materials.%s", dir, glb ? "glb" : "gltf");
+    ENSURE_MSG(bk_mesh_tree_save_gltf(&tree, path, &def, &err), "%s", err.message);
+    printf("%s --nodes %u --leaves %u --meshes %u --materials %u --material plaster,brick --textures 2\n",
+           path, tree.node_count, tree.leaf_count, tree.node_count, used_count);
+  }
+  free(png);
+  free(interior);
   bk_mesh_tree_free(&tree);
   return 0;
 }
@@ -550,6 +707,7 @@ int main(int argc, char** argv) {
   RUN(test_exports);
   RUN(test_damaged);
   RUN(test_save_errors);
+  RUN(test_two_materials);
 #ifdef BK_BREAKABLES_EXE
   RUN(test_cli);
 #endif

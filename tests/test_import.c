@@ -187,18 +187,20 @@ static void base64(bytes* out, const unsigned char* data, size_t n) {
 }
 
 // Scene: "parent" (translation (10, 0, 0), scale 2) > "child" (the box);
-// "other" (the box at (0, 20, 0)). The material "stone" has a base colour
+// "other" (the box at (0, 20, 0), material "brick"). The material "stone" has a base colour
 // factor and a texture: a file (.gltf) or the embedded image (.glb).
 static void gltf_json(bytes* j, bool glb, const bytes* buffer) {
   j->length = 0;
   put_text(j,
            "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0,2]}],"
            "\"nodes\":[{\"name\":\"parent\",\"translation\":[10,0,0],\"scale\":[2,2,2],\"children\":[1]},"
-           "{\"name\":\"child\",\"mesh\":0},{\"name\":\"other\",\"mesh\":0,\"translation\":[0,20,0]}],"
+           "{\"name\":\"child\",\"mesh\":0},{\"name\":\"other\",\"mesh\":1,\"translation\":[0,20,0]}],"
            "\"meshes\":[{\"name\":\"box\",\"primitives\":[{\"attributes\":{\"POSITION\":0,\"NORMAL\":1,"
-           "\"TEXCOORD_0\":2},\"indices\":3,\"material\":0}]}],"
+           "\"TEXCOORD_0\":2},\"indices\":3,\"material\":0}]},{\"name\":\"brick_box\",\"primitives\":["
+           "{\"attributes\":{\"POSITION\":0,\"NORMAL\":1,\"TEXCOORD_0\":2},\"indices\":3,\"material\":1}]}],"
            "\"materials\":[{\"name\":\"stone\",\"pbrMetallicRoughness\":{\"baseColorFactor\":[0.5,0.25,1,1],"
-           "\"baseColorTexture\":{\"index\":0}}}],\"textures\":[{\"source\":0}],");
+           "\"baseColorTexture\":{\"index\":0}}},{\"name\":\"brick\",\"pbrMetallicRoughness\":{"
+           "\"baseColorFactor\":[0.75,0.2,0.1,1]}}],\"textures\":[{\"source\":0}],");
   if (glb)
     put_text(j,
              "\"images\":[{\"bufferView\":4,\"mimeType\":\"image/png\"}],\"buffers\":[{\"byteLength\":%zu}],",
@@ -344,6 +346,7 @@ static void test_ply_and_stl(void) {
     ENSURE(strcmp(info.format, i < 2 ? "ply" : "assimp:stl") == 0); // PLY: our own reader
     if (i >= 2) ENSURE(info.welded_positions > 0);                  // STL repeats every vertex
     bk_mesh_free(&m);
+    bk_import_info_free(&info);
   }
 }
 
@@ -356,6 +359,7 @@ static void test_inside_out_is_turned(void) {
   ENSURE(info.flipped);
   ensure_box(&m, origin, box_size);
   bk_mesh_free(&m);
+  bk_import_info_free(&info);
 }
 
 // The whole scene, one node, an unknown node; UVs, material, texture path.
@@ -370,15 +374,29 @@ static void test_gltf_nodes_and_material(void) {
   ENSURE(m.position_count == 16);                    // seams welded: 8 per box
   ENSURE(info.meshes == 2 && info.nodes_used == 2 && info.triangles_in == 24);
   ENSURE(has_uvs(&m) && !info.uvs_projected && !info.normals_computed);
-  ENSURE_MSG(strcmp(info.material, "stone") == 0, "material '%s'", info.material);
-  ENSURE_SMALL(info.base_color[0], 0.5, 1e-6);
-  ENSURE_SMALL(info.base_color[1], 0.25, 1e-6);
-  ENSURE_MSG(strcmp(info.texture, BK_TEST_TMP "/tex/stone.png") == 0, "texture '%s'", info.texture);
-  ENSURE(!info.texture_embedded);
+  // Two materials: "stone" on the child box, "brick" on the other; each
+  // triangle carries its own (bk_material_source), in the order the nodes use them.
+  ENSURE_MSG(info.materials == 2, "%u materials", info.materials);
+  const bk_import_material* stone = &info.material_list[0];
+  const bk_import_material* brick = &info.material_list[1];
+  ENSURE_MSG(strcmp(stone->name, "stone") == 0, "material '%s'", stone->name);
+  ENSURE_MSG(strcmp(brick->name, "brick") == 0, "material '%s'", brick->name);
+  ENSURE(stone->triangles == 12 && brick->triangles == 12);
+  ENSURE_SMALL(stone->base_color[0], 0.5, 1e-6);
+  ENSURE_SMALL(stone->base_color[1], 0.25, 1e-6);
+  ENSURE_SMALL(brick->base_color[0], 0.75, 1e-6);
+  ENSURE_MSG(strcmp(stone->texture, BK_TEST_TMP "/tex/stone.png") == 0, "texture '%s'", stone->texture);
+  ENSURE(!stone->image && brick->texture[0] == '\0' && !brick->image);
+  for (uint32_t t = 0; t < m.triangle_count; ++t) {
+    bk_vec3 p = m.positions[bk_mesh_tri_position(&m, t, 0)];
+    ENSURE(bk_material_source(m.materials[t]) == (p.y > 10.0 ? 1u : 0u));
+    ENSURE(!bk_material_is_interior(m.materials[t]));
+  }
   bk_repair_info repair;
   ENSURE(bk_mesh_repair(&m, &repair, &err));
   ENSURE(repair.shells == 2 && repair.positions_split == 0 && repair.holes_closed == 0);
   bk_mesh_free(&m);
+  bk_import_info_free(&info);
 
   bk_import_def def = bk_default_import_def();
   def.node = "child"; // under "parent": translated by 10 in x and scaled by 2
@@ -386,10 +404,12 @@ static void test_gltf_nodes_and_material(void) {
   ensure_box(&m, (double[3]){9, -1, -1}, (double[3]){11, 1, 1});
   ENSURE(info.meshes == 1);
   bk_mesh_free(&m);
+  bk_import_info_free(&info);
   def.node = "other";
   ENSURE_MSG(bk_model_import(TMP "scene.gltf", &def, &m, &info, &err), "%s", err.message);
   ensure_box(&m, (double[3]){-0.5, 19.5, -0.5}, (double[3]){0.5, 20.5, 0.5});
   bk_mesh_free(&m);
+  bk_import_info_free(&info);
   def.node = "statue";
   expect_refusal(TMP "scene.gltf", &def, "no node named 'statue' (nodes: ");
   ENSURE(bk_model_import(TMP "scene.gltf", &def, &m, NULL, &err) == false && strstr(err.message, "'parent'"));
@@ -404,15 +424,20 @@ static void test_glb_embedded_texture(void) {
   ENSURE_MSG(bk_model_import(TMP "scene.glb", NULL, &m, &info, &err), "%s", err.message);
   ENSURE(bk_mesh_is_closed(&m));
   ENSURE_SMALL(bk_mesh_volume(&m), 9.0, 1e-9);
-  ENSURE(info.texture_embedded && info.embedded_index == 0 && info.texture[0] == '\0');
-  ENSURE_MSG(strcmp(info.embedded_format, "png") == 0, "format '%s'", info.embedded_format);
+  // The embedded image's bytes are kept for the export.
+  const bk_import_material* stone = &info.material_list[0];
+  ENSURE(stone->image && stone->image_size == GLTF_IMAGE && stone->texture[0] == '\0');
+  ENSURE(memcmp(stone->image, "\x89PNG\r\n\x1a\n", 8) == 0);
+  ENSURE_MSG(strcmp(stone->image_format, "png") == 0, "format '%s'", stone->image_format);
   bk_mesh_free(&m);
+  bk_import_info_free(&info);
   // The same bytes from memory.
   ENSURE_MSG(
       bk_model_import_memory(scratch_a.data, scratch_a.length, "glb", "mem.glb", NULL, &m, &info, &err), "%s",
       err.message);
   ENSURE_SMALL(bk_mesh_volume(&m), 9.0, 1e-9);
   bk_mesh_free(&m);
+  bk_import_info_free(&info);
 }
 
 static void test_fbx(void) {
@@ -426,6 +451,7 @@ static void test_fbx(void) {
   ENSURE(bk_mesh_is_closed(&m) && m.position_count == 8 && m.triangle_count == 12);
   ENSURE(bk_mesh_volume(&m) > 0.0);
   bk_mesh_free(&m);
+  bk_import_info_free(&info);
 }
 
 // A node that mirrors (scale -1 in x) keeps the box facing out.
@@ -451,6 +477,7 @@ static void test_mirrored_node(void) {
   ENSURE(info.mirrored_meshes == 1 && !info.flipped);
   ensure_box(&m, (double[3]){9, -1, -1}, (double[3]){11, 1, 1});
   bk_mesh_free(&m);
+  bk_import_info_free(&info);
 }
 
 static void test_hostile_input(void) {
@@ -458,7 +485,7 @@ static void test_hostile_input(void) {
   make_glb(36);
   write_bytes(TMP "truncated.glb", scratch_a.data, scratch_a.length / 2);
   expect_refusal(TMP "truncated.glb", &def,
-                 "truncated binary glTF (header says 2004 bytes, the file has 1002)");
+                 "truncated binary glTF (header says 2200 bytes, the file has 1100)");
   make_glb(0); // every index 99 of 24 vertices
   write_bytes(TMP "bad_indices.glb", scratch_a.data, scratch_a.length);
   expect_refusal(TMP "bad_indices.glb", &def, NULL);

@@ -561,6 +561,58 @@ static void test_decimal_comma_locale(void) {
   bk_mesh_free(&back);
 }
 
+// usemtl names give the triangles' source materials in the order of first
+// use; the mtllib file beside the OBJ gives their colours and textures
+// (map_Kd's options skipped, the name resolved against the OBJ's directory).
+static void test_materials(void) {
+  const char* obj = "mtllib two.mtl\n"
+                    "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"
+                    "f 1 3 2\n"          // before any usemtl: material 0, unnamed
+                    "usemtl red brick\n" // names may hold blanks
+                    "f 1 2 4\nf 1 4 3\n"
+                    "usemtl glass\n"
+                    "f 2 3 4\n"
+                    "usemtl red brick\n"; // used again: the same id
+  const char* mtl = "# two materials\nnewmtl glass\nKd 0.5 0.25 1\nd 0.5\n"
+                    "newmtl red brick\nKd 0.8 0.1 0.1\nmap_Kd -o 0.5 0.5 -bm 2 tex/red brick.png\n"
+                    "newmtl unused\nKd nan 2 -1\nmap_Kd\n";
+  FILE* f = fopen(BK_TEST_TMP "/two.obj", "wb");
+  ENSURE(f && fputs(obj, f) >= 0 && fclose(f) == 0);
+  f = fopen(BK_TEST_TMP "/two.mtl", "wb");
+  ENSURE(f && fputs(mtl, f) >= 0 && fclose(f) == 0);
+  bk_mesh m = {0};
+  bk_import_info info = {0};
+  bk_error err = {{0}};
+  ENSURE_MSG(bk_model_import(BK_TEST_TMP "/two.obj", NULL, &m, &info, &err), "%s", err.message);
+  ENSURE_MSG(info.materials == 3, "%u materials", info.materials);
+  ENSURE(info.material_list[0].name[0] == '\0' && info.material_list[0].triangles == 1);
+  ENSURE(strcmp(info.material_list[1].name, "red brick") == 0 && info.material_list[1].triangles == 2);
+  ENSURE(strcmp(info.material_list[2].name, "glass") == 0 && info.material_list[2].triangles == 1);
+  ENSURE(info.dominant_material == 1);
+  const uint32_t expected[4] = {0, 1, 1, 2};
+  for (uint32_t t = 0; t < 4; ++t)
+    ENSURE_MSG(m.materials[t] == bk_material_id(expected[t], false), "triangle %u: %u", t, m.materials[t]);
+  const bk_import_material* red = &info.material_list[1];
+  const bk_import_material* glass = &info.material_list[2];
+  ENSURE(red->base_color[0] == 0.8f && red->base_color[1] == 0.1f && red->base_color[3] == 1.0f);
+  ENSURE(glass->base_color[2] == 1.0f && glass->base_color[3] == 0.5f);
+  ENSURE_MSG(strcmp(red->texture, BK_TEST_TMP "/tex/red brick.png") == 0, "texture '%s'", red->texture);
+  ENSURE(glass->texture[0] == '\0' && info.material_list[0].base_color[0] == 1.0f);
+  bk_mesh_free(&m);
+  bk_import_info_free(&info);
+  // Without the library beside it (or from memory), the names alone.
+  ENSURE(remove(BK_TEST_TMP "/two.mtl") == 0);
+  ENSURE_MSG(bk_model_import(BK_TEST_TMP "/two.obj", NULL, &m, &info, &err), "%s", err.message);
+  ENSURE(info.materials == 3 && info.material_list[1].base_color[1] == 1.0f &&
+         !info.material_list[1].texture[0]);
+  bk_mesh_free(&m);
+  bk_import_info_free(&info);
+  ENSURE(bk_model_import_memory(obj, strlen(obj), "obj", "mem.obj", NULL, &m, &info, &err));
+  ENSURE(info.materials == 3 && strcmp(info.material_list[2].name, "glass") == 0);
+  bk_mesh_free(&m);
+  bk_import_info_free(&info);
+}
+
 int main(void) {
   RUN(test_cube_shared_vertices);
   RUN(test_cube_duplicated_vertices);
@@ -571,5 +623,6 @@ int main(void) {
   RUN(test_errors);
   RUN(test_mutations);
   RUN(test_bunny);
+  RUN(test_materials);
   return 0;
 }

@@ -17,11 +17,27 @@ extern "C" {
 
 // ---------------------------------------------------------------- meshes
 
-/// Material ids stored per triangle.
+/// Material ids stored per triangle: bit 0 tells the faces created by cuts
+/// (caps) from the source's own surface, the bits above it which source
+/// material the triangle belongs to (an index into the import's
+/// bk_import_info.material_list; 0 for a one-material mesh). A cap takes the
+/// source material of the surface it cuts through, so each source material
+/// has two ids: its surface and its interior.
 enum {
-  BK_MATERIAL_OUTER = 0,    ///< the source mesh's own surface
-  BK_MATERIAL_INTERIOR = 1, ///< faces created by cuts (caps)
+  BK_MATERIAL_OUTER = 0,         ///< source material 0's surface
+  BK_MATERIAL_INTERIOR = 1,      ///< source material 0's cut faces
+  BK_MATERIAL_SOURCES_MAX = 128, ///< source materials a mesh can tell apart
 };
+
+/// The material id of source material `source` (< BK_MATERIAL_SOURCES_MAX):
+/// its cut faces when `interior`, else its surface.
+static inline uint8_t bk_material_id(uint32_t source, bool interior) {
+  return (uint8_t)((source & (BK_MATERIAL_SOURCES_MAX - 1)) << 1 | (interior ? 1u : 0u));
+}
+/// True for the id of a cut face.
+static inline bool bk_material_is_interior(uint8_t id) { return (id & 1u) != 0; }
+/// The source material an id belongs to.
+static inline uint32_t bk_material_source(uint8_t id) { return (uint32_t)id >> 1; }
 
 /// One triangle corner's attributes. Corners index welded positions, so two
 /// corners at a UV or normal seam share the position and topology stays closed.
@@ -38,7 +54,7 @@ typedef struct bk_mesh {
   bk_vec3* positions;
   bk_corner* corners;
   uint32_t* indices;  ///< 3 corner indices per triangle, counter-clockwise seen from outside
-  uint8_t* materials; ///< per triangle: BK_MATERIAL_*
+  uint8_t* materials; ///< per triangle: a material id (bk_material_id)
   uint32_t* tags;     ///< per triangle, copied through slicing (fracture: which cut made a cap; 0 = none)
   uint32_t position_count, position_capacity;
   uint32_t corner_count, corner_capacity;
@@ -194,18 +210,36 @@ bk_import_def bk_default_import_def(void);
 /// Longest text kept in bk_import_info's strings (longer ones are cut).
 #define BK_IMPORT_TEXT_MAX 512
 
-/// What an import found (zeroed, then filled as far as the import got).
-typedef struct bk_import_info {
-  char format[32];                   ///< the reader: "obj" (ours) or "assimp:<extension>"
-  char material[BK_IMPORT_TEXT_MAX]; ///< name of the base-colour material (that of the most triangles)
-  /// Base-colour texture: a path resolved relative to the model file's
+/// One material of an imported model, as the file gives it.
+typedef struct bk_import_material {
+  char name[64];       ///< the file's name for it, cut to 63 bytes ("" when it has none)
+  float base_color[4]; ///< base colour factor, RGBA (1, 1, 1, 1 when the file gives none)
+  /// Base-colour texture file: a path resolved relative to the model file's
   /// directory, or "" when there is none or it is embedded.
   char texture[BK_IMPORT_TEXT_MAX];
-  bool texture_embedded;         ///< the texture is an image inside the model file
-  uint32_t embedded_index;       ///< ... its index among the file's embedded images
-  char embedded_format[16];      ///< ... its format hint ("png", "jpg"; "" if raw texels)
-  float base_color[4];           ///< base colour factor, RGBA (1, 1, 1, 1 when the file gives none)
-  uint32_t materials;            ///< materials used by the imported meshes
+  /// An embedded base-colour image (owned by the bk_import_info): PNG or
+  /// JPEG bytes as the file holds them, or uncompressed texels the import
+  /// encoded as PNG; NULL when there is none (or it is in another format:
+  /// then image_unsupported).
+  uint8_t* image;
+  size_t image_size;
+  char image_format[8];   ///< "png" or "jpeg" when image is set
+  bool image_unsupported; ///< an embedded image in a format glTF cannot hold (e.g. "dds")
+  uint32_t triangles;     ///< triangles of the mesh with this material
+} bk_import_material;
+
+/// What an import found (zeroed, then filled as far as the import got).
+/// Release with bk_import_info_free when done (it owns material_list).
+typedef struct bk_import_info {
+  char format[32]; ///< the reader: "obj" (ours) or "assimp:<extension>"
+  /// The materials the mesh's triangles use, in the order of their ids:
+  /// triangles of material_list[k] have bk_material_source k. Files with
+  /// more than BK_MATERIAL_SOURCES_MAX materials have the extra ones'
+  /// triangles given the first material (counted in materials_merged).
+  bk_import_material* material_list;
+  uint32_t materials;            ///< entries in material_list (at least 1 after a successful import)
+  uint32_t materials_merged;     ///< materials beyond BK_MATERIAL_SOURCES_MAX, merged into the first
+  uint32_t dominant_material;    ///< the index of the material with the most triangles
   uint32_t meshes;               ///< mesh instances placed (a mesh used by two nodes counts twice)
   uint32_t nodes;                ///< nodes in the scene
   uint32_t nodes_used;           ///< nodes whose meshes were placed
@@ -238,6 +272,9 @@ bool bk_model_import(const char* path, const bk_import_def* def, bk_mesh* out, b
 /// not available this way.
 bool bk_model_import_memory(const void* data, size_t size, const char* format, const char* name,
                             const bk_import_def* def, bk_mesh* out, bk_import_info* info, bk_error* err);
+/// Releases what an import left in `info` (its material list) and zeroes
+/// it; safe on a zeroed info.
+void bk_import_info_free(bk_import_info* info);
 /// True when `path`'s extension (any case) is one of BK_IMPORT_EXTENSIONS.
 bool bk_model_import_supports(const char* path);
 
@@ -276,13 +313,16 @@ bool bk_slicer_slice(bk_slicer* slicer, const bk_mesh* mesh, const bk_slice_def*
 /// set if the mesh cannot be closed this way (non-manifold edges, failed loop).
 int bk_mesh_fill_holes(bk_mesh* mesh, bk_error* err);
 
-/// Separates shells that touch at a vertex or along an edge: around every
-/// edge used by more than two triangles, the triangles are paired with their
-/// angular neighbour that closes the solid (the pairing of two closed shells
-/// touching there), and every position whose triangles then form several
-/// separate fans gets one copy per fan. Afterwards each shell is closed (or
-/// open) on its own, and bk_mesh_split_hulls tells them apart. Returns the
-/// number of positions added.
+/// Separates shells that touch at a vertex, along an edge or over a face
+/// (whose two opposite copies use the same positions, as welding leaves
+/// them): around every edge used by more than two triangles, the triangles
+/// are paired with their angular neighbour that closes the solid (the
+/// pairing of two closed shells touching there; of two coincident triangles
+/// facing opposite ways, each pairs with its own shell's triangle), and
+/// every position whose triangles then form several separate fans gets one
+/// copy per fan. Afterwards each shell is closed (or open) on its own, and
+/// bk_mesh_split_hulls tells them apart. Returns the number of positions
+/// added.
 uint32_t bk_mesh_split_nonmanifold(bk_mesh* mesh);
 
 /// What bk_mesh_repair found and did.
@@ -294,10 +334,10 @@ typedef struct bk_repair_info {
 } bk_repair_info;
 
 /// Makes a mesh from an art tool fit for bk_mesh_tree_build when that is
-/// possible: splits shells touching at vertices or edges, then fills simple
-/// holes. What still is not closed is refused with the count and location of
-/// the problem ("12 open edges, the first near (x, y, z)"); the mesh is then
-/// left split but unfilled. `info` may be NULL.
+/// possible: splits shells touching at vertices, edges or faces, then fills
+/// simple holes. What still is not closed is refused with the count and
+/// location of the problem ("12 open edges, the first near (x, y, z)"); the
+/// mesh is then left split but unfilled. `info` may be NULL.
 bool bk_mesh_repair(bk_mesh* mesh, bk_repair_info* info, bk_error* err);
 
 // ---------------------------------------------------------------- hulls
@@ -314,9 +354,12 @@ uint32_t bk_mesh_split_hulls(bk_mesh* mesh, bk_mesh** out);
 /// Parameters of a fracture: bk_default_fracture_def() fills every field;
 /// bk_fracture_def_validate (and the build) take them as given.
 typedef struct bk_fracture_def {
-  /// Target leaf count, >= 1; default 256. Fewer come out only when a piece
-  /// cannot be cut (see bk_fracture_shortfall); a few more when a cut
-  /// through a concave piece, or one of separate shells, gives more than two.
+  /// Leaf count, >= 1; default 256. Exactly this many come out, unless a
+  /// piece cannot be cut (then fewer, see bk_fracture_shortfall). A cut
+  /// through a concave piece, or one of separate shells (or a source with
+  /// more overlapping shells than pieces), can make more pieces than the
+  /// tree may still take: the nearest of them are then merged, so a leaf may
+  /// be made of several closed shells.
   uint32_t pieces;
   uint64_t seed;        ///< random seed; the same seed gives the same tree; default 3000
   double texture_scale; ///< world size of one interior texture tile, > 0; default 0.1
@@ -377,22 +420,26 @@ typedef struct bk_fracture_shortfall {
   uint32_t missed;         ///< ... the plane left everything on one side (thinner than the cut tolerance)
 } bk_fracture_shortfall;
 
-/// Closed solid shells of a source that overlap another (interpenetrating
-/// or nested solids; a cavity, such as the inside of an eggshell, is part of
-/// its solid and overlaps nothing). A plane through overlapping shells cuts
-/// cross-sections no cap can close, so bk_mesh_tree_build makes each
-/// overlapping shell a child of the root of its own, and all the other shells
-/// together one more child, each fractured as a whole source would be (the
-/// pieces are shared by volume: the largest leaf of the whole tree is cut
-/// next). Such children share no cut, so no bond joins them, and the root's
-/// volume is the sum of the shells' volumes (their overlap counted twice).
-/// Shells that only touch (coincident faces) do not overlap.
+/// Closed solid shells of a source that overlap or touch another
+/// (interpenetrating or nested solids, or solids whose surfaces meet along a
+/// line or over an area, such as a box standing on a plinth; a cavity, such
+/// as the inside of an eggshell, is part of its solid and overlaps nothing;
+/// shells meeting at single points do not count). A plane through such
+/// shells cuts cross-sections that overlap or share edges, which no cap can
+/// close, so bk_mesh_tree_build makes each such shell a child of the root of
+/// its own, and all the other shells together one more child, each
+/// fractured as a whole source would be (the pieces are shared by volume:
+/// the largest leaf of the whole tree is cut next). Such children share no
+/// cut, so no bond joins them, and the root's volume is the sum of the
+/// shells' volumes (an overlap counted twice).
 typedef struct bk_fracture_overlap {
-  uint32_t shells;           ///< solid shells that overlap at least one other (0: none)
-  uint32_t pairs;            ///< overlapping pairs of shells
+  uint32_t shells;           ///< solid shells that overlap or touch at least one other (0: none)
+  uint32_t pairs;            ///< pairs of shells that overlap or touch
+  uint32_t touching_pairs;   ///< of those, the pairs that only touch (their solids share no volume)
   uint32_t shell_a, shell_b; ///< the first pair, numbered from 1 in the source's order (of first triangle)
+  bool touching;             ///< the first pair only touches
   double volume_a, volume_b; ///< their volumes
-  bk_vec3 point; ///< a point where they overlap (a contained vertex or a crossing of their surfaces)
+  bk_vec3 point; ///< a point where they overlap (a contained vertex or a crossing of their surfaces) or touch
 } bk_fracture_overlap;
 
 /// How many planes are tried on a piece before it stays whole.
@@ -509,21 +556,43 @@ typedef enum bk_gltf_levels {
   BK_GLTF_LEVELS_LEAVES,  ///< the fragments only, each a root node of the scene
 } bk_gltf_levels;
 
+/// A texture of a glTF export: image bytes written into the file, or a URI
+/// written as it is; both NULL for none.
+typedef struct bk_gltf_image {
+  /// PNG or JPEG bytes (glTF 2.0's core image formats), copied into the
+  /// file's binary buffer, so the export stands alone; NULL for none.
+  const void* data;
+  size_t size; ///< bytes at data
+  /// When data is NULL: the image's URI as written in the file (a path
+  /// relative to the exported file, as glTF resolves it; not copied).
+  const char* uri;
+} bk_gltf_image;
+
+/// One source material of a glTF export. Triangles of source material k
+/// (bk_material_source) use the export's materials 2k (surface) and 2k + 1
+/// (cut faces, named `<name>_interior`).
+typedef struct bk_gltf_material {
+  const char* name;      ///< 1..63 bytes
+  float base_color[4];   ///< baseColorFactor of the surface, RGBA, each in [0, 1]
+  bk_gltf_image texture; ///< base-colour texture of the surface
+  /// Base-colour texture of the cut faces (their UVs are already divided by
+  /// the fracture's texture scale, so one tile is texture_scale wide).
+  bk_gltf_image interior_texture;
+} bk_gltf_material;
+
+/// A material named "surface", white, without textures.
+bk_gltf_material bk_default_gltf_material(void);
+
 /// Parameters of a glTF export: bk_default_gltf_def() fills every field;
 /// bk_mesh_tree_save_gltf takes them as given (and refuses bad ones, naming the field).
 typedef struct bk_gltf_def {
   bk_gltf_levels levels; ///< default BK_GLTF_LEVELS_ALL
-  /// Name of the source material, 1..63 bytes: the surface material is named
-  /// so and the cut faces' material `<material_name>_interior`; default "surface".
-  const char* material_name;
-  /// Base-colour texture of the surface, as the image URI written in the file
-  /// (a path relative to the exported file, as glTF resolves it; not copied);
-  /// NULL (the default) for none.
-  const char* base_color_texture;
-  /// Base-colour texture of the cut faces (their UVs are already divided by
-  /// the fracture's texture scale, so one tile is texture_scale wide); NULL
-  /// (the default) for none.
-  const char* interior_texture;
+  /// The source materials, indexed by bk_material_source of the triangles
+  /// (at most BK_MATERIAL_SOURCES_MAX); NULL with material_count 0 (the
+  /// default) = one bk_default_gltf_material(). Triangles of a source
+  /// material beyond the list use the list's first.
+  const bk_gltf_material* materials;
+  uint32_t material_count;
   /// Material parameters recorded in asset.extras.breakables.material for
   /// the game (see docs/gltf.md): density in kg/m^3 (> 0, default 2400),
   /// frailty (>= 0, default 1), bond strength in hit points per m^2 of bond
@@ -538,7 +607,8 @@ bk_gltf_def bk_default_gltf_def(void);
 /// the path's extension (any other is refused). Nodes are the tree's nodes
 /// (or leaves, by def->levels), named `node_<index>` and `fragment_<leaf>`;
 /// each node's translation is its centre of mass and its mesh's vertices
-/// are relative to it, with one primitive per material (surface, interior).
+/// are relative to it, with one primitive per material id present (a source
+/// material's surface or its cut faces).
 /// The extras (volumes, moments, bounds, leaf ranges, bonds, fracture and
 /// material parameters) and the embedded .mtree that makes the file load back
 /// exactly are described in docs/gltf.md. Written atomically, in the C locale.

@@ -22,8 +22,25 @@ bool bk_app_load_mesh(const char* spec, bk_mesh* out, bk_error* err);
 /// bk_app_load_mesh with a scene node to take (with its subtree; NULL = the
 /// whole scene) from a model file: shells touching at a vertex or an edge are
 /// split apart and simple holes closed (bk_mesh_repair), with a warning.
-/// info (may be NULL) gets what the import found (material, texture).
+/// info (may be NULL) gets what the import found (materials, textures); the
+/// caller releases it with bk_import_info_free.
 bool bk_app_load_model(const char* spec, const char* node, bk_mesh* out, bk_import_info* info, bk_error* err);
+/// The materials a glTF export carries (bk_gltf_def.materials), with the
+/// texture files read into memory so the export holds them.
+typedef struct bk_app_export_materials {
+  bk_gltf_material* list;
+  uint32_t count;
+  char (*names)[64];
+  void** files;               ///< texture file bytes read, 2 per material
+  uint32_t textures_left_out; ///< textures not found or not PNG/JPEG (each warned on stderr)
+} bk_app_export_materials;
+/// An imported model's materials (info may be NULL: one "surface"); `spec` names the model in warnings.
+void bk_app_export_materials_from_import(const bk_import_info* info, const char* spec,
+                                         bk_app_export_materials* out);
+/// One of the game's materials ("stone", ...) with its albedo and interior textures.
+void bk_app_export_materials_from_look(const char* look, bk_app_export_materials* out);
+/// Releases what the two above made.
+void bk_app_export_materials_free(bk_app_export_materials* m);
 /// Builds the mesh tree of a mesh (scaled uniformly by `scale` when not 0 or
 /// 1), or loads it from the cache directory ($BREAKABLES_CACHE_DIR, else
 /// $XDG_CACHE_HOME/breakables, else ~/.cache/breakables) when a file made

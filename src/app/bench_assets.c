@@ -168,6 +168,7 @@ static bool measure_import(const bench* b, import_result* out) {
     timing_add(&out->import, bk_now_ms() - start);
     out->triangles_in = info.triangles_in;
     out->triangles_out = imported.triangle_count;
+    bk_import_info_free(&info);
   }
   if (!ok)
     fprintf(stderr, "breakables bench: glTF import of a torus of %u triangles: %s\n", torus.triangle_count,

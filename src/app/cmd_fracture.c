@@ -42,15 +42,17 @@ static const char* const fracture_usage =
     "  --export-gltf FILE.glb|FILE.gltf\n"
     "                        write the mesh tree as glTF 2.0 (.glb binary, .gltf JSON with\n"
     "                        the buffer inside): node hierarchy, pivots at the centres of\n"
-    "                        mass, surface and <material>_interior materials, bonds and the\n"
-    "                        tree in extras (docs/gltf.md); loads back exactly\n"
+    "                        mass, two materials per source material (<name> and\n"
+    "                        <name>_interior) with their textures inside the file,\n"
+    "                        bonds and the tree in extras (docs/gltf.md); loads back exactly\n"
     "  --gltf-levels all|leaves\n"
     "                        export every node of the tree (default) or the fragments only\n"
     "  --json                print one JSON object instead of the summary: mesh, pieces,\n"
     "                        nodes, max_depth, ms, leaf_triangles, bonds, watertight,\n"
     "                        volume_rel_error, child_volume_rel_error, seed, texture_scale,\n"
-    "                        source_triangles, peak_rss_mb, pieces_requested, pieces_made,\n"
-    "                        warnings (why fewer or more pieces were made than asked for,\n"
+    "                        source_triangles, source_materials, peak_rss_mb,\n"
+    "                        pieces_requested, pieces_made,\n"
+    "                        warnings (why fewer pieces were made than asked for,\n"
     "                        which shells overlapped) and\n"
     "                        export_gltf (the path written, or null)\n"
     "  --max-memory MIB      memory the fracture may use, 1..1073741824 MiB (default: the\n"
@@ -166,17 +168,19 @@ int bk_cmd_fracture(int argc, char** argv) {
   bk_mesh source = {0};
   bk_import_info imported = {0};
   if (!bk_app_load_model(mesh_spec, node, &source, &imported, &err)) return fail(err.message);
-  // The model's own material and texture name the export's surface material.
-  char material_name[64] = {0}, texture_uri[4096] = {0};
-  if (imported.material[0]) {
-    snprintf(material_name, sizeof material_name, "%.63s", imported.material); // glTF def: 1..63 bytes
-    gltf.material_name = material_name;
+  // The model's own materials (names, colours, textures) become the
+  // export's, two per source material; texture files go into the file.
+  bk_app_export_materials materials = {0};
+  if (gltf_path) {
+    bk_app_export_materials_from_import(&imported, mesh_spec, &materials);
+    gltf.materials = materials.list;
+    gltf.material_count = materials.count;
   }
-  if (gltf_path && imported.texture[0] &&
-      bk_app_relative_path(gltf_path, imported.texture, texture_uri, sizeof texture_uri))
-    gltf.base_color_texture = texture_uri;
+  uint32_t source_materials = imported.materials ? imported.materials : 1;
+  bk_import_info_free(&imported);
   if (!bk_app_check_fracture_memory(mesh_spec, &source, &desc, out_path != NULL, &err)) {
     bk_mesh_free(&source);
+    bk_app_export_materials_free(&materials);
     return fail(err.message);
   }
 
@@ -193,6 +197,7 @@ int bk_cmd_fracture(int argc, char** argv) {
   uint32_t source_triangles = source.triangle_count;
   bk_mesh_free(&source);
   if (!built) {
+    bk_app_export_materials_free(&materials);
     char message[600];
     snprintf(message, sizeof message, "%s: %s", mesh_spec, err.message);
     return fail(message);
@@ -208,6 +213,7 @@ int bk_cmd_fracture(int argc, char** argv) {
     snprintf(message, sizeof message, "%u of %u nodes came out open; nothing was written", st.open_nodes,
              tree.node_count);
     bk_mesh_tree_free(&tree);
+    bk_app_export_materials_free(&materials);
     return fail(message);
   }
   char shortfall[400];
@@ -216,23 +222,6 @@ int bk_cmd_fracture(int argc, char** argv) {
   char overlap[400];
   bool overlapped = bk_mesh_tree_overlap_text(&tree, overlap, sizeof overlap);
   if (overlapped) fprintf(stderr, "breakables fracture: warning: %s: %s\n", mesh_spec, overlap);
-  // More than asked is no failure, but the user asked for a number: say why.
-  char overshoot[300] = {0};
-  if (tree.leaf_count > desc.pieces) {
-    bk_mesh copy = {0};
-    bk_mesh_copy(&copy, &tree.nodes[0].mesh);
-    bk_mesh* shells = NULL;
-    uint32_t shell_count = bk_mesh_split_hulls(&copy, &shells);
-    for (uint32_t i = 0; i < shell_count; ++i)
-      bk_mesh_free(&shells[i]);
-    free(shells);
-    snprintf(overshoot, sizeof overshoot,
-             "made %u pieces, %u more than the %u asked for: a cut through a concave piece or one made of "
-             "separate shells gives more than two pieces (the source has %u separate shell%s)",
-             tree.leaf_count, tree.leaf_count - desc.pieces, desc.pieces, shell_count,
-             shell_count == 1 ? "" : "s");
-  }
-  if (overshoot[0]) fprintf(stderr, "breakables fracture: note: %s: %s\n", mesh_spec, overshoot);
   if (out_path && !bk_mesh_tree_save(&tree, out_path, &err)) status = fail(err.message);
   if (status == 0 && obj_path) {
     bk_mesh* leaves = bk_alloc(sizeof(bk_mesh) * tree.leaf_count);
@@ -243,6 +232,7 @@ int bk_cmd_fracture(int argc, char** argv) {
   }
   if (status == 0 && gltf_path && !bk_mesh_tree_save_gltf(&tree, gltf_path, &gltf, &err))
     status = fail(err.message);
+  bk_app_export_materials_free(&materials);
 
   if (json) {
     fputs("{\"mesh\": ", stdout);
@@ -251,19 +241,15 @@ int bk_cmd_fracture(int argc, char** argv) {
            "\"max_depth\": %u, \"ms\": %.3f, "
            "\"leaf_triangles\": %u, \"bonds\": %u, \"watertight\": %s, \"volume_rel_error\": %.3e, "
            "\"child_volume_rel_error\": %.3e, \"seed\": %llu, \"texture_scale\": %g, "
-           "\"source_triangles\": %u, \"peak_rss_mb\": %.1f, \"warnings\": [",
+           "\"source_triangles\": %u, \"source_materials\": %u, \"peak_rss_mb\": %.1f, \"warnings\": [",
            tree.leaf_count, desc.pieces, tree.leaf_count, tree.node_count, tree.max_depth, ms,
            st.leaf_triangles, tree.bond_count, st.open_nodes == 0 ? "true" : "false", volume_error,
            st.max_child_rel_error, (unsigned long long)tree.desc.seed, tree.desc.texture_scale,
-           source_triangles, bk_peak_rss_mb());
+           source_triangles, source_materials, bk_peak_rss_mb());
     if (short_of_pieces) print_json_string(shortfall);
     if (overlapped) {
       if (short_of_pieces) fputs(", ", stdout);
       print_json_string(overlap);
-    }
-    if (overshoot[0]) {
-      if (short_of_pieces || overlapped) fputs(", ", stdout);
-      print_json_string(overshoot);
     }
     fputs("], \"export_gltf\": ", stdout);
     if (gltf_path && status == 0)

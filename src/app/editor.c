@@ -121,9 +121,24 @@ static void export_files(editor* e) {
   bk_mesh* leaves = bk_alloc(sizeof(bk_mesh) * e->tree.leaf_count);
   for (uint32_t i = 0; i < e->tree.leaf_count; ++i)
     leaves[i] = bk_mesh_tree_leaf(&e->tree, i)->mesh;
+  // A model file's own materials, else the material the editor shows (stone)
+  // with its textures; the textures go into the .glb.
+  bk_app_export_materials materials = {0};
+  bk_import_info info = {0};
+  bk_mesh model = {0};
+  bk_error model_err = {0};
+  if (bk_model_import_supports(e->mesh) && bk_app_load_model(e->mesh, NULL, &model, &info, &model_err))
+    bk_app_export_materials_from_import(&info, e->mesh, &materials);
+  else
+    bk_app_export_materials_from_look("stone", &materials);
+  bk_mesh_free(&model);
+  bk_import_info_free(&info);
   bk_gltf_def gltf = bk_default_gltf_def();
+  gltf.materials = materials.list;
+  gltf.material_count = materials.count;
   bool ok = e->export_path[0] && bk_obj_save(obj, leaves, e->tree.leaf_count, &err) &&
             bk_mesh_tree_save(&e->tree, mtree, &err) && bk_mesh_tree_save_gltf(&e->tree, glb, &gltf, &err);
+  bk_app_export_materials_free(&materials);
   free(leaves);
   if (!e->export_path[0]) snprintf(err.message, sizeof err.message, "export: the path is empty");
   if (ok)

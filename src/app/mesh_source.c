@@ -45,7 +45,6 @@ bool bk_app_load_model(const char* spec, const char* node, bk_mesh* out, bk_impo
   def.node = node;
   bk_import_info info = {0};
   if (!bk_model_import(path, &def, out, &info, err)) return false;
-  if (info_out) *info_out = info;
   if (bunny) normalize_to_unit_height(out);
   if (info.flipped)
     fprintf(stderr, "breakables: warning: %s: mesh was inside out; its winding was reversed\n", path);
@@ -53,6 +52,7 @@ bool bk_app_load_model(const char* spec, const char* node, bk_mesh* out, bk_impo
   bk_error repair_err = {0};
   if (!bk_mesh_repair(out, &repair, &repair_err)) {
     bk_mesh_free(out);
+    bk_import_info_free(&info);
     return bk_error_set(err, "%s: %s", path, repair_err.message);
   }
   if (repair.positions_split)
@@ -64,5 +64,9 @@ bool bk_app_load_model(const char* spec, const char* node, bk_mesh* out, bk_impo
   if (repair.holes_closed)
     fprintf(stderr, "breakables: warning: %s: mesh was not watertight; closed %u hole%s (%u open edges)\n",
             path, repair.holes_closed, repair.holes_closed == 1 ? "" : "s", repair.open_edges);
+  if (info_out)
+    *info_out = info; // the caller releases it (bk_import_info_free)
+  else
+    bk_import_info_free(&info);
   return true;
 }

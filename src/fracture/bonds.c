@@ -266,7 +266,7 @@ void bk_mesh_tree_compute_bonds(bk_mesh_tree* tree) {
     const bk_mesh* mesh = &bk_mesh_tree_leaf(tree, leaf)->mesh;
     for (uint32_t t = 0; t < mesh->triangle_count; ++t) {
       uint32_t tag = mesh->tags[t];
-      if (mesh->materials[t] != BK_MATERIAL_INTERIOR || tag == 0 || tag > tree->node_count) continue;
+      if (!bk_material_is_interior(mesh->materials[t]) || tag == 0 || tag > tree->node_count) continue;
       bk_vec3 n = tree->nodes[tag - 1].plane.normal;
       bk_vec3 a = mesh->positions[bk_mesh_tri_position(mesh, t, 0)];
       bk_vec3 e = bk_v3_cross(bk_v3_sub(mesh->positions[bk_mesh_tri_position(mesh, t, 1)], a),

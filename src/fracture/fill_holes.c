@@ -28,6 +28,9 @@ int bk_mesh_fill_holes(bk_mesh* m, bk_error* err) {
   uint32_t open_count = 0;
   uint32_t* next_of = bk_alloc(sizeof(uint32_t) * (m->position_count + 1u)); // fill edge b -> a, keyed by b
   memset(next_of, 0xff, sizeof(uint32_t) * m->position_count);
+  // The material of the triangle along each open edge, keyed as next_of: a
+  // filled hole takes the source material of the surface around it.
+  uint8_t* material_of = bk_calloc(m->position_count + 1u, 1);
   bool branching = false;
   for (uint32_t s = 0; s < edges.capacity; ++s) {
     uint64_t key = edges.keys[s];
@@ -36,11 +39,13 @@ int bk_mesh_fill_holes(bk_mesh* m, bk_error* err) {
     if (bk_index_map_find(&edges, bk_directed_edge_key(b, a))) continue;
     if (next_of[b] != UINT32_MAX) branching = true;
     next_of[b] = a;
+    material_of[b] = m->materials[edges.values[s]];
     open_count++;
   }
   bk_index_map_free(&edges);
   if (branching) {
     free(next_of);
+    free(material_of);
     return bk_error_set(err, "holes touch each other at a vertex (not simple loops)"), -1;
   }
 
@@ -97,10 +102,11 @@ int bk_mesh_fill_holes(bk_mesh* m, bk_error* err) {
     }
     for (uint32_t t = 0; t < tri_count; ++t)
       bk_mesh_add_triangle(m, first + tris[3 * t], first + tris[3 * t + 1], first + tris[3 * t + 2],
-                           BK_MATERIAL_OUTER, 0);
+                           bk_material_id(bk_material_source(material_of[start]), false), 0);
     filled++;
   }
   free(loop);
+  free(material_of);
   free(local_edges);
   free(xy);
   free(next_of);

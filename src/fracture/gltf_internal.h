@@ -12,3 +12,72 @@
 
 /// The prefix of a .gltf buffer's data URI.
 #define BK_GLTF_DATA_URI "data:application/octet-stream;base64,"
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <breakables/authoring.h>
+
+// ---------------------------------------------------------------- JSON text (gltf_text.c)
+
+/// A growing NUL-terminated text.
+typedef struct text_buffer {
+  char* data;
+  size_t size, capacity;
+} text_buffer;
+
+/// Makes room for `extra` more bytes (and the NUL).
+void bk_tb_reserve(text_buffer* t, size_t extra);
+/// Appends text as it is.
+void bk_tb_raw(text_buffer* t, const char* s);
+/// Appends formatted text.
+__attribute__((format(printf, 2, 3))) void bk_tb_fmt(text_buffer* t, const char* fmt, ...);
+/// Appends a finite double with 17 significant digits (reads back exactly).
+void bk_tb_double(text_buffer* t, double v);
+/// Appends a JSON array of n doubles.
+void bk_tb_doubles(text_buffer* t, const double* v, int n);
+/// Appends a JSON string (quotes, backslashes and control characters escaped).
+void bk_tb_string(text_buffer* t, const char* s);
+/// Appends a path as a quoted URI reference (all but letters, digits and -._~/ percent-encoded).
+void bk_tb_uri(text_buffer* t, const char* path);
+/// Appends bytes as base64.
+void bk_tb_base64(text_buffer* t, const uint8_t* data, size_t size);
+
+// ---------------------------------------------------------------- materials (gltf_materials.c)
+
+/// One image of the export: bytes in the binary buffer (own buffer view) or a URI.
+typedef struct gltf_image_slot {
+  const bk_gltf_image* image;
+  uint64_t offset; ///< of the bytes in the binary buffer (data images)
+  uint32_t view;   ///< their buffer view (data images)
+} gltf_image_slot;
+
+/// The export's materials (2 per source material), textures and images.
+typedef struct gltf_materials {
+  const bk_gltf_material* list; ///< the def's, or the one default
+  uint32_t source_count;        ///< source materials written (>= 1)
+  int32_t* texture_of;          ///< per export material: its texture (= image) index, or -1
+  gltf_image_slot* images;
+  uint32_t image_count;
+  uint64_t bytes; ///< image bytes in the binary buffer, each image padded to 4
+} gltf_materials;
+
+/// Checks the def's materials; the message names the field.
+bool bk_gltf_check_materials(const bk_gltf_def* def, const char* path, bk_error* err);
+/// Lays the materials and images out: data images go at `binary_offset`
+/// onwards in the binary buffer, with buffer views from `first_view`. `fallback`
+/// is used when the def lists none.
+void bk_gltf_plan_materials(const bk_gltf_def* def, const bk_gltf_material* fallback, uint64_t binary_offset,
+                            uint32_t first_view, gltf_materials* out);
+/// The export material (glTF material index) of a triangle material id.
+uint32_t bk_gltf_material_index(const gltf_materials* m, uint8_t id);
+/// Copies the data images into the binary buffer.
+void bk_gltf_write_image_data(const gltf_materials* m, uint8_t* binary);
+/// Writes `"materials":[...]` and, when there are images, the samplers,
+/// images and textures arrays (each preceded by a comma).
+void bk_gltf_write_materials_json(text_buffer* t, const gltf_materials* m);
+/// Writes the images' buffer views (each preceded by a comma).
+void bk_gltf_write_image_views_json(text_buffer* t, const gltf_materials* m);
+/// Frees what the plan allocated.
+void bk_gltf_materials_free(gltf_materials* m);

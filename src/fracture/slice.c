@@ -28,13 +28,16 @@ struct bk_slicer {
   uint32_t cut_corner_count, cut_corner_capacity;
   // Directed edges with both ends on the plane, per side (global ids).
   uint64_t* plane_edges[2];
+  uint8_t* plane_edge_source[2]; // the source material of the triangle each plane edge came from
   uint32_t plane_edge_count[2], plane_edge_capacity[2];
   bk_index_map edge_set;
   // Cap input and output scratch.
   uint32_t* cap_edges[2];
+  uint8_t* cap_edge_source[2]; // per cap edge (not per id pair)
   uint32_t cap_edge_count[2], cap_edge_capacity[2];
   bk_index_map local_of_global;
   uint32_t* global_of_local;
+  uint8_t* source_of_local; // the source material of a cap edge leaving each local vertex
   double* xy;
   uint32_t local_capacity;
 };
@@ -64,11 +67,14 @@ void bk_slicer_destroy(bk_slicer* s) {
     free(s->cut_pos_map[k]);
     free(s->cut_corner_map[k]);
     free(s->plane_edges[k]);
+    free(s->plane_edge_source[k]);
     free(s->cap_edges[k]);
+    free(s->cap_edge_source[k]);
   }
   free(s->cut_positions);
   free(s->cut_corners);
   free(s->global_of_local);
+  free(s->source_of_local);
   free(s->xy);
   bk_index_map_free(&s->cut_position_of_edge);
   bk_index_map_free(&s->cut_corner_of_pair);
@@ -134,12 +140,14 @@ static bool on_plane(const bk_slicer* s, const bk_mesh* m, uint32_t global_posit
   return global_position >= m->position_count || s->cls[global_position] == 0;
 }
 
-static void push_plane_edge(bk_slicer* s, int side, uint32_t a, uint32_t b) {
+static void push_plane_edge(bk_slicer* s, int side, uint32_t a, uint32_t b, uint8_t material) {
   if (s->plane_edge_count[side] == s->plane_edge_capacity[side]) {
     s->plane_edge_capacity[side] =
         bk_grow_capacity(s->plane_edge_capacity[side], s->plane_edge_count[side] + 1);
     s->plane_edges[side] = bk_realloc(s->plane_edges[side], sizeof(uint64_t) * s->plane_edge_capacity[side]);
+    s->plane_edge_source[side] = bk_realloc(s->plane_edge_source[side], s->plane_edge_capacity[side]);
   }
+  s->plane_edge_source[side][s->plane_edge_count[side]] = (uint8_t)bk_material_source(material);
   s->plane_edges[side][s->plane_edge_count[side]++] = bk_directed_edge_key(a, b);
 }
 
@@ -150,7 +158,7 @@ static void emit(bk_slicer* s, const bk_mesh* m, bk_mesh* out, int side, const u
     gp[k] = global_position_of_corner(s, m, c[k]);
   for (int k = 0; k < 3; ++k) {
     uint32_t a = gp[k], b = gp[(k + 1) % 3];
-    if (on_plane(s, m, a) && on_plane(s, m, b)) push_plane_edge(s, side, a, b);
+    if (on_plane(s, m, a) && on_plane(s, m, b)) push_plane_edge(s, side, a, b, material);
   }
   bk_mesh_add_triangle(out, side_corner(s, m, out, side, c[0]), side_corner(s, m, out, side, c[1]),
                        side_corner(s, m, out, side, c[2]), material, tag);
@@ -280,7 +288,9 @@ static void collect_cap_edges(bk_slicer* s, int side) {
       s->cap_edge_capacity[side] =
           bk_grow_capacity(s->cap_edge_capacity[side], 2u * (s->cap_edge_count[side] + 1));
       s->cap_edges[side] = bk_realloc(s->cap_edges[side], sizeof(uint32_t) * s->cap_edge_capacity[side]);
+      s->cap_edge_source[side] = bk_realloc(s->cap_edge_source[side], s->cap_edge_capacity[side] / 2u);
     }
+    s->cap_edge_source[side][s->cap_edge_count[side]] = s->plane_edge_source[side][i];
     s->cap_edges[side][2 * s->cap_edge_count[side]] = b;
     s->cap_edges[side][2 * s->cap_edge_count[side] + 1] = a;
     s->cap_edge_count[side]++;
@@ -317,6 +327,7 @@ static uint32_t localize(bk_slicer* s, const bk_mesh* m, int side, bk_vec3 u, bk
   if (n > s->local_capacity) {
     s->local_capacity = bk_grow_capacity(s->local_capacity, n);
     s->global_of_local = bk_realloc(s->global_of_local, sizeof(uint32_t) * s->local_capacity);
+    s->source_of_local = bk_realloc(s->source_of_local, s->local_capacity);
     s->xy = bk_realloc(s->xy, sizeof(double) * 2u * s->local_capacity);
   }
   for (uint32_t i = 0; i < n; ++i) {
@@ -328,11 +339,22 @@ static uint32_t localize(bk_slicer* s, const bk_mesh* m, int side, bk_vec3 u, bk
       s->global_of_local[count] = g;
       s->xy[2 * count] = bk_v3_dot(p, u);
       s->xy[2 * count + 1] = bk_v3_dot(p, v);
+      s->source_of_local[count] = s->cap_edge_source[side][i / 2];
       count++;
     }
     s->cap_edges[side][i] = *slot;
   }
   return count;
+}
+
+// A cap triangle is the interior of the source material its corners' cut
+// edges came from: that of two or three corners, else of its first corner.
+// Every corner of a one-material mesh says 0, so its caps are all
+// BK_MATERIAL_INTERIOR.
+static uint8_t cap_material(const bk_slicer* s, const uint32_t tri[3]) {
+  uint8_t a = s->source_of_local[tri[0]], b = s->source_of_local[tri[1]], c = s->source_of_local[tri[2]];
+  uint8_t source = (b == c && a != b) ? b : a;
+  return bk_material_id(source, true);
 }
 
 static void add_cap(bk_slicer* s, const bk_mesh* m, bk_mesh* out, int side, const uint32_t* tris,
@@ -355,12 +377,11 @@ static void add_cap(bk_slicer* s, const bk_mesh* m, bk_mesh* out, int side, cons
   }
   for (uint32_t t = 0; t < tri_count; ++t) {
     const uint32_t* tri = &tris[3 * t];
+    uint8_t material = cap_material(s, tri);
     if (reversed)
-      bk_mesh_add_triangle(out, first + tri[0], first + tri[2], first + tri[1], BK_MATERIAL_INTERIOR,
-                           desc->cap_tag);
+      bk_mesh_add_triangle(out, first + tri[0], first + tri[2], first + tri[1], material, desc->cap_tag);
     else
-      bk_mesh_add_triangle(out, first + tri[0], first + tri[1], first + tri[2], BK_MATERIAL_INTERIOR,
-                           desc->cap_tag);
+      bk_mesh_add_triangle(out, first + tri[0], first + tri[1], first + tri[2], material, desc->cap_tag);
   }
 }
 

@@ -101,6 +101,26 @@ void* bk_alloc(size_t size);
 void* bk_realloc(void* ptr, size_t size);
 void* bk_calloc(size_t count, size_t size);
 
+/// Longest material name an OBJ file's `usemtl` keeps (with the NUL).
+#define BK_OBJ_MATERIAL_NAME 64
+/// The materials an OBJ file names.
+typedef struct bk_obj_materials {
+  char names[BK_MATERIAL_SOURCES_MAX][BK_OBJ_MATERIAL_NAME]; ///< by source id ("" = faces before any usemtl)
+  uint32_t count;                                            ///< 0 when the file has no usemtl
+  uint32_t merged;                                           ///< usemtl names past the limit, given id 0
+  char library[512];                                         ///< the first `mtllib` file, as written
+} bk_obj_materials;
+/// bk_obj_parse that also reports the `usemtl` names (their ids are the
+/// triangles' source materials) and the `mtllib` file.
+bool bk_obj_parse_materials(const char* text, size_t length, const char* name, bk_mesh* out,
+                            bk_obj_materials* materials, bk_error* err);
+/// Reads an MTL file's text into `list` (one entry per name in `materials`,
+/// zeroed or filled before): each named material's `Kd` (and `d` or `Tr`)
+/// colour and `map_Kd` file name, as written. Unknown statements and values
+/// that are not finite numbers in [0, 1] are skipped, as a renderer would.
+void bk_mtl_parse(const char* text, size_t length, const bk_obj_materials* materials,
+                  bk_import_material* list);
+
 /// Reads a whole file into a fresh buffer (free it with free()). Files over
 /// max_bytes are refused with "<path>: file larger than <limit_text>, refusing
 /// to load"; limit_text lets each caller name its limit ("1 GiB"). max_bytes

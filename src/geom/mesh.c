@@ -122,8 +122,7 @@ bool bk_mesh_validate(const bk_mesh* m, bk_error* err) {
       if (m->indices[3 * t + k] >= m->corner_count)
         return bk_error_set(err, "triangle %u uses corner %u of %u", t, m->indices[3 * t + k],
                             m->corner_count);
-    if (m->materials[t] > BK_MATERIAL_INTERIOR)
-      return bk_error_set(err, "triangle %u has unknown material %u", t, m->materials[t]);
+    // Every material byte is a valid id (bk_material_id): nothing to check.
   }
   return true;
 }

@@ -112,3 +112,33 @@ bool bk_import_finish_mesh(import_state* s) {
   bk_error invalid = {0};
   return bk_mesh_validate(m, &invalid) || bk_error_set(s->err, "%s: %s", s->name, invalid.message);
 }
+
+// ---------------------------------------------------------------- PLY
+
+// PLY read by our own reader: the counts, and a mesh inside out as a whole
+// turned, as for assimp's formats.
+bool bk_import_finish_ply(bool ok, const char* name, const bk_import_def* def, bk_mesh* out,
+                          bk_import_info* info, bk_error* err) {
+  if (!ok) return false;
+  if (out->triangle_count > def->max_triangles) {
+    bk_mesh_free(out);
+    return bk_error_set(err, "%s: too many triangles (more than %u)", name, def->max_triangles);
+  }
+  snprintf(info->format, sizeof info->format, "ply");
+  info->triangles_in = out->triangle_count;
+  info->meshes = 1;
+  if (bk_mesh_volume(out) < 0.0) {
+    for (uint32_t t = 0; t < out->triangle_count; ++t) {
+      uint32_t swap = out->indices[3 * t + 1];
+      out->indices[3 * t + 1] = out->indices[3 * t + 2];
+      out->indices[3 * t + 2] = swap;
+    }
+    for (uint32_t c = 0; c < out->corner_count; ++c)
+      for (int k = 0; k < 3; ++k)
+        out->corners[c].normal[k] = -out->corners[c].normal[k];
+    bk_mesh_compute_tangents(out);
+    info->flipped = true;
+  }
+  bk_import_single_material(info, out);
+  return true;
+}

@@ -146,6 +146,7 @@ static bool place_mesh(import_state* s, uint32_t index, const mat4d* world) {
   bk_mesh_reserve(m, base + am->mNumVertices, corner_base + am->mNumVertices,
                   m->triangle_count + am->mNumFaces);
   ensure_corner_flags(s, corner_base + am->mNumVertices);
+  uint8_t material = bk_material_id(bk_import_material_source(s, am->mMaterialIndex), false);
   const struct aiVector3D* uvs = am->mTextureCoords[0];
   for (uint32_t v = 0; v < am->mNumVertices; ++v) {
     const struct aiVector3D* p = &am->mVertices[v];
@@ -204,15 +205,14 @@ static bool place_mesh(import_state* s, uint32_t index, const mat4d* world) {
       c[k] = corner_base + face->mIndices[k];
     }
     if (mirrored)
-      bk_mesh_add_triangle(m, c[0], c[2], c[1], BK_MATERIAL_OUTER, 0);
+      bk_mesh_add_triangle(m, c[0], c[2], c[1], material, 0);
     else
-      bk_mesh_add_triangle(m, c[0], c[1], c[2], BK_MATERIAL_OUTER, 0);
+      bk_mesh_add_triangle(m, c[0], c[1], c[2], material, 0);
     placed++;
   }
   s->info->triangles_in += placed;
   s->info->meshes++;
   s->info->mirrored_meshes += mirrored;
-  if (am->mMaterialIndex < s->scene->mNumMaterials) s->material_triangles[am->mMaterialIndex] += placed;
   return true;
 }
 
@@ -408,7 +408,9 @@ static bool convert_scene(const struct aiScene* scene, const char* name, const c
   if (scene->mNumMeshes && !scene->mMeshes)
     return bk_error_set(err, "%s: the scene lists meshes it does not have", name);
   import_state s = {.name = name, .base_dir = base_dir, .def = def, .scene = scene, .info = info, .err = err};
-  s.material_triangles = bk_calloc(scene->mNumMaterials + 1u, sizeof(uint32_t));
+  // One more slot than the scene has: meshes naming no valid material.
+  s.source_of_material = bk_alloc(sizeof(uint32_t) * (scene->mNumMaterials + 1u));
+  memset(s.source_of_material, 0xff, sizeof(uint32_t) * (scene->mNumMaterials + 1u));
   mat4d parent = {{{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}, {0, 0, 0, 1}}};
   char names[320];
   const struct aiNode* start =
@@ -419,10 +421,10 @@ static bool convert_scene(const struct aiScene* scene, const char* name, const c
                       names[0] ? names : "none named");
   else
     ok = place_nodes(&s, start ? start : scene->mRootNode, &parent) && bk_import_finish_mesh(&s);
-  if (ok) bk_import_read_material(&s);
+  if (ok) bk_import_read_materials(&s);
   free(s.corner_has_normal);
   free(s.corner_has_uv);
-  free(s.material_triangles);
+  free(s.source_of_material);
   if (ok) {
     *out = s.mesh;
   } else {
@@ -453,47 +455,15 @@ static const char* limit_text(uint64_t bytes, char* buffer, size_t size) {
 static void begin(bk_mesh* out, bk_import_info* info, const char* format) {
   memset(out, 0, sizeof *out);
   memset(info, 0, sizeof *info);
-  for (int i = 0; i < 4; ++i)
-    info->base_color[i] = 1.0f;
   if (strcmp(format, "obj") == 0)
     snprintf(info->format, sizeof info->format, "obj");
   else
     snprintf(info->format, sizeof info->format, "assimp:%s", format);
 }
 
-// PLY read by our own reader: the counts, and a mesh inside out as a whole
-// turned, as for assimp's formats.
-static bool finish_ply(bool ok, const char* name, const bk_import_def* def, bk_mesh* out,
-                       bk_import_info* info, bk_error* err) {
-  if (!ok) return false;
-  if (out->triangle_count > def->max_triangles) {
-    bk_mesh_free(out);
-    return bk_error_set(err, "%s: too many triangles (more than %u)", name, def->max_triangles);
-  }
-  snprintf(info->format, sizeof info->format, "ply");
-  info->triangles_in = out->triangle_count;
-  info->meshes = 1;
-  if (bk_mesh_volume(out) < 0.0) {
-    for (uint32_t t = 0; t < out->triangle_count; ++t) {
-      uint32_t swap = out->indices[3 * t + 1];
-      out->indices[3 * t + 1] = out->indices[3 * t + 2];
-      out->indices[3 * t + 2] = swap;
-    }
-    for (uint32_t c = 0; c < out->corner_count; ++c)
-      for (int k = 0; k < 3; ++k)
-        out->corners[c].normal[k] = -out->corners[c].normal[k];
-    bk_mesh_compute_tangents(out);
-    info->flipped = true;
-  }
-  return true;
-}
-
-bool bk_model_import_memory(const void* data, size_t size, const char* format, const char* name,
-                            const bk_import_def* def_in, bk_mesh* out, bk_import_info* info_in,
-                            bk_error* err) {
+static bool import_memory(const void* data, size_t size, const char* format, const char* name,
+                          const bk_import_def* def_in, bk_mesh* out, bk_import_info* info, bk_error* err) {
   bk_import_def def = def_in ? *def_in : bk_default_import_def();
-  bk_import_info scratch;
-  bk_import_info* info = info_in ? info_in : &scratch;
   name = name ? name : "model";
   char ext[16];
   snprintf(ext, sizeof ext, "%s", format ? format : "");
@@ -511,7 +481,11 @@ bool bk_model_import_memory(const void* data, size_t size, const char* format, c
   if (size == 0 || !data) return bk_error_set(err, "%s: empty file", name);
   if (strcmp(ext, "obj") == 0) {
     if (def.node) return bk_error_set(err, "%s: node selection is not supported for OBJ files", name);
-    return bk_obj_parse(data, size, name, out, err);
+    bk_obj_materials* materials = bk_calloc(1, sizeof *materials);
+    bool ok = bk_obj_parse_materials(data, size, name, out, materials, err);
+    if (ok) bk_import_obj_materials(info, out, materials, NULL);
+    free(materials);
+    return ok;
   }
   size_t head = size < BK_IMPORT_PRECHECK_BYTES ? size : BK_IMPORT_PRECHECK_BYTES;
   if (!bk_import_precheck(name, ext, data, head, size, err) ||
@@ -519,7 +493,7 @@ bool bk_model_import_memory(const void* data, size_t size, const char* format, c
     return false;
   if (strcmp(ext, "ply") == 0) {
     if (def.node) return bk_error_set(err, "%s: node selection is not supported for PLY files", name);
-    return finish_ply(bk_ply_parse(data, size, name, out, err), name, &def, out, info, err);
+    return bk_import_finish_ply(bk_ply_parse(data, size, name, out, err), name, &def, out, info, err);
   }
   pthread_mutex_lock(&import_lock);
   bk_c_locale locale = bk_c_locale_begin();
@@ -546,11 +520,9 @@ static bool precheck_content(const char* path, const char* ext, uint64_t bytes, 
   return ok;
 }
 
-bool bk_model_import(const char* path, const bk_import_def* def_in, bk_mesh* out, bk_import_info* info_in,
-                     bk_error* err) {
+static bool import_file(const char* path, const bk_import_def* def_in, bk_mesh* out, bk_import_info* info,
+                        bk_error* err) {
   bk_import_def def = def_in ? *def_in : bk_default_import_def();
-  bk_import_info scratch;
-  bk_import_info* info = info_in ? info_in : &scratch;
   char ext[16];
   extension_of(path, ext);
   begin(out, info, ext);
@@ -587,8 +559,12 @@ bool bk_model_import(const char* path, const bk_import_def* def_in, bk_mesh* out
     void* data = NULL;
     size_t length = 0;
     if (!bk_file_read(path, BK_IMPORT_MAX_FILE_BYTES, "1 GiB", &data, &length, err)) return false;
-    bool ok = ply ? finish_ply(bk_ply_parse(data, length, path, out, err), path, &def, out, info, err)
-                  : bk_obj_parse(data, length, path, out, err);
+    bk_obj_materials* materials = bk_calloc(1, sizeof *materials);
+    bool ok =
+        ply ? bk_import_finish_ply(bk_ply_parse(data, length, path, out, err), path, &def, out, info, err)
+            : bk_obj_parse_materials(data, length, path, out, materials, err);
+    if (ok && !ply) bk_import_obj_materials(info, out, materials, path);
+    free(materials);
     free(data);
     return ok;
   }
@@ -608,4 +584,19 @@ bool bk_model_import(const char* path, const bk_import_def* def_in, bk_mesh* out
   bk_c_locale_end(&locale);
   pthread_mutex_unlock(&import_lock);
   return ok;
+}
+
+bool bk_model_import_memory(const void* data, size_t size, const char* format, const char* name,
+                            const bk_import_def* def, bk_mesh* out, bk_import_info* info_out, bk_error* err) {
+  bk_import_info scratch;
+  bk_import_info* info = info_out ? info_out : &scratch;
+  return bk_import_settle_info(import_memory(data, size, format, name, def, out, info, err), info,
+                               info_out != NULL);
+}
+
+bool bk_model_import(const char* path, const bk_import_def* def, bk_mesh* out, bk_import_info* info_out,
+                     bk_error* err) {
+  bk_import_info scratch;
+  bk_import_info* info = info_out ? info_out : &scratch;
+  return bk_import_settle_info(import_file(path, def, out, info, err), info, info_out != NULL);
 }

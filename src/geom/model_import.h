@@ -9,6 +9,8 @@
 
 #include <breakables/authoring.h>
 
+#include "bk_geom.h"
+
 struct aiScene;
 
 /// One import in progress.
@@ -23,7 +25,11 @@ typedef struct import_state {
   bool* corner_has_normal; // per corner: the file gave a normal
   bool* corner_has_uv;
   uint32_t corner_flag_capacity;
-  uint32_t* material_triangles; // per scene material: triangles placed
+  // Per scene material (+ 1 for meshes naming none): its source material
+  // id in the mesh (bk_material_source), UINT32_MAX until a mesh uses it.
+  uint32_t* source_of_material;
+  uint32_t scene_material_of_source[BK_MATERIAL_SOURCES_MAX];
+  uint32_t source_count;
 } import_state;
 
 /// How many leading bytes of a file bk_import_precheck looks at.
@@ -56,8 +62,27 @@ bool bk_import_precheck_gltf(const char* name, const char* ext, const void* data
 
 /// Copies text, cut to fit `size` and with control characters made blanks.
 void bk_import_copy_text(char* dst, size_t size, const char* src, size_t length);
-/// Fills info's material fields from the material of the most triangles placed.
-void bk_import_read_material(import_state* s);
+/// The source material id of scene material `index` (ids are given in the
+/// order meshes use them; past BK_MATERIAL_SOURCES_MAX, 0 and counted as merged).
+uint32_t bk_import_material_source(import_state* s, uint32_t index);
+/// Fills info's material list (names, colours, textures, embedded images,
+/// triangle counts) from the scene materials the finished mesh uses.
+void bk_import_read_materials(import_state* s);
+/// Keeps info's material list for the caller when the import succeeded and
+/// `keep` (the caller asked for the info); else frees it. Returns ok.
+bool bk_import_settle_info(bool ok, bk_import_info* info, bool keep);
+/// Finishes a mesh our PLY reader made (ok: it did): the triangle limit,
+/// the counts, a mesh inside out as a whole turned, the material list.
+bool bk_import_finish_ply(bool ok, const char* name, const bk_import_def* def, bk_mesh* out,
+                          bk_import_info* info, bk_error* err);
+/// Gives info the material list of an OBJ file: its `usemtl` names, with the
+/// colours and textures of its `mtllib` file when `obj_path` is given and the
+/// file is beside it (texture paths resolved against the OBJ's directory).
+void bk_import_obj_materials(bk_import_info* info, const bk_mesh* mesh, const bk_obj_materials* materials,
+                             const char* obj_path);
+/// Gives info a one-entry material list for a one-material mesh (our OBJ
+/// and PLY readers): unnamed, white, no texture.
+void bk_import_single_material(bk_import_info* info, const bk_mesh* mesh);
 /// Welds, drops degenerate triangles and unused data, turns an inside-out
 /// mesh, fills in normals, UVs and tangents; false (s->err set) if nothing is left.
 bool bk_import_finish_mesh(import_state* s);

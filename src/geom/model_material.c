@@ -1,6 +1,7 @@
-// The material an imported model reports (bk_import_info): name, base colour
-// factor and base-colour texture (a path beside the model, or an image
-// embedded in it) of the material covering the most triangles.
+// The materials of an imported model (bk_import_info.material_list): which
+// source material id each scene material gets, and per material its name,
+// base colour factor and base-colour texture (a path beside the model, or
+// the bytes of an image embedded in it, ready to be written into a glTF).
 #include <assimp/material.h>
 #include <assimp/scene.h>
 #include <stdlib.h>
@@ -8,6 +9,26 @@
 
 #include "bk_geom.h"
 #include "model_import.h"
+
+// Only the PNG writer, with internal linkage: the library exports no stb symbol.
+#define STB_IMAGE_WRITE_IMPLEMENTATION
+#define STB_IMAGE_WRITE_STATIC
+#define STBI_WRITE_NO_STDIO
+#if defined(__GNUC__)
+// stb declares writers it leaves undefined when static: checked at the end
+// of the file, so this one stays off for the whole file.
+#pragma GCC diagnostic ignored "-Wunused-function"
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wsign-compare"
+#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
+#endif
+#include <stb/stb_image_write.h>
+#if defined(__GNUC__)
+#pragma GCC diagnostic pop
+#endif
+
+/// Embedded images larger than this are not kept (a 16k x 16k RGBA texture).
+#define IMPORT_MAX_IMAGE_BYTES ((size_t)1 << 30)
 
 // Copies text, cut to fit and with control characters (assimp's messages
 // span lines) made blanks.
@@ -18,12 +39,92 @@ void bk_import_copy_text(char* dst, size_t size, const char* src, size_t length)
   dst[n] = '\0';
 }
 
-// ---------------------------------------------------------------- material
+uint32_t bk_import_material_source(import_state* s, uint32_t index) {
+  uint32_t slot = index < s->scene->mNumMaterials ? index : s->scene->mNumMaterials;
+  if (s->source_of_material[slot] == UINT32_MAX) {
+    if (s->source_count < BK_MATERIAL_SOURCES_MAX) {
+      s->scene_material_of_source[s->source_count] = slot;
+      s->source_of_material[slot] = s->source_count++;
+    } else {
+      s->source_of_material[slot] = 0;
+      s->info->materials_merged++;
+    }
+  }
+  return s->source_of_material[slot];
+}
+
+// ---------------------------------------------------------------- embedded images
+
+typedef struct byte_buffer {
+  uint8_t* data;
+  size_t size, capacity;
+} byte_buffer;
+
+static void append_bytes(void* context, void* data, int size) {
+  byte_buffer* b = context;
+  if (size <= 0) return;
+  if (b->size + (size_t)size > b->capacity) {
+    b->capacity = (b->size + (size_t)size) * 2;
+    b->data = bk_realloc(b->data, b->capacity);
+  }
+  memcpy(b->data + b->size, data, (size_t)size);
+  b->size += (size_t)size;
+}
+
+static bool is_png(const uint8_t* p, size_t n) { return n >= 8 && memcmp(p, "\x89PNG\r\n\x1a\n", 8) == 0; }
+static bool is_jpeg(const uint8_t* p, size_t n) {
+  return n >= 3 && p[0] == 0xFF && p[1] == 0xD8 && p[2] == 0xFF;
+}
+
+// Keeps an embedded texture as glTF can hold it: PNG and JPEG files as they
+// are (told by their bytes, not the file's format hint), uncompressed
+// texels encoded as PNG; any other format is only noted.
+static void keep_image(bk_import_material* out, const struct aiTexture* t) {
+  if (!t->pcData || t->mWidth == 0) return;
+  if (t->mHeight == 0) { // compressed: mWidth bytes of a file
+    const uint8_t* bytes = (const uint8_t*)t->pcData;
+    size_t size = t->mWidth;
+    bool png = is_png(bytes, size);
+    if (!png && !is_jpeg(bytes, size)) {
+      out->image_unsupported = true;
+      return;
+    }
+    out->image = bk_alloc(size);
+    memcpy(out->image, bytes, size);
+    out->image_size = size;
+    snprintf(out->image_format, sizeof out->image_format, "%s", png ? "png" : "jpeg");
+    return;
+  }
+  uint64_t texels = (uint64_t)t->mWidth * t->mHeight;
+  if (t->mWidth > (1u << 15) || t->mHeight > (1u << 15) || texels * 4u > IMPORT_MAX_IMAGE_BYTES) {
+    out->image_unsupported = true;
+    return;
+  }
+  // aiTexel is b, g, r, a; PNG wants r, g, b, a.
+  uint8_t* rgba = bk_alloc((size_t)texels * 4u);
+  for (uint64_t i = 0; i < texels; ++i) {
+    const struct aiTexel* x = &t->pcData[i];
+    rgba[4 * i] = x->r, rgba[4 * i + 1] = x->g, rgba[4 * i + 2] = x->b, rgba[4 * i + 3] = x->a;
+  }
+  byte_buffer png = {0};
+  int ok = stbi_write_png_to_func(append_bytes, &png, (int)t->mWidth, (int)t->mHeight, 4, rgba,
+                                  (int)t->mWidth * 4);
+  free(rgba);
+  if (!ok || !png.size) {
+    free(png.data);
+    out->image_unsupported = true;
+    return;
+  }
+  out->image = png.data;
+  out->image_size = png.size;
+  snprintf(out->image_format, sizeof out->image_format, "png");
+}
+
+// ---------------------------------------------------------------- one material
 
 // The texture of the material: embedded ("*<index>" or a file name the
 // scene carries an image for) or a path relative to the model's directory.
-static void read_texture(import_state* s, const struct aiMaterial* mat) {
-  bk_import_info* info = s->info;
+static void read_texture(const import_state* s, const struct aiMaterial* mat, bk_import_material* out) {
   const enum aiTextureType types[2] = {aiTextureType_BASE_COLOR, aiTextureType_DIFFUSE};
   struct aiString path = {0};
   bool found = false;
@@ -43,49 +144,93 @@ static void read_texture(import_state* s, const struct aiMaterial* mat) {
     for (uint32_t i = 0; i < sc->mNumTextures && sc->mTextures; ++i)
       if (sc->mTextures[i] && strcmp(sc->mTextures[i]->mFilename.data, text) == 0) embedded = i;
   }
-  if (embedded != UINT32_MAX && sc->mTextures[embedded]) {
-    info->texture_embedded = true;
-    info->embedded_index = embedded;
-    const struct aiTexture* t = sc->mTextures[embedded];
-    bk_import_copy_text(info->embedded_format, sizeof info->embedded_format, t->achFormatHint,
-                        t->mHeight == 0 ? strnlen(t->achFormatHint, sizeof t->achFormatHint) : 0);
+  if (embedded != UINT32_MAX && sc->mTextures && sc->mTextures[embedded]) {
+    keep_image(out, sc->mTextures[embedded]);
     return;
   }
   if (text[0] == '*') return; // names an image the file does not have
   if (text[0] == '/' || !s->base_dir[0]) {
-    bk_import_copy_text(info->texture, sizeof info->texture, text, path.length);
+    bk_import_copy_text(out->texture, sizeof out->texture, text, path.length);
   } else {
     char joined[BK_IMPORT_TEXT_MAX * 2];
     int n = snprintf(joined, sizeof joined, "%s/%s", s->base_dir, text);
-    if (n > 0) bk_import_copy_text(info->texture, sizeof info->texture, joined, (size_t)n);
+    if (n > 0) bk_import_copy_text(out->texture, sizeof out->texture, joined, (size_t)n);
   }
 }
 
-// Reports the material of the most triangles: name, base colour, texture.
-void bk_import_read_material(import_state* s) {
-  const struct aiScene* sc = s->scene;
-  bk_import_info* info = s->info;
+static void read_material(const import_state* s, const struct aiMaterial* mat, bk_import_material* out) {
   for (int i = 0; i < 4; ++i)
-    info->base_color[i] = 1.0f;
-  uint32_t best = UINT32_MAX;
-  for (uint32_t i = 0; i < sc->mNumMaterials; ++i) {
-    if (!s->material_triangles[i]) continue;
-    info->materials++;
-    if (best == UINT32_MAX || s->material_triangles[i] > s->material_triangles[best]) best = i;
-  }
-  if (best == UINT32_MAX || !sc->mMaterials || !sc->mMaterials[best]) return;
-  const struct aiMaterial* mat = sc->mMaterials[best];
+    out->base_color[i] = 1.0f;
+  if (!mat) return;
   struct aiString name = {0};
   if (aiGetMaterialString(mat, AI_MATKEY_NAME, &name) == aiReturn_SUCCESS && name.length < MAXLEN)
-    bk_import_copy_text(info->material, sizeof info->material, name.data, name.length);
+    bk_import_copy_text(out->name, sizeof out->name, name.data, name.length);
   struct aiColor4D color = {0};
   if (aiGetMaterialColor(mat, AI_MATKEY_BASE_COLOR, &color) == aiReturn_SUCCESS ||
       aiGetMaterialColor(mat, AI_MATKEY_COLOR_DIFFUSE, &color) == aiReturn_SUCCESS) {
     float rgba[4] = {color.r, color.g, color.b, color.a};
-    bool finite = true;
+    bool valid = true;
     for (int i = 0; i < 4; ++i)
-      finite &= isfinite(rgba[i]) != 0;
-    if (finite) memcpy(info->base_color, rgba, sizeof rgba);
+      valid &= isfinite(rgba[i]) && rgba[i] >= 0.0f;
+    if (valid)
+      for (int i = 0; i < 4; ++i)
+        out->base_color[i] = rgba[i] < 1.0f ? rgba[i] : 1.0f;
   }
-  read_texture(s, mat);
+  read_texture(s, mat, out);
+}
+
+// ---------------------------------------------------------------- the list
+
+// Counts each material's triangles and finds the one of the most.
+static void count_triangles(bk_import_info* info, const bk_mesh* mesh) {
+  for (uint32_t t = 0; t < mesh->triangle_count; ++t) {
+    uint32_t source = bk_material_source(mesh->materials[t]);
+    if (source < info->materials) info->material_list[source].triangles++;
+  }
+  info->dominant_material = 0;
+  for (uint32_t i = 1; i < info->materials; ++i)
+    if (info->material_list[i].triangles > info->material_list[info->dominant_material].triangles)
+      info->dominant_material = i;
+}
+
+void bk_import_read_materials(import_state* s) {
+  bk_import_info* info = s->info;
+  uint32_t count = s->source_count ? s->source_count : 1;
+  info->materials = count;
+  info->material_list = bk_calloc(count, sizeof(bk_import_material));
+  for (uint32_t i = 0; i < s->source_count; ++i) {
+    uint32_t index = s->scene_material_of_source[i];
+    const struct aiMaterial* mat =
+        index < s->scene->mNumMaterials && s->scene->mMaterials ? s->scene->mMaterials[index] : NULL;
+    read_material(s, mat, &info->material_list[i]);
+  }
+  if (!s->source_count) read_material(s, NULL, &info->material_list[0]);
+  count_triangles(info, &s->mesh);
+}
+
+void bk_import_single_material(bk_import_info* info, const bk_mesh* mesh) {
+  info->materials = 1;
+  info->material_list = bk_calloc(1, sizeof(bk_import_material));
+  for (int i = 0; i < 4; ++i)
+    info->material_list[0].base_color[i] = 1.0f;
+  count_triangles(info, mesh);
+}
+
+// The material list is the caller's only when the import succeeded (and
+// the caller asked for the info).
+bool bk_import_settle_info(bool ok, bk_import_info* info, bool keep) {
+  if (!ok || !keep) {
+    for (uint32_t i = 0; i < info->materials && info->material_list; ++i)
+      free(info->material_list[i].image);
+    free(info->material_list);
+    info->material_list = NULL;
+    info->materials = 0;
+  }
+  return ok;
+}
+
+void bk_import_info_free(bk_import_info* info) {
+  if (!info) return;
+  bk_import_settle_info(false, info, false);
+  memset(info, 0, sizeof *info);
 }

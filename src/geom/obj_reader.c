@@ -40,6 +40,12 @@ typedef struct obj_parser {
   uint32_t face_count, face_capacity;
   char* text; // the current logical line, NUL-terminated for strtod
   size_t text_length, text_capacity;
+  // Materials: `usemtl` names in the order of first use give the source
+  // material ids (bk_material_source) of the faces after them.
+  bk_obj_materials* materials; // where the names go (the parser's own when the caller wants none)
+  uint8_t current_source;
+  uint8_t* triangle_source; // per triangle in refs
+  uint32_t triangle_source_capacity;
 } obj_parser;
 
 static void parser_free(obj_parser* p) {
@@ -49,6 +55,7 @@ static void parser_free(obj_parser* p) {
   free(p->refs);
   free(p->face);
   free(p->text);
+  free(p->triangle_source);
   memset(p, 0, sizeof *p);
 }
 
@@ -88,6 +95,46 @@ static const char* next_token(const char** cursor, size_t* length) {
   *length = (size_t)(e - s);
   *cursor = e;
   return s;
+}
+
+// The rest of the line without blanks at either end (names may hold blanks).
+static const char* rest_of_line(const char* cursor, size_t* length) {
+  while (is_space(*cursor))
+    ++cursor;
+  size_t n = strlen(cursor);
+  while (n > 0 && is_space(cursor[n - 1]))
+    --n;
+  *length = n;
+  return cursor;
+}
+
+// `usemtl NAME`: the faces after it are of that material. Names past
+// BK_MATERIAL_SOURCES_MAX share the first material (counted as merged).
+static void use_material(obj_parser* p, const char* cursor) {
+  size_t n = 0;
+  const char* name = rest_of_line(cursor, &n);
+  char key[BK_OBJ_MATERIAL_NAME];
+  snprintf(key, sizeof key, "%.*s", (int)(n < sizeof key - 1 ? n : sizeof key - 1), name);
+  for (char* c = key; *c; ++c)
+    if ((unsigned char)*c < 0x20) *c = ' ';
+  bk_obj_materials* m = p->materials;
+  for (uint32_t i = 0; i < m->count; ++i)
+    if (strcmp(m->names[i], key) == 0) {
+      p->current_source = (uint8_t)i;
+      return;
+    }
+  if (m->count == 0 && p->ref_count > 0) {
+    // Faces before the first usemtl keep material 0, unnamed.
+    m->names[0][0] = '\0';
+    m->count = 1;
+  }
+  if (m->count < BK_MATERIAL_SOURCES_MAX) {
+    memcpy(m->names[m->count], key, sizeof key);
+    p->current_source = (uint8_t)m->count++;
+  } else {
+    p->current_source = 0;
+    m->merged++;
+  }
 }
 
 static int quote_length(size_t n) { return (int)(n < OBJ_QUOTE ? n : OBJ_QUOTE); }
@@ -252,6 +299,9 @@ static bool parse_face(obj_parser* p, const char* cursor) {
   uint32_t new_refs = 3u * (p->face_count - 2);
   if (new_refs > OBJ_MAX_ITEMS - p->ref_count) return too_many(p, "triangles");
   p->refs = grow_array(p->refs, &p->ref_capacity, p->ref_count + new_refs, sizeof(obj_ref));
+  p->triangle_source =
+      grow_array(p->triangle_source, &p->triangle_source_capacity, (p->ref_count + new_refs) / 3, 1);
+  memset(p->triangle_source + p->ref_count / 3, p->current_source, new_refs / 3);
   // Fan around the first vertex: exact for the convex polygons exporters write.
   for (uint32_t i = 1; i + 1 < p->face_count; ++i) {
     p->refs[p->ref_count++] = p->face[0];
@@ -273,7 +323,13 @@ static bool parse_line(obj_parser* p) {
   if (n == 2 && keyword[0] == 'v' && keyword[1] == 't') return parse_texcoord(p, cursor);
   if (n == 2 && keyword[0] == 'v' && keyword[1] == 'n') return parse_normal(p, cursor);
   if (n == 1 && keyword[0] == 'f') return parse_face(p, cursor);
-  // o, g, s, usemtl, mtllib, l, p, vp and vendor extensions carry nothing we use.
+  if (n == 6 && memcmp(keyword, "usemtl", 6) == 0) return use_material(p, cursor), true;
+  if (n == 6 && memcmp(keyword, "mtllib", 6) == 0 && !p->materials->library[0]) {
+    const char* rest = rest_of_line(cursor, &n);
+    if (n < sizeof p->materials->library) memcpy(p->materials->library, rest, n); // longer: not looked for
+    return true;
+  }
+  // o, g, s, l, p, vp and vendor extensions carry nothing we use.
   return true;
 }
 
@@ -392,7 +448,7 @@ static bool build_mesh(obj_parser* p) {
         if (h == UINT64_MAX) h = 0;
       }
     }
-    bk_mesh_add_triangle(m, corner[0], corner[1], corner[2], BK_MATERIAL_OUTER, 0);
+    bk_mesh_add_triangle(m, corner[0], corner[1], corner[2], bk_material_id(p->triangle_source[t], false), 0);
   }
   bk_index_map_free(&map);
   free(welded);
@@ -435,8 +491,17 @@ static bool build_mesh(obj_parser* p) {
 }
 
 bool bk_obj_parse(const char* text, size_t length, const char* name, bk_mesh* out, bk_error* err) {
+  bk_obj_materials* scratch = bk_calloc(1, sizeof *scratch);
+  bool ok = bk_obj_parse_materials(text, length, name, out, scratch, err);
+  free(scratch);
+  return ok;
+}
+
+bool bk_obj_parse_materials(const char* text, size_t length, const char* name, bk_mesh* out,
+                            bk_obj_materials* materials, bk_error* err) {
   memset(out, 0, sizeof *out);
-  obj_parser p = {.name = name ? name : "obj", .err = err};
+  memset(materials, 0, sizeof *materials);
+  obj_parser p = {.name = name ? name : "obj", .err = err, .materials = materials};
   if (!text && length > 0) return bk_error_set(err, "%s: no text", p.name);
   // Numbers are read in the C locale whatever the host application set
   // (a decimal comma would stop strtod at "0,5").

@@ -548,7 +548,7 @@ static void add_section(uint32_t* index_data, uint32_t* k, const bk_mesh* const*
     const bk_mesh* m = meshes[i];
     (*first)[i] = *k;
     for (uint32_t tri = 0; tri < m->triangle_count; ++tri)
-      if ((m->materials[tri] == BK_MATERIAL_INTERIOR) == interior)
+      if (bk_material_is_interior(m->materials[tri]) == interior)
         for (int j = 0; j < 3; ++j)
           index_data[(*k)++] = base[i] + m->indices[3 * tri + j];
     (*index_count)[i] = *k - (*first)[i];

@@ -5,7 +5,10 @@
 // materials named <material> and <material>_interior.
 //
 //   node tests/js/check_gltf.mjs FILE.glb|FILE.gltf --nodes N --leaves L --meshes M --materials K
-//        [--material NAME] [--textures T]
+//        [--material NAME[,NAME...]] [--textures T]
+//
+// --material: each NAME and NAME_interior must be among the materials;
+// --textures: how many materials have a base-colour texture three.js loaded.
 //
 // Textures: node has no image decoder, so createImageBitmap is stubbed (it
 // checks the PNG or JPEG signature of the bytes and returns a 1x1 bitmap), and
@@ -110,12 +113,16 @@ const leaves = nodes.filter((o) => /^fragment_\d+$/.test(o.name));
 const meshes = new Set();
 const materials = new Set();
 let textured = 0;
+const texturedMaterials = new Set();
 let primitives = 0;
 scene.traverse((o) => {
   if (!o.isMesh) return;
   primitives++;
   materials.add(o.material.name);
-  if (o.material.map) textured++;
+  if (o.material.map) {
+    textured++;
+    texturedMaterials.add(o.material.name);
+  }
   meshes.add(o.parent && o.parent.userData.breakables && !o.userData.breakables ? o.parent : o);
   const g = o.geometry;
   for (const attr of ['position', 'normal', 'uv', 'tangent'])
@@ -125,9 +132,11 @@ scene.traverse((o) => {
 const counts = { nodes: nodes.length, leaves: leaves.length, meshes: meshes.size, materials: materials.size };
 for (const key of ['nodes', 'leaves', 'meshes', 'materials'])
   if (counts[key] !== expect[key]) fail(`${name}: three.js loads ${counts[key]} ${key}, expected ${expect[key]}`);
-for (const m of [expect.material, `${expect.material}_interior`])
-  if (!materials.has(m)) fail(`${name}: no material named ${m} (have ${[...materials].join(', ')})`);
-if (expect.textures > 0 && textured === 0) fail(`${name}: no mesh has its texture`);
+for (const base of expect.material.split(','))
+  for (const m of [base, `${base}_interior`])
+    if (!materials.has(m)) fail(`${name}: no material named ${m} (have ${[...materials].join(', ')})`);
+if (texturedMaterials.size !== expect.textures)
+  fail(`${name}: ${texturedMaterials.size} materials have their texture, expected ${expect.textures}`);
 
 // Hierarchy: each node's nearest node ancestor covers its leaves, and an
 // inner node's children's volumes add up to its own.
