@@ -484,8 +484,8 @@ typedef struct bk_mesh_tree {
 /// leaf by a random plane through its centroid; every piece is kept. Computes
 /// bonds. Fails with a clear message on an open mesh or a bad def. A source
 /// whose solid shells overlap is first split into shells (see
-/// bk_fracture_overlap; only when pieces >= 2), which may give more leaves
-/// than asked for when there are more such shells than pieces.
+/// bk_fracture_overlap; only when pieces >= 2); when there are more such
+/// shells than pieces, the nearest share a piece.
 bool bk_mesh_tree_build(const bk_mesh* source, const bk_fracture_def* def, bk_mesh_tree* out, bk_error* err);
 /// Releases everything; safe on a zeroed tree.
 void bk_mesh_tree_free(bk_mesh_tree* tree);

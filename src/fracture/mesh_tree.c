@@ -92,12 +92,18 @@ static bool pieces_hold(const bk_mesh_tree_node* node, const bk_mesh* pieces, ui
 }
 
 // Tries random planes through the centroid until one splits the node into
-// pieces that hold (closed, volume kept); returns them, or 0 with *why set to
-// how the last attempt failed. Works in the tree's local frame.
+// pieces that hold (closed, volume kept) and are at most `allowed` (what the
+// tree may still take without passing the pieces asked for); returns them,
+// or 0 with *why set to how the last attempt failed. When every cut that
+// holds makes more pieces than allowed (a concave piece, or one of separate
+// shells), the one with fewest is taken and merged down to `allowed`. The
+// first cut that holds and fits is taken at once, so a split that never
+// made too many draws the same random numbers as it always did. Works in
+// the tree's local frame.
 static uint32_t split_node(bk_slicer* slicer, bk_face_simplifier* simplifier, const bk_mesh_tree_node* node,
                            uint32_t node_index, const bk_fracture_def* d, const bk_tree_frame* frame,
-                           bk_rng* rng, bk_plane* plane, bk_mesh** pieces, bk_moments** moments,
-                           split_failure* why) {
+                           uint32_t allowed, bk_rng* rng, bk_plane* plane, bk_mesh** pieces,
+                           bk_moments** moments, split_failure* why) {
   bk_mass_properties mass = bk_moments_to_mass(node->moments);
   bk_vec3 size = bk_v3_sub(node->bounds.max, node->bounds.min);
   bk_vec3 longest = {0};
@@ -108,6 +114,11 @@ static uint32_t split_node(bk_slicer* slicer, bk_face_simplifier* simplifier, co
     int k = values[0] <= values[1] && values[0] <= values[2] ? 0 : (values[1] <= values[2] ? 1 : 2);
     longest = bk_v3(axes[0][k], axes[1][k], axes[2][k]);
   }
+  // The cut that held with the fewest pieces, all more than allowed.
+  bk_mesh* fewest = NULL;
+  bk_moments* fewest_moments = NULL;
+  uint32_t fewest_count = 0, fewest_below = 0;
+  bk_plane fewest_plane = {0};
   *why = SPLIT_MISSED;
   for (int attempt = 0; attempt < BK_FRACTURE_SPLIT_ATTEMPTS; ++attempt) {
     bk_vec3 n = bk_rng_direction(rng);
@@ -151,11 +162,32 @@ static uint32_t split_node(bk_slicer* slicer, bk_face_simplifier* simplifier, co
     for (uint32_t i = 0; i < count; ++i)
       bk_face_simplifier_run(simplifier, &(*pieces)[i]);
     *moments = bk_realloc(*moments, sizeof(bk_moments) * count);
-    if (pieces_hold(node, *pieces, count, *moments, why)) return count;
-    free_pieces(*pieces, count);
+    bool held = pieces_hold(node, *pieces, count, *moments, why);
+    if (held && count <= allowed) {
+      free_pieces(fewest, fewest_count);
+      free(fewest_moments);
+      return count;
+    }
+    if (held && (fewest_count == 0 || count < fewest_count)) {
+      free_pieces(fewest, fewest_count);
+      fewest = *pieces;
+      fewest_moments = bk_realloc(fewest_moments, sizeof(bk_moments) * count);
+      memcpy(fewest_moments, *moments, sizeof(bk_moments) * count);
+      fewest_count = count;
+      fewest_below = below_count;
+      fewest_plane = *plane;
+    } else {
+      free_pieces(*pieces, count);
+    }
     *pieces = NULL;
   }
-  return 0;
+  if (fewest_count == 0) return 0;
+  *pieces = fewest;
+  *plane = fewest_plane;
+  *moments = bk_realloc(*moments, sizeof(bk_moments) * fewest_count);
+  memcpy(*moments, fewest_moments, sizeof(bk_moments) * fewest_count);
+  free(fewest_moments);
+  return bk_merge_pieces(*pieces, *moments, fewest_count, fewest_below, node_index + 1, allowed);
 }
 
 static void count_shortfall(bk_fracture_shortfall* s, split_failure why) {
@@ -297,7 +329,9 @@ bool bk_mesh_tree_build(const bk_mesh* source, const bk_fracture_def* desc_in, b
       moments = bk_realloc(moments, sizeof(bk_moments) * shell_part_count);
       if (pieces_hold(&tree->nodes[0], shell_parts, shell_part_count, moments, &why)) {
         pieces = shell_parts;
-        count = shell_part_count;
+        // More shells than pieces asked for: the nearest are merged (no cut
+        // made them, so all count as one side).
+        count = bk_merge_pieces(shell_parts, moments, shell_part_count, shell_part_count, 0, d.pieces);
         plane = (bk_plane){{0, 0, 1}, 0};
         tree->overlap = overlap;
       } else {
@@ -307,8 +341,8 @@ bool bk_mesh_tree_build(const bk_mesh* source, const bk_fracture_def* desc_in, b
       shell_part_count = 0;
     }
     if (count == 0)
-      count = split_node(slicer, simplifier, &tree->nodes[split], split, &d, &frame, &rng, &plane, &pieces,
-                         &moments, &why);
+      count = split_node(slicer, simplifier, &tree->nodes[split], split, &d, &frame, d.pieces - leaves + 1,
+                         &rng, &plane, &pieces, &moments, &why);
     if (count == 0) { // no cut held: stays a leaf
       count_shortfall(&tree->shortfall, why);
       continue;
@@ -412,8 +446,12 @@ bool bk_mesh_tree_overlap_text(const bk_mesh_tree* tree, char* text, size_t size
         snprintf(text + n, size > (size_t)n ? size - (size_t)n : 0, ", and %u more pair%s (%u shells in all)",
                  o->pairs - 1, o->pairs == 2 ? "" : "s", o->shells);
   if (n < 0 || (size_t)n > size) n = (int)size;
-  snprintf(text + n, size > (size_t)n ? size - (size_t)n : 0,
-           "; each was fractured on its own (no bonds between them)");
+  if (tree->leaf_count < o->shells)
+    snprintf(text + n, size > (size_t)n ? size - (size_t)n : 0,
+             "; with more shells than pieces, the nearest shared a piece (no bonds between them)");
+  else
+    snprintf(text + n, size > (size_t)n ? size - (size_t)n : 0,
+             "; each was fractured on its own (no bonds between them)");
   return true;
 }
 
