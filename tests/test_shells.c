@@ -1,7 +1,8 @@
 // Sources made of several closed shells: shells that overlap (one nested in
-// another, or interpenetrating) are fractured each on its own, as children of
-// the root, with a warning naming them; separate or touching shells and
-// cavities (an eggshell's inside) are no overlap and cut as before.
+// another, or interpenetrating) or touch along a line or over an area (a box
+// on a plinth) are fractured each on its own, as children of the root, with
+// a warning naming them; separate shells, shells meeting at a point and
+// cavities (an eggshell's inside) are cut as before.
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -198,31 +199,22 @@ static void test_interpenetrating(void) {
   bk_mesh_free(&source);
 }
 
-// Separate cubes, and cubes touching along a whole face (coincident faces,
-// separate vertices), overlap nothing: no warning, and the root is cut by a
-// plane as before. (Cubes touching along a face still cannot be cut
-// together: their cross-sections share an edge, which the cap cannot close;
-// the shortfall says so. Splitting touching shells apart is left to do.)
+// Separate cubes, and cubes meeting at a single corner, are neither
+// overlapping nor touching: no warning, and the root is cut by a plane as
+// before.
 static void test_separate(void) {
-  const bk_vec3 second[2][2] = {{{2, 0, 0}, {3, 1, 1}}, {{1, 0, 0}, {2, 1, 1}}};
+  const bk_vec3 second[2][2] = {{{2, 0, 0}, {3, 1, 1}}, {{1, 1, 1}, {2, 2, 2}}};
   for (int k = 0; k < 2; ++k) {
     bk_mesh source = {0};
     two_boxes(&source, bk_v3(0, 0, 0), bk_v3(1, 1, 1), second[k][0], second[k][1]);
     bk_mesh* parts = NULL;
     bk_fracture_overlap overlap;
     ENSURE(bk_mesh_split_overlapping_shells(&source, &parts, &overlap) == 0 && parts == NULL);
-    ENSURE(overlap.pairs == 0 && overlap.shells == 0);
+    ENSURE(overlap.pairs == 0 && overlap.shells == 0 && overlap.touching_pairs == 0);
     bk_mesh_tree tree = build(&source, 32, 3000);
     ensure_sound(&tree, &source);
     char text[400];
     ENSURE(!bk_mesh_tree_overlap_text(&tree, text, sizeof text) && text[0] == 0 && tree.overlap.pairs == 0);
-    if (k == 1) { // touching: as before, with the reason
-      ENSURE(tree.leaf_count < 32 && bk_mesh_tree_shortfall_text(&tree, text, sizeof text));
-      ENSURE_MSG(strstr(text, "could not be closed"), "%s", text);
-      bk_mesh_tree_free(&tree);
-      bk_mesh_free(&source);
-      continue;
-    }
     ENSURE_MSG(tree.leaf_count == 32, "%u leaves", tree.leaf_count);
     ENSURE(tree.shortfall.uncut == 0 && tree.nodes[0].child_count >= 2);
     ENSURE(tree.nodes[0].plane.normal.z != 1.0 || tree.nodes[0].plane.offset != 0.0); // a real cut
@@ -230,6 +222,162 @@ static void test_separate(void) {
     ensure_deterministic(&source, 32);
     bk_mesh_free(&source);
   }
+}
+
+// The source fractured into at least the pieces asked for, for several piece
+// counts and seeds, sound, its root split into its `shells` shells (no bond
+// between them), reported as `pairs` pairs of which `touching` only touch.
+static void ensure_split_cleanly(const bk_mesh* source, uint32_t shells, uint32_t pairs, uint32_t touching,
+                                 const char* what) {
+  const uint32_t piece_counts[] = {2, 3, 5, 8, 13, 32};
+  for (uint32_t i = 0; i < sizeof piece_counts / sizeof piece_counts[0]; ++i)
+    for (uint64_t seed = 1000; seed <= 6000; seed += 1000) {
+      uint32_t pieces = piece_counts[i];
+      bk_mesh_tree tree = build(source, pieces, seed);
+      ensure_sound(&tree, source);
+      ENSURE_MSG(tree.leaf_count >= pieces && tree.shortfall.uncut == 0, "%s: %u of %u pieces (seed %llu)",
+                 what, tree.leaf_count, pieces, (unsigned long long)seed);
+      ENSURE_MSG(tree.overlap.pairs == pairs && tree.overlap.touching_pairs == touching &&
+                     tree.overlap.shells == shells,
+                 "%s: %u pairs, %u touching, %u shells", what, tree.overlap.pairs,
+                 tree.overlap.touching_pairs, tree.overlap.shells);
+      // Fewer pieces than shells may merge shells into one child.
+      uint32_t children = tree.nodes[0].child_count;
+      ENSURE_MSG(children == shells || (pieces < shells && children >= pieces), "%s: %u children of the root",
+                 what, children);
+      ensure_split_by_shells(&tree, children);
+      bk_mesh_tree_free(&tree);
+    }
+  ensure_deterministic(source, 32);
+}
+
+// Is p in the plane z = `z`, inside the rectangle lo..hi in x and y?
+static bool on_rectangle(bk_vec3 p, double z, bk_vec3 lo, bk_vec3 hi) {
+  return fabs(p.z - z) < 1e-12 && p.x >= lo.x - 1e-12 && p.x <= hi.x + 1e-12 && p.y >= lo.y - 1e-12 &&
+         p.y <= hi.y + 1e-12;
+}
+
+// Closed shells glued face to face: their cross-sections would share edges,
+// which no cap closes (cut together, two cubes stacked made 1 of 32 pieces),
+// so they are fractured each on its own, as overlapping shells are, and
+// named as touching. (a) two cubes stacked, each with its own vertices,
+// touching along the whole face z = 1; (b) a box standing on a larger plinth,
+// touching along part of its top face; the same rotated off the axes (the
+// contact within rounding, not exact).
+static void test_touching(void) {
+  bk_mesh source = {0};
+  two_boxes(&source, bk_v3(0, 0, 0), bk_v3(1, 1, 1), bk_v3(0, 0, 1), bk_v3(1, 1, 2));
+  bk_mesh* parts = NULL;
+  bk_fracture_overlap overlap;
+  uint32_t part_count = bk_mesh_split_overlapping_shells(&source, &parts, &overlap);
+  ENSURE_MSG(part_count == 2 && overlap.pairs == 1 && overlap.touching_pairs == 1 && overlap.touching,
+             "%u parts, %u pairs, %u touching", part_count, overlap.pairs, overlap.touching_pairs);
+  ENSURE(overlap.shell_a == 1 && overlap.shell_b == 2 && overlap.shells == 2);
+  ENSURE_MSG(on_rectangle(overlap.point, 1.0, bk_v3(0, 0, 1), bk_v3(1, 1, 1)), "(%g, %g, %g)",
+             overlap.point.x, overlap.point.y, overlap.point.z);
+  for (uint32_t i = 0; i < part_count; ++i)
+    bk_mesh_free(&parts[i]);
+  free(parts);
+  ensure_split_cleanly(&source, 2, 1, 1, "stacked cubes");
+  bk_mesh_tree tree = build(&source, 32, 3000);
+  ENSURE(tree.leaf_count == 32 && tree.bond_count > 0 && tree.overlap.touching);
+  ENSURE_REL(tree.nodes[tree.nodes[0].first_child].moments.v, 1.0, 1e-12);
+  ENSURE_REL(tree.nodes[tree.nodes[0].first_child + 1].moments.v, 1.0, 1e-12);
+  bk_mesh_tree_free(&tree);
+  bk_mesh_free(&source);
+
+  const bk_vec3 box_lo = {0.5, 0.6, 0.5}, box_hi = {1.3, 1.2, 1.1};
+  two_boxes(&source, bk_v3(0, 0, 0), bk_v3(2, 2, 0.5), box_lo, box_hi);
+  part_count = bk_mesh_split_overlapping_shells(&source, &parts, &overlap);
+  ENSURE(part_count == 2 && overlap.pairs == 1 && overlap.touching);
+  ENSURE_MSG(on_rectangle(overlap.point, 0.5, box_lo, box_hi), "(%g, %g, %g)", overlap.point.x,
+             overlap.point.y, overlap.point.z);
+  for (uint32_t i = 0; i < part_count; ++i)
+    bk_mesh_free(&parts[i]);
+  free(parts);
+  ensure_split_cleanly(&source, 2, 1, 1, "box on a plinth");
+  // Turned off the axes: the faces stay in contact only within rounding.
+  const double c = cos(0.7), s = sin(0.7);
+  for (uint32_t i = 0; i < source.position_count; ++i) {
+    bk_vec3 p = source.positions[i];
+    source.positions[i] = bk_v3(c * p.x - s * p.z, p.y, s * p.x + c * p.z);
+  }
+  ensure_split_cleanly(&source, 2, 1, 1, "turned box on a plinth");
+  bk_mesh_free(&source);
+
+  // Two cubes touching only along an edge (each with its own vertices, as
+  // repair leaves them): cut together, planes through the shared edge made
+  // cross-sections touching at a point, which failed now and then (every
+  // try on the root with seed 5000).
+  bk_mesh cube = {0};
+  box_mesh(&source, bk_v3(0, 0, 0), bk_v3(1, 1, 1));
+  box_mesh(&cube, bk_v3(1, 0, 1), bk_v3(2, 1, 2));
+  bk_mesh_append(&source, &cube);
+  bk_mesh_free(&cube);
+  ensure_split_cleanly(&source, 2, 1, 1, "cubes sharing an edge");
+  bk_mesh_free(&source);
+}
+
+// Coincident faces facing the same way share the solid behind them: the
+// cubes overlap (no crossing, no vertex strictly inside the other), and are
+// named so, not as touching.
+static void test_coplanar_overlap(void) {
+  bk_mesh source = {0};
+  two_boxes(&source, bk_v3(0, 0, 0), bk_v3(1, 1, 1), bk_v3(0.5, 0, 0), bk_v3(1.5, 1, 1));
+  ensure_split_cleanly(&source, 2, 1, 0, "cubes overlapping by half");
+  bk_mesh_tree tree = build(&source, 8, 3000);
+  ENSURE(!tree.overlap.touching && tree.overlap.touching_pairs == 0);
+  bk_mesh_tree_free(&tree);
+  bk_mesh_free(&source);
+}
+
+// Welds every position to the first with the same coordinates, as an
+// importer does: stacked cubes then share the face's positions, each edge of
+// it used by four triangles and its two copies facing each other.
+static void weld_and_repair(bk_mesh* source, uint32_t shells) {
+  ENSURE(bk_mesh_weld(source) > 0);
+  bk_closure closure = bk_mesh_check_closure(source);
+  ENSURE(closure.overused_edges > 0 || closure.open_edges > 0);
+  bk_repair_info info = {0};
+  bk_error err = {0};
+  ENSURE_MSG(bk_mesh_repair(source, &info, &err), "%s", err.message);
+  ENSURE_MSG(info.shells == shells && info.positions_split > 0 && info.holes_closed == 0,
+             "%u shells, %u positions split, %u holes", info.shells, info.positions_split, info.holes_closed);
+  ENSURE(bk_mesh_is_closed(source));
+}
+
+// (c) Stacked cubes with the shared face welded (the face's positions used
+// by both): repair pairs each copy of the face with its own cube, so the
+// cubes come apart whole (dropping both copies instead would merge them into
+// one solid, losing the seam between two objects of the art), and then they
+// are touching shells as in test_touching. Also with the upper cube turned a
+// quarter (its copy of the face split along the other diagonal) and with a
+// cube on top of two (each half of its bottom face on one of them).
+static void test_welded_faces(void) {
+  bk_mesh source = {0}, cube = {0};
+  two_boxes(&source, bk_v3(0, 0, 0), bk_v3(1, 1, 1), bk_v3(0, 0, 1), bk_v3(1, 1, 2));
+  weld_and_repair(&source, 2);
+  ENSURE_REL(bk_mesh_volume(&source), 2.0, 1e-12);
+  ensure_split_cleanly(&source, 2, 1, 1, "welded stacked cubes");
+  bk_mesh_free(&source);
+
+  box_mesh(&source, bk_v3(0, 0, 0), bk_v3(1, 1, 1));
+  box_mesh(&cube, bk_v3(0, 0, 1), bk_v3(1, 1, 2));
+  for (uint32_t i = 0; i < cube.position_count; ++i) // a quarter turn about the vertical axis x = y = 0.5
+    cube.positions[i] = bk_v3(1.0 - cube.positions[i].y, cube.positions[i].x, cube.positions[i].z);
+  bk_mesh_append(&source, &cube);
+  bk_mesh_free(&cube);
+  weld_and_repair(&source, 2);
+  ensure_split_cleanly(&source, 2, 1, 1, "welded stacked cubes, turned");
+  bk_mesh_free(&source);
+
+  two_boxes(&source, bk_v3(0, 0, 0), bk_v3(1, 1, 1), bk_v3(1, 0, 0), bk_v3(2, 1, 1));
+  box_mesh(&cube, bk_v3(0.5, 0, 1), bk_v3(1.5, 1, 2));
+  bk_mesh_append(&source, &cube);
+  bk_mesh_free(&cube);
+  weld_and_repair(&source, 3); // the lower cubes share a whole face; the upper one only touches them
+  ensure_split_cleanly(&source, 3, 3, 3, "welded cubes and a cube across them");
+  bk_mesh_free(&source);
 }
 
 // An eggshell's inner surface is a cavity, not a shell overlapping the outer
@@ -286,6 +434,9 @@ int main(void) {
   RUN(test_nested);
   RUN(test_interpenetrating);
   RUN(test_separate);
+  RUN(test_touching);
+  RUN(test_coplanar_overlap);
+  RUN(test_welded_faces);
   RUN(test_eggshell);
   puts("test_shells: ok");
   return 0;

@@ -56,11 +56,11 @@ bool bk_app_load_model(const char* spec, const char* node, bk_mesh* out, bk_impo
     return bk_error_set(err, "%s: %s", path, repair_err.message);
   }
   if (repair.positions_split)
-    fprintf(
-        stderr,
-        "breakables: warning: %s: shells touched at a vertex or an edge; split %u position%s (%u shell%s)\n",
-        path, repair.positions_split, repair.positions_split == 1 ? "" : "s", repair.shells,
-        repair.shells == 1 ? "" : "s");
+    fprintf(stderr,
+            "breakables: warning: %s: shells touched at a vertex, an edge or a face; split %u position%s (%u "
+            "shell%s)\n",
+            path, repair.positions_split, repair.positions_split == 1 ? "" : "s", repair.shells,
+            repair.shells == 1 ? "" : "s");
   if (repair.holes_closed)
     fprintf(stderr, "breakables: warning: %s: mesh was not watertight; closed %u hole%s (%u open edges)\n",
             path, repair.holes_closed, repair.holes_closed == 1 ? "" : "s", repair.open_edges);

@@ -438,13 +438,14 @@ bool bk_mesh_tree_overlap_text(const bk_mesh_tree* tree, char* text, size_t size
   if (size) text[0] = 0;
   const bk_fracture_overlap* o = &tree->overlap;
   if (o->pairs == 0) return false;
-  int n = snprintf(text, size, "shells %u and %u overlap (volumes %.6g and %.6g m^3 near (%.6g, %.6g, %.6g))",
-                   o->shell_a, o->shell_b, o->volume_a, o->volume_b, o->point.x, o->point.y, o->point.z);
+  int n = snprintf(text, size, "shells %u and %u %s (volumes %.6g and %.6g m^3 near (%.6g, %.6g, %.6g))",
+                   o->shell_a, o->shell_b, o->touching ? "touch" : "overlap", o->volume_a, o->volume_b,
+                   o->point.x, o->point.y, o->point.z);
   if (n < 0 || (size_t)n > size) n = (int)size;
   if (o->pairs > 1)
-    n +=
-        snprintf(text + n, size > (size_t)n ? size - (size_t)n : 0, ", and %u more pair%s (%u shells in all)",
-                 o->pairs - 1, o->pairs == 2 ? "" : "s", o->shells);
+    n += snprintf(text + n, size > (size_t)n ? size - (size_t)n : 0,
+                  ", and %u more pair%s overlapping or touching (%u shells in all)", o->pairs - 1,
+                  o->pairs == 2 ? "" : "s", o->shells);
   if (n < 0 || (size_t)n > size) n = (int)size;
   if (tree->leaf_count < o->shells)
     snprintf(text + n, size > (size_t)n ? size - (size_t)n : 0,

@@ -4,7 +4,10 @@
 // then the triangle corners at each position are grouped into fans joined
 // by paired edges, and every fan after the first gets its own copy of the
 // position. Two closed cubes sharing an edge or a corner become two closed
-// cubes with their own positions.
+// cubes with their own positions; so do two cubes sharing a whole face
+// (the importer welds coincident positions, so cubes modelled apart arrive
+// with the face's two opposite copies on the same positions): each keeps its
+// own copy of the face, and the fracture treats them as touching shells.
 #include <stdlib.h>
 #include <string.h>
 
@@ -56,6 +59,58 @@ static int compare_around(const void* a, const void* b) {
   return x->slot < y->slot ? -1 : x->slot > y->slot;
 }
 
+// Triangles around an edge closer in angle than this (radians) lie in one
+// half-plane: coincident up to rounding in their third corners.
+#define COINCIDENT_ANGLE 1e-9
+#define PI 3.14159265358979323846
+
+// How far `after`, the next triangle round the edge, turns past `before`:
+// in the sorted list only the step from the last back to the first is
+// negative, and it goes once round.
+static double angle_gap(const around* before, const around* after) {
+  double gap = after->angle - before->angle;
+  return gap < 0.0 ? gap + 2.0 * PI : gap;
+}
+
+static void reverse_around(around* a, uint32_t begin, uint32_t end) {
+  for (; begin + 1 < end; ++begin, --end) {
+    around swap = a[begin];
+    a[begin] = a[end - 1];
+    a[end - 1] = swap;
+  }
+}
+
+// Two solids touching along a face both have a triangle in the same
+// half-plane about the edge, facing opposite ways; a forward triangle's solid
+// lies below its angle and a backward one's above. So in each run of
+// coincident triangles the forward ones go first, and each pairs with the
+// triangle of its own solid, not with its opposite copy (a solid of no
+// thickness). On entry the list is sorted by angle (then slot); it is
+// circular, so it is first rotated to start after a gap, which keeps every
+// run in one piece.
+static void order_coincident(around* a, uint32_t count) {
+  uint32_t start = count;
+  for (uint32_t i = 0; i < count && start == count; ++i)
+    if (angle_gap(&a[(i + count - 1) % count], &a[i]) > COINCIDENT_ANGLE) start = i;
+  if (start == count) return; // all in one half-plane: no order pairs them sensibly
+  reverse_around(a, 0, start);
+  reverse_around(a, start, count);
+  reverse_around(a, 0, count);
+  for (uint32_t begin = 0; begin < count;) {
+    uint32_t end = begin + 1;
+    while (end < count && angle_gap(&a[end - 1], &a[end]) <= COINCIDENT_ANGLE)
+      ++end;
+    // Forward ones first, each kind in its sorted order.
+    for (uint32_t i = begin + 1; i < end; ++i)
+      for (uint32_t j = i; j > begin && a[j].forward && !a[j - 1].forward; --j) {
+        around swap = a[j];
+        a[j] = a[j - 1];
+        a[j - 1] = swap;
+      }
+    begin = end;
+  }
+}
+
 // Pairs the triangles around one edge used more than twice: by angle about
 // the edge, a triangle running lo -> hi has its solid on its lower-angle side
 // and pairs with the triangle just below it, which must run hi -> lo.
@@ -66,28 +121,27 @@ static void pair_fan(const bk_mesh* m, uint32_t* parent, const half_edge* edges,
   bk_vec3 axis = bk_v3_normalize(bk_v3_sub(b, a));
   bk_vec3 u, v;
   bk_plane_basis(axis, &u, &v);
+  // Angles are measured right-handed about the axis (u x v = axis), or the
+  // solid would lie above a forward triangle instead.
+  double turn = bk_v3_dot(bk_v3_cross(u, v), axis) > 0.0 ? 1.0 : -1.0;
   uint32_t forward = 0;
   for (uint32_t i = 0; i < count; ++i) {
     uint32_t slot = edges[i].slot, t = slot / 3, k = slot % 3;
     uint32_t from = bk_mesh_tri_position(m, t, k);
     bk_vec3 c = bk_v3_sub(m->positions[bk_mesh_tri_position(m, t, (k + 2) % 3)], a);
-    scratch[i] = (around){atan2(bk_v3_dot(c, v), bk_v3_dot(c, u)), slot, from == lo};
+    scratch[i] = (around){turn * atan2(bk_v3_dot(c, v), bk_v3_dot(c, u)), slot, from == lo};
     forward += from == lo;
   }
   if (2 * forward != count) return; // unbalanced: leave it unpaired (open or overused)
-  // The basis is right-handed about the axis when u x v = axis; otherwise
-  // the angles run the other way round.
-  bool right_handed = bk_v3_dot(bk_v3_cross(u, v), axis) > 0.0;
   qsort(scratch, count, sizeof *scratch, compare_around);
+  order_coincident(scratch, count);
   for (uint32_t i = 0; i < count; ++i) {
     if (!scratch[i].forward) continue;
-    uint32_t j = right_handed ? (i + count - 1) % count : (i + 1) % count;
-    if (scratch[j].forward) return; // not alternating: shells cross here, leave it
+    if (scratch[(i + count - 1) % count].forward) return; // not alternating: shells cross here, leave it
   }
   for (uint32_t i = 0; i < count; ++i) {
     if (!scratch[i].forward) continue;
-    uint32_t j = right_handed ? (i + count - 1) % count : (i + 1) % count;
-    join_edge(m, parent, scratch[i].slot, scratch[j].slot);
+    join_edge(m, parent, scratch[i].slot, scratch[(i + count - 1) % count].slot);
   }
 }
 
