@@ -389,6 +389,14 @@ static void build_two_material_tree(uint32_t pieces, bk_mesh_tree* tree) {
   bk_mesh_free(&both);
 }
 
+// Four default materials with these names (sources 0 and 3 are the boxes').
+static void name_materials(bk_gltf_material list[4], const char* const names[4]) {
+  for (int i = 0; i < 4; ++i) {
+    list[i] = bk_default_gltf_material();
+    list[i].name = names[i];
+  }
+}
+
 static void test_two_materials(void) {
   bk_mesh_tree tree = {0};
   build_two_material_tree(24, &tree);
@@ -409,11 +417,7 @@ static void test_two_materials(void) {
   size_t png_size = 0;
   uint8_t* png = read_all(BK_ASSET_DIR "/textures/stone_albedo.png", &png_size);
   bk_gltf_material list[4];
-  const char* names[4] = {"left", "unused", "spare", "right"};
-  for (int i = 0; i < 4; ++i) {
-    list[i] = bk_default_gltf_material();
-    list[i].name = names[i];
-  }
+  name_materials(list, (const char* const[4]){"left", "unused", "spare", "right"});
   list[0].texture = (bk_gltf_image){.data = png, .size = png_size};
   list[3].texture = list[0].texture;
   list[3].interior_texture = (bk_gltf_image){.uri = "right_interior.png"};
@@ -673,11 +677,7 @@ static int export_for_js(const char* dir) {
   uint8_t* png = read_all(BK_ASSET_DIR "/textures/brick_albedo.png", &png_size);
   uint8_t* interior = read_all(BK_ASSET_DIR "/textures/brick_interior.png", &jpeg_size);
   bk_gltf_material list[4];
-  const char* names[4] = {"plaster", "unused", "spare", "brick"};
-  for (int i = 0; i < 4; ++i) {
-    list[i] = bk_default_gltf_material();
-    list[i].name = names[i];
-  }
+  name_materials(list, (const char* const[4]){"plaster", "unused", "spare", "brick"});
   list[3].texture = (bk_gltf_image){.data = png, .size = png_size};
   list[3].interior_texture = (bk_gltf_image){.data = interior, .size = jpeg_size};
   def.materials = list;
