@@ -11,11 +11,6 @@
 /// Texture files larger than this are left out of an export.
 #define EXPORT_MAX_TEXTURE_BYTES ((size_t)256 << 20)
 
-static bool is_png_or_jpeg(const uint8_t* p, size_t n) {
-  return (n >= 8 && memcmp(p, "\x89PNG\r\n\x1a\n", 8) == 0) ||
-         (n >= 3 && p[0] == 0xFF && p[1] == 0xD8 && p[2] == 0xFF);
-}
-
 static void reserve(bk_app_export_materials* m, uint32_t count) {
   m->list = bk_calloc(count, sizeof(bk_gltf_material));
   m->names = bk_calloc(count, sizeof *m->names);
@@ -36,7 +31,7 @@ static void read_texture(bk_app_export_materials* m, uint32_t slot, const char* 
     m->textures_left_out++;
     return;
   }
-  if (!is_png_or_jpeg(data, size)) {
+  if (!bk_image_format(data, size)) {
     fprintf(stderr,
             "breakables: warning: %s: material '%s': texture %s is neither PNG nor JPEG (glTF's image "
             "formats); exported without it\n",

@@ -12,11 +12,6 @@ bk_gltf_material bk_default_gltf_material(void) {
   return (bk_gltf_material){.name = "surface", .base_color = {1, 1, 1, 1}};
 }
 
-static bool is_png(const uint8_t* p, size_t n) { return n >= 8 && memcmp(p, "\x89PNG\r\n\x1a\n", 8) == 0; }
-static bool is_jpeg(const uint8_t* p, size_t n) {
-  return n >= 3 && p[0] == 0xFF && p[1] == 0xD8 && p[2] == 0xFF;
-}
-
 static bool check_image(const bk_gltf_image* image, const char* path, uint32_t i, const char* field,
                         bk_error* err) {
   if (image->data && image->uri)
@@ -28,7 +23,7 @@ static bool check_image(const bk_gltf_image* image, const char* path, uint32_t i
     if (image->size > ((size_t)1 << 30))
       return bk_error_set(err, "%s: gltf def: materials[%u].%s.size is %zu bytes, more than 1 GiB", path, i,
                           field, image->size);
-    if (!is_png(image->data, image->size) && !is_jpeg(image->data, image->size))
+    if (!bk_image_format(image->data, image->size))
       return bk_error_set(
           err, "%s: gltf def: materials[%u].%s.data is neither PNG nor JPEG (glTF's image formats)", path, i,
           field);
@@ -147,8 +142,8 @@ void bk_gltf_write_materials_json(text_buffer* t, const gltf_materials* m) {
     const gltf_image_slot* slot = &m->images[i];
     if (i) bk_tb_raw(t, ",");
     if (slot->image->data) {
-      bool png = is_png(slot->image->data, slot->image->size);
-      bk_tb_fmt(t, "{\"bufferView\":%u,\"mimeType\":\"%s\"}", slot->view, png ? "image/png" : "image/jpeg");
+      bk_tb_fmt(t, "{\"bufferView\":%u,\"mimeType\":\"image/%s\"}", slot->view,
+                bk_image_format(slot->image->data, slot->image->size));
     } else {
       bk_tb_raw(t, "{\"uri\":");
       bk_tb_uri(t, slot->image->uri);

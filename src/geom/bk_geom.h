@@ -121,6 +121,10 @@ bool bk_obj_parse_materials(const char* text, size_t length, const char* name, b
 void bk_mtl_parse(const char* text, size_t length, const bk_obj_materials* materials,
                   bk_import_material* list);
 
+/// The format of an image file's bytes, told by its signature: "png",
+/// "jpeg" (glTF 2.0's core image formats) or NULL for anything else.
+const char* bk_image_format(const void* data, size_t size);
+
 /// Reads a whole file into a fresh buffer (free it with free()). Files over
 /// max_bytes are refused with "<path>: file larger than <limit_text>, refusing
 /// to load"; limit_text lets each caller name its limit ("1 GiB"). max_bytes

@@ -80,6 +80,8 @@ bool bk_import_finish_ply(bool ok, const char* name, const bk_import_def* def, b
 /// file is beside it (texture paths resolved against the OBJ's directory).
 void bk_import_obj_materials(bk_import_info* info, const bk_mesh* mesh, const bk_obj_materials* materials,
                              const char* obj_path);
+/// Counts each listed material's triangles in the mesh and finds the one of the most.
+void bk_import_count_triangles(bk_import_info* info, const bk_mesh* mesh);
 /// Gives info a one-entry material list for a one-material mesh (our OBJ
 /// and PLY readers): unnamed, white, no texture.
 void bk_import_single_material(bk_import_info* info, const bk_mesh* mesh);

@@ -71,9 +71,11 @@ static void append_bytes(void* context, void* data, int size) {
   b->size += (size_t)size;
 }
 
-static bool is_png(const uint8_t* p, size_t n) { return n >= 8 && memcmp(p, "\x89PNG\r\n\x1a\n", 8) == 0; }
-static bool is_jpeg(const uint8_t* p, size_t n) {
-  return n >= 3 && p[0] == 0xFF && p[1] == 0xD8 && p[2] == 0xFF;
+const char* bk_image_format(const void* data, size_t size) {
+  const uint8_t* p = data;
+  if (size >= 8 && memcmp(p, "\x89PNG\r\n\x1a\n", 8) == 0) return "png";
+  if (size >= 3 && p[0] == 0xFF && p[1] == 0xD8 && p[2] == 0xFF) return "jpeg";
+  return NULL;
 }
 
 // Keeps an embedded texture as glTF can hold it: PNG and JPEG files as they
@@ -84,15 +86,15 @@ static void keep_image(bk_import_material* out, const struct aiTexture* t) {
   if (t->mHeight == 0) { // compressed: mWidth bytes of a file
     const uint8_t* bytes = (const uint8_t*)t->pcData;
     size_t size = t->mWidth;
-    bool png = is_png(bytes, size);
-    if (!png && !is_jpeg(bytes, size)) {
+    const char* format = bk_image_format(bytes, size);
+    if (!format) {
       out->image_unsupported = true;
       return;
     }
     out->image = bk_alloc(size);
     memcpy(out->image, bytes, size);
     out->image_size = size;
-    snprintf(out->image_format, sizeof out->image_format, "%s", png ? "png" : "jpeg");
+    snprintf(out->image_format, sizeof out->image_format, "%s", format);
     return;
   }
   uint64_t texels = (uint64_t)t->mWidth * t->mHeight;
@@ -182,7 +184,7 @@ static void read_material(const import_state* s, const struct aiMaterial* mat, b
 // ---------------------------------------------------------------- the list
 
 // Counts each material's triangles and finds the one of the most.
-static void count_triangles(bk_import_info* info, const bk_mesh* mesh) {
+void bk_import_count_triangles(bk_import_info* info, const bk_mesh* mesh) {
   for (uint32_t t = 0; t < mesh->triangle_count; ++t) {
     uint32_t source = bk_material_source(mesh->materials[t]);
     if (source < info->materials) info->material_list[source].triangles++;
@@ -205,7 +207,7 @@ void bk_import_read_materials(import_state* s) {
     read_material(s, mat, &info->material_list[i]);
   }
   if (!s->source_count) read_material(s, NULL, &info->material_list[0]);
-  count_triangles(info, &s->mesh);
+  bk_import_count_triangles(info, &s->mesh);
 }
 
 void bk_import_single_material(bk_import_info* info, const bk_mesh* mesh) {
@@ -213,7 +215,7 @@ void bk_import_single_material(bk_import_info* info, const bk_mesh* mesh) {
   info->material_list = bk_calloc(1, sizeof(bk_import_material));
   for (int i = 0; i < 4; ++i)
     info->material_list[0].base_color[i] = 1.0f;
-  count_triangles(info, mesh);
+  bk_import_count_triangles(info, mesh);
 }
 
 // The material list is the caller's only when the import succeeded (and

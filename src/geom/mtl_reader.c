@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "bk_geom.h"
+#include "model_import.h"
 
 static bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
 
@@ -137,13 +138,7 @@ void bk_import_obj_materials(bk_import_info* info, const bk_mesh* mesh, const bk
       m->base_color[k] = 1.0f;
     if (i < materials->count) snprintf(m->name, sizeof m->name, "%s", materials->names[i]);
   }
-  for (uint32_t t = 0; t < mesh->triangle_count; ++t) {
-    uint32_t source = bk_material_source(mesh->materials[t]);
-    if (source < count) info->material_list[source].triangles++;
-  }
-  for (uint32_t i = 1; i < count; ++i)
-    if (info->material_list[i].triangles > info->material_list[info->dominant_material].triangles)
-      info->dominant_material = i;
+  bk_import_count_triangles(info, mesh);
   // The library is looked for beside the OBJ file (memory imports have none);
   // one that is missing or unreadable leaves the materials white.
   if (!obj_path || !materials->library[0] || materials->library[0] == '/') return;
