@@ -15,11 +15,25 @@
 #define OTHER_PATH BK_TEST_TMP "/t2.mtree"
 #define DAMAGED_PATH BK_TEST_TMP "/damaged.mtree"
 
+// The offsets below are version 4's layout: a new version must revisit them.
+_Static_assert(BK_MTREE_VERSION == 4, "test_tree_cache.c knows the layout of .mtree version 4");
+
 // Header layout (see tree_cache.c): magic 8, version 4, endian 4, payload size 8, checksum 8.
 enum { HEADER_BYTES = 32, VERSION_OFFSET = 8, ENDIAN_OFFSET = 12, CHECKSUM_OFFSET = 24 };
-// Payload: source_hash 8, pieces 4, seed 8, texture_scale 8, jitter 8, aspect_bias 8, max_depth 4, then
-// node_count.
-enum { NODE_COUNT_OFFSET = HEADER_BYTES + 8 + 4 + 8 + 8 + 8 + 8 + 4 };
+// Payload: source_hash 8, pieces 4, seed 8, texture_scale 8, jitter 8, aspect_bias 8, then the pattern
+// fields (version 4), max_depth 4, then node_count.
+enum { PATTERN_OFFSET = HEADER_BYTES + 8 + 4 + 8 + 8 + 8 + 8 };
+// The pattern fields: pattern, seed_point_count, clusters (u32); cluster_border, impact[3],
+// radial_falloff, brick_size[3], brick_origin[3], brick_offset (f64); cutout_width, cutout_height,
+// cutout_axis (u32); noise_amplitude, noise_frequency (f64). Offsets from PATTERN_OFFSET.
+enum {
+  SEED_POINT_COUNT_AT = 4,
+  CLUSTERS_AT = 8,
+  CUTOUT_AXIS_AT = 3 * 4 + 12 * 8 + 2 * 4,
+  NOISE_FREQUENCY_AT = 3 * 4 + 12 * 8 + 3 * 4 + 8,
+  PATTERN_FIELDS_BYTES = 3 * 4 + 12 * 8 + 3 * 4 + 2 * 8,
+};
+enum { NODE_COUNT_OFFSET = PATTERN_OFFSET + PATTERN_FIELDS_BYTES + 4 };
 // The root's parent follows the counts (node, leaf, bond: 12 bytes) and its
 // bounds, moments and plane (20 doubles).
 enum { ROOT_PARENT_OFFSET = NODE_COUNT_OFFSET + 12 + 20 * 8 };
@@ -67,10 +81,24 @@ static void store_u32(uint8_t* p, uint32_t v) {
     p[i] = (uint8_t)(v >> (8 * i));
 }
 
+static void store_u64(uint8_t* p, uint64_t v) {
+  for (int i = 0; i < 8; ++i)
+    p[i] = (uint8_t)(v >> (8 * i));
+}
+
 static uint32_t load_u32(const uint8_t* p) {
   uint32_t v = 0;
   for (int i = 0; i < 4; ++i)
     v |= (uint32_t)p[i] << (8 * i);
+  return v;
+}
+
+static double load_f64(const uint8_t* p) {
+  uint64_t bits = 0;
+  for (int i = 0; i < 8; ++i)
+    bits |= (uint64_t)p[i] << (8 * i);
+  double v = 0.0;
+  memcpy(&v, &bits, sizeof v);
   return v;
 }
 
@@ -100,6 +128,34 @@ static void compare_meshes(const bk_mesh* a, const bk_mesh* b) {
   ENSURE(memcmp(a->tags, b->tags, sizeof(uint32_t) * a->triangle_count) == 0);
 }
 
+#define SAME_BITS(a, b) (sizeof(a) == sizeof(b) && memcmp(&(a), &(b), sizeof(a)) == 0)
+
+// Every stored field of the fracture def, bit for bit; the borrowed arrays
+// and the callback are not kept.
+static void compare_descs(const bk_fracture_def* built, const bk_fracture_def* loaded) {
+  ENSURE(built->pieces == loaded->pieces);
+  ENSURE(built->seed == loaded->seed);
+  ENSURE(SAME_BITS(built->texture_scale, loaded->texture_scale));
+  ENSURE(SAME_BITS(built->jitter, loaded->jitter));
+  ENSURE(SAME_BITS(built->aspect_bias, loaded->aspect_bias));
+  ENSURE(built->pattern == loaded->pattern);
+  ENSURE(built->seed_point_count == loaded->seed_point_count);
+  ENSURE(built->clusters == loaded->clusters);
+  ENSURE(SAME_BITS(built->cluster_border, loaded->cluster_border));
+  ENSURE(SAME_BITS(built->impact, loaded->impact));
+  ENSURE(SAME_BITS(built->radial_falloff, loaded->radial_falloff));
+  ENSURE(SAME_BITS(built->brick_size, loaded->brick_size));
+  ENSURE(SAME_BITS(built->brick_origin, loaded->brick_origin));
+  ENSURE(SAME_BITS(built->brick_offset, loaded->brick_offset));
+  ENSURE(built->cutout_width == loaded->cutout_width);
+  ENSURE(built->cutout_height == loaded->cutout_height);
+  ENSURE(built->cutout_axis == loaded->cutout_axis);
+  ENSURE(SAME_BITS(built->noise_amplitude, loaded->noise_amplitude));
+  ENSURE(SAME_BITS(built->noise_frequency, loaded->noise_frequency));
+  ENSURE(loaded->progress == NULL && loaded->progress_user == NULL);
+  ENSURE(loaded->seed_points == NULL && loaded->cutout_pixels == NULL);
+}
+
 // Bit-exact comparison; `loaded` must also have capacities equal to counts.
 static void compare_trees(const bk_mesh_tree* built, const bk_mesh_tree* loaded) {
   ENSURE(built->node_count == loaded->node_count);
@@ -107,11 +163,7 @@ static void compare_trees(const bk_mesh_tree* built, const bk_mesh_tree* loaded)
   ENSURE(built->bond_count == loaded->bond_count);
   ENSURE(built->max_depth == loaded->max_depth);
   ENSURE(built->source_hash == loaded->source_hash);
-  ENSURE(built->desc.pieces == loaded->desc.pieces);
-  ENSURE(built->desc.seed == loaded->desc.seed);
-  ENSURE(memcmp(&built->desc.texture_scale, &loaded->desc.texture_scale, sizeof(double)) == 0);
-  ENSURE(memcmp(&built->desc.jitter, &loaded->desc.jitter, sizeof(double)) == 0);
-  ENSURE(loaded->desc.progress == NULL && loaded->desc.progress_user == NULL);
+  compare_descs(&built->desc, &loaded->desc);
   for (uint32_t i = 0; i < built->node_count; ++i) {
     const bk_mesh_tree_node *a = &built->nodes[i], *b = &loaded->nodes[i];
     ENSURE(memcmp(&a->bounds, &b->bounds, sizeof a->bounds) == 0);
@@ -162,6 +214,7 @@ static void expect_load_failure(const char* path, const char* expected) {
   ENSURE(!bk_mesh_tree_load(path, &out, &err));
   ENSURE_MSG(strstr(err.message, expected) != NULL, "expected \"%s\", got \"%s\"", expected, err.message);
   ENSURE_MSG(strstr(err.message, path) != NULL, "message does not name the file: %s", err.message);
+  ENSURE_MSG(strchr(err.message, '\n') == NULL, "message is not one line: %s", err.message);
   ENSURE(all_zero(&out, sizeof out));
 }
 
@@ -236,7 +289,10 @@ static void test_corruption(void) {
   // (c) version
   memcpy(data, good, size);
   store_u32(data + VERSION_OFFSET, 99);
-  expect_damaged(data, size, "mesh tree version 99 is not supported (expected 3)");
+  char expected_version[128] = {0};
+  snprintf(expected_version, sizeof expected_version, "mesh tree version 99 is not supported (expected %u)",
+           BK_MTREE_VERSION);
+  expect_damaged(data, size, expected_version);
 
   // byte order: the marker as a big-endian writer would store it
   memcpy(data, good, size);
@@ -304,6 +360,164 @@ static void test_corruption(void) {
   free(good);
 }
 
+// Non-default values in every pattern field: awkward doubles (not short
+// decimals, a subnormal, -0.0), so only a bit-exact round trip compares equal.
+static void set_pattern_fields(bk_fracture_def* d, bk_fracture_pattern pattern) {
+  d->pattern = pattern;
+  // A loaded desc keeps a seed point count only for Voronoi (the points are not kept).
+  d->seed_point_count = pattern == BK_PATTERN_VORONOI ? 37 : 0;
+  d->clusters = 11;
+  d->cluster_border = 0.1 + 0.2;
+  d->impact = bk_v3(0.1, -2.0 / 3.0, 4.9e-320);
+  d->radial_falloff = 1.0 / 3.0;
+  d->brick_size = bk_v3(0.21, 0.0625 + 1e-17, 0.1);
+  d->brick_origin = bk_v3(-0.0, 0.125, -3.75e-3);
+  d->brick_offset = 1.0 / 7.0;
+  d->cutout_width = 640;
+  d->cutout_height = 480;
+  d->cutout_axis = 1;
+  // Noisy faces only exist for the cell patterns (planes and brick cut flat).
+  d->noise_amplitude = bk_fracture_pattern_is_cellular(pattern) ? 0.015 : 0.0;
+  d->noise_frequency = 4.0 / 3.0;
+  d->jitter = 0.05 / 3.0;
+  d->aspect_bias = 2.0 / 3.0;
+}
+
+// Every pattern field survives save and load bit for bit, for every pattern,
+// sits where the layout comment says, and a loaded tree saves back to the
+// same bytes. The tree is built by planes; only its desc is changed.
+static void test_pattern_round_trip(void) {
+  bk_mesh_tree built = {0};
+  build_tree(8, 5, &built);
+  for (int p = 0; p < BK_PATTERN_COUNT; ++p) {
+    set_pattern_fields(&built.desc, (bk_fracture_pattern)p);
+    // The values really differ from the defaults, so a field that is not stored cannot pass.
+    bk_fracture_def def = bk_default_fracture_def();
+    ENSURE(built.desc.clusters != def.clusters && built.desc.cutout_axis != def.cutout_axis);
+    ENSURE(!SAME_BITS(built.desc.brick_origin, def.brick_origin) &&
+           !SAME_BITS(built.desc.impact, def.impact));
+    save_ok(&built, TREE_PATH);
+    bk_mesh_tree loaded = {0};
+    bk_error err = {{0}};
+    ENSURE_MSG(bk_mesh_tree_load(TREE_PATH, &loaded, &err), "%s", err.message);
+    compare_trees(&built, &loaded);
+
+    size_t size = 0;
+    uint8_t* bytes = read_bytes(TREE_PATH, &size);
+    ENSURE(load_u32(bytes + VERSION_OFFSET) == BK_MTREE_VERSION);
+    ENSURE(load_u32(bytes + PATTERN_OFFSET) == (uint32_t)p);
+    ENSURE(load_u32(bytes + PATTERN_OFFSET + SEED_POINT_COUNT_AT) == built.desc.seed_point_count);
+    ENSURE(load_u32(bytes + PATTERN_OFFSET + CUTOUT_AXIS_AT) == built.desc.cutout_axis);
+    double frequency = load_f64(bytes + PATTERN_OFFSET + NOISE_FREQUENCY_AT);
+    ENSURE(SAME_BITS(frequency, built.desc.noise_frequency));
+    ENSURE(load_u32(bytes + NODE_COUNT_OFFSET) == built.node_count);
+
+    save_ok(&loaded, OTHER_PATH);
+    size_t again_size = 0;
+    uint8_t* again = read_bytes(OTHER_PATH, &again_size);
+    ENSURE(again_size == size && memcmp(again, bytes, size) == 0);
+    free(again);
+    free(bytes);
+    bk_mesh_tree_free(&loaded);
+  }
+  bk_mesh_tree_free(&built);
+}
+
+// A real version-3 file (no pattern fields, consistent size and checksum) is
+// refused by its version, in one line naming it; the same bytes claiming
+// version 4 are refused as corrupt rather than misread.
+static void test_version_3_refused(void) {
+  bk_mesh_tree built = {0};
+  build_tree(8, 5, &built);
+  save_ok(&built, TREE_PATH);
+  bk_mesh_tree_free(&built);
+  size_t size = 0;
+  uint8_t* v4 = read_bytes(TREE_PATH, &size);
+  size_t v3_size = size - PATTERN_FIELDS_BYTES;
+  uint8_t* v3 = malloc(v3_size);
+  ENSURE(v3 != NULL);
+  memcpy(v3, v4, PATTERN_OFFSET);
+  memcpy(v3 + PATTERN_OFFSET, v4 + PATTERN_OFFSET + PATTERN_FIELDS_BYTES,
+         size - PATTERN_OFFSET - PATTERN_FIELDS_BYTES);
+  store_u32(v3 + VERSION_OFFSET, 3);
+  store_u64(v3 + 16, v3_size - HEADER_BYTES);
+  rehash(v3, v3_size);
+  char expected[160] = {0};
+  snprintf(expected, sizeof expected, "%s: mesh tree version 3 is not supported (expected %u)", DAMAGED_PATH,
+           BK_MTREE_VERSION);
+  write_bytes(DAMAGED_PATH, v3, v3_size);
+  bk_mesh_tree out = {0};
+  bk_error err = {{0}};
+  ENSURE(!bk_mesh_tree_load(DAMAGED_PATH, &out, &err));
+  ENSURE_MSG(strcmp(err.message, expected) == 0, "expected \"%s\", got \"%s\"", expected, err.message);
+  expect_damaged(v3, v3_size, expected);
+
+  store_u32(v3 + VERSION_OFFSET, BK_MTREE_VERSION);
+  expect_damaged(v3, v3_size, "corrupt");
+  free(v3);
+  free(v4);
+}
+
+// A stored pattern field out of range, behind a valid checksum, is refused in
+// one line naming the field and the stored value.
+static void test_bad_pattern_fields(void) {
+  bk_mesh_tree built = {0};
+  build_tree(8, 5, &built);
+  save_ok(&built, TREE_PATH);
+  bk_mesh_tree_free(&built);
+  size_t size = 0;
+  uint8_t* good = read_bytes(TREE_PATH, &size);
+  uint8_t* data = malloc(size);
+  ENSURE(data != NULL);
+  ENSURE(load_u32(good + PATTERN_OFFSET) == BK_PATTERN_PLANES);
+
+  memcpy(data, good, size);
+  store_u32(data + PATTERN_OFFSET, 9);
+  rehash(data, size);
+  char expected[128] = {0};
+  snprintf(expected, sizeof expected, "corrupt: fracture: pattern = 9 is not a pattern (0 to %d)",
+           BK_PATTERN_COUNT - 1);
+  expect_damaged(data, size, expected);
+
+  store_u32(data + PATTERN_OFFSET, BK_PATTERN_COUNT);
+  rehash(data, size);
+  snprintf(expected, sizeof expected, "fracture: pattern = %d is not a pattern", BK_PATTERN_COUNT);
+  expect_damaged(data, size, expected);
+
+  store_u32(data + PATTERN_OFFSET, 0xFFFFFFFFu);
+  rehash(data, size);
+  expect_damaged(data, size, "fracture: pattern = 4294967295 is not a pattern");
+
+  // The other fields are refused by the def's own validation, which names them.
+  memcpy(data, good, size);
+  store_u32(data + PATTERN_OFFSET + CUTOUT_AXIS_AT, 3);
+  rehash(data, size);
+  expect_damaged(data, size, "corrupt: fracture: cutout_axis must be 0, 1 or 2 (got 3)");
+
+  memcpy(data, good, size);
+  store_u32(data + PATTERN_OFFSET + CLUSTERS_AT, 0);
+  rehash(data, size);
+  expect_damaged(data, size, "corrupt: fracture: clusters");
+
+  memcpy(data, good, size);
+  store_u64(data + PATTERN_OFFSET + NOISE_FREQUENCY_AT, 0);
+  rehash(data, size);
+  expect_damaged(data, size, "corrupt: fracture: noise_frequency");
+
+  // Seed points are kept only as a Voronoi tree's count.
+  memcpy(data, good, size);
+  store_u32(data + PATTERN_OFFSET + SEED_POINT_COUNT_AT, 5);
+  rehash(data, size);
+  expect_damaged(data, size, "seed_point_count");
+  // ... and a Voronoi tree's count within the build's limit (the points themselves are not read).
+  store_u32(data + PATTERN_OFFSET, BK_PATTERN_VORONOI);
+  store_u32(data + PATTERN_OFFSET + SEED_POINT_COUNT_AT, (1u << 20) + 1);
+  rehash(data, size);
+  expect_damaged(data, size, "corrupt: fracture: seed_point_count = 1048577 is too many");
+  free(data);
+  free(good);
+}
+
 static void test_missing_file(void) { expect_load_failure(BK_TEST_TMP "/no_such_file.mtree", "cannot open"); }
 
 static void test_save_errors(void) {
@@ -340,6 +554,9 @@ int main(void) {
   RUN(test_round_trip);
   RUN(test_deterministic);
   RUN(test_corruption);
+  RUN(test_pattern_round_trip);
+  RUN(test_version_3_refused);
+  RUN(test_bad_pattern_fields);
   RUN(test_missing_file);
   RUN(test_save_errors);
   RUN(test_replace_existing);

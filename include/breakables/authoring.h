@@ -351,6 +351,26 @@ uint32_t bk_mesh_split_hulls(bk_mesh* mesh, bk_mesh** out);
 
 // ---------------------------------------------------------------- mesh tree
 
+/// How a source is cut into its pieces. Every pattern gives the same kind of
+/// mesh tree: inner nodes are closed pieces (groups of adjacent leaves), every
+/// node is watertight, leaf volumes add up to the source's and bonds are
+/// measured on the leaves' shared cut faces.
+typedef enum bk_fracture_pattern {
+  BK_PATTERN_PLANES,    ///< random planes through the largest piece (the thesis's method)
+  BK_PATTERN_VORONOI,   ///< Voronoi cells of seed points spread through the volume (or the caller's)
+  BK_PATTERN_CLUSTERED, ///< a few large chunks whose borders are finely fractured
+  BK_PATTERN_RADIAL,    ///< dense small pieces around an impact point, coarser with distance
+  BK_PATTERN_BRICK,     ///< along the mortar of a brick bond, each brick then cut into a few pieces
+  BK_PATTERN_CUTOUT,    ///< the regions of a fracture map (lines on an image) projected along an axis
+  BK_PATTERN_COUNT
+} bk_fracture_pattern;
+
+/// The pattern's name as the command line spells it ("planes", "voronoi", ...);
+/// "unknown" for a value out of range.
+const char* bk_fracture_pattern_name(bk_fracture_pattern pattern);
+/// The pattern named `name`; false when there is none.
+bool bk_fracture_pattern_from_name(const char* name, bk_fracture_pattern* pattern);
+
 /// Parameters of a fracture: bk_default_fracture_def() fills every field;
 /// bk_fracture_def_validate (and the build) take them as given.
 typedef struct bk_fracture_def {
@@ -376,9 +396,61 @@ typedef struct bk_fracture_def {
   /// count so far; returning false cancels the build.
   bool (*progress)(void* user, uint32_t leaves, uint32_t target);
   void* progress_user;
+
+  bk_fracture_pattern pattern; ///< default BK_PATTERN_PLANES
+  /// Voronoi: the caller's seed points (source coordinates; borrowed for the
+  /// build only, cleared in bk_mesh_tree.desc). NULL (the default) spreads
+  /// `pieces` seeds uniformly through the volume. With points, every point
+  /// inside the source makes one cell and `pieces` is ignored.
+  const bk_vec3* seed_points;
+  uint32_t seed_point_count;
+  /// Clustered: how many large chunks, >= 1 (at most `pieces` are made); default 6.
+  uint32_t clusters;
+  /// Clustered: width of a chunk's finely fractured border, as a fraction of
+  /// the source's size, in (0, 1]; default 0.05.
+  double cluster_border;
+  /// Radial: the impact point (source coordinates); default the origin.
+  bk_vec3 impact;
+  /// Radial: how fast pieces grow with distance from the impact, in [0, 1.4]:
+  /// seed density falls as 1 / distance^(2 x radial_falloff) (0 = uniform);
+  /// default 1.
+  double radial_falloff;
+  /// Brick: the size of one brick with its mortar: length along x, height
+  /// along y, depth along z (0 = through the whole source); default
+  /// (0.25, 0.125, 0), the game's brick texture at 1 m per tile. Courses
+  /// are horizontal (y up).
+  bk_vec3 brick_size;
+  /// Brick: a corner of one brick (where the brick texture's tile starts);
+  /// default the origin.
+  bk_vec3 brick_origin;
+  /// Brick: how far each course is shifted against the one below, as a
+  /// fraction of the brick length, in [0, 1); default 0.5 (running bond).
+  double brick_offset;
+  /// Cut-out: the fracture map, width x height grey pixels (row 0 at the
+  /// top; borrowed for the build only, cleared in bk_mesh_tree.desc): pixels
+  /// of 128 and above are lines, each region enclosed by them becomes a
+  /// piece. It is stretched over the source's bounds seen along cutout_axis;
+  /// `pieces` is ignored.
+  const uint8_t* cutout_pixels;
+  uint32_t cutout_width, cutout_height;
+  /// Cut-out: the axis the map is projected along: 0 = x (the map's right is
+  /// -z, its top +y), 1 = y (right +x, top -z), 2 = z (right +x, top +y);
+  /// default 2.
+  uint32_t cutout_axis;
+  /// Voronoi, clustered and radial: cut faces are displaced along their
+  /// normal by coherent noise of this amplitude (source units, >= 0; 0, the
+  /// default, keeps them flat), tapered to zero at their borders so every
+  /// node stays closed.
+  double noise_amplitude;
+  /// Noise frequency, in waves per source unit, > 0; default 8.
+  double noise_frequency;
+  /// Threads the build may use; 0 (the default) = every core. The tree is
+  /// byte-identical for any count.
+  uint32_t threads;
 } bk_fracture_def;
 
-/// Default fracture parameters (the thesis's: 256 pieces, seed 3000, texture scale 0.1).
+/// Default fracture parameters (the thesis's: 256 pieces, seed 3000, texture
+/// scale 0.1, the planes pattern; the other patterns' defaults as documented).
 bk_fracture_def bk_default_fracture_def(void);
 /// Checks a fracture def; err names the wrong field.
 bool bk_fracture_def_validate(const bk_fracture_def* def, bk_error* err);
@@ -418,6 +490,10 @@ typedef struct bk_fracture_shortfall {
   uint32_t not_closed; ///< ... a cut left a piece open
   uint32_t volume_changed; ///< ... the cut pieces' volumes did not add up to the whole's
   uint32_t missed;         ///< ... the plane left everything on one side (thinner than the cut tolerance)
+  /// Brick pattern: pieces spanning several bricks whose mortar or head-joint
+  /// cut did not hold, cut by random planes instead (their bricks broken
+  /// across); such a piece is not short of anything, so `uncut` leaves it out.
+  uint32_t bond_fallbacks;
 } bk_fracture_shortfall;
 
 /// Closed solid shells of a source that overlap or touch another
@@ -480,12 +556,18 @@ typedef struct bk_mesh_tree {
   bk_fracture_overlap overlap;
 } bk_mesh_tree;
 
-/// Builds the mesh tree of a closed mesh: repeatedly splits the largest-volume
-/// leaf by a random plane through its centroid; every piece is kept. Computes
-/// bonds. Fails with a clear message on an open mesh or a bad def. A source
-/// whose solid shells overlap is first split into shells (see
-/// bk_fracture_overlap; only when pieces >= 2); when there are more such
-/// shells than pieces, the nearest share a piece.
+/// Builds the mesh tree of a closed mesh by def->pattern. Planes: repeatedly
+/// splits the largest-volume leaf by a random plane through its centroid;
+/// brick: the same, but pieces spanning several bricks go first and are cut
+/// along the bond's mortar. The cell patterns (voronoi, clustered, radial,
+/// cutout) divide the source into Voronoi cells that share every vertex, so
+/// the leaves are the cells' solids and inner nodes groups of adjacent ones
+/// (halved along their longest extent; clustered: the chunks first). Every
+/// piece is kept and bonds are computed. Fails with a clear message on an
+/// open mesh or a bad def. A source whose solid shells overlap is first split
+/// into shells by planes and brick (see bk_fracture_overlap; only when
+/// pieces >= 2; when there are more such shells than pieces, the nearest
+/// share a piece); the cell patterns refuse such a source.
 bool bk_mesh_tree_build(const bk_mesh* source, const bk_fracture_def* def, bk_mesh_tree* out, bk_error* err);
 /// Releases everything; safe on a zeroed tree.
 void bk_mesh_tree_free(bk_mesh_tree* tree);
@@ -526,6 +608,41 @@ typedef struct bk_mesh_tree_stats {
 /// Checks every node (closure, volumes). O(total triangles).
 bk_mesh_tree_stats bk_mesh_tree_measure(const bk_mesh_tree* tree);
 
+/// A leaf whose aspect is below this is a sliver (see bk_mesh_tree_quality).
+#define BK_SLIVER_ASPECT 0.15
+
+/// How usable a tree's fragments are: thin plates and needles (slivers)
+/// collide and stack badly, and a wide spread of sizes looks uneven.
+///
+/// A leaf's principal axes are the eigenvectors of its central inertia
+/// tensor (from its volume moments); its principal extents are the extents
+/// of its mesh positions projected on those axes, and its aspect is its
+/// thinnest principal extent over its longest (1 for a cube, 0.1 for a
+/// 1 x 1 x 0.1 box; 0 for a leaf without positions or of zero size). Where
+/// principal moments are equal the shape does not fix those axes and
+/// rounding picks them: a cube measures between 1 / sqrt(3) and 1 (1 when
+/// aligned with x, y and z), a square 1 x 1 x t plate between t / sqrt(2)
+/// and t; the axis that stands apart (a plate's thickness, a needle's
+/// length) is always found.
+typedef struct bk_mesh_tree_quality {
+  uint32_t leaves;        ///< the tree's leaf count
+  uint32_t slivers;       ///< leaves with aspect < BK_SLIVER_ASPECT
+  double sliver_fraction; ///< slivers / leaves (0 for no leaves)
+  /// Leaf volumes at the 5th and 95th percentiles, nearest rank: the k-th
+  /// smallest volume with k = ceil(p / 100 x leaves) (for one leaf both are
+  /// its volume).
+  double volume_p5, volume_p95;
+  /// volume_p95 / volume_p5, >= 1: 1 for one leaf or equal leaves; 0 for no
+  /// leaves, +infinity when volume_p5 <= 0 (never in a tree that was built).
+  double volume_ratio_p95_p5;
+  double min_aspect;    ///< the smallest leaf aspect (0 for no leaves)
+  double median_aspect; ///< the median leaf aspect (the mean of the middle two for an even count)
+} bk_mesh_tree_quality;
+
+/// Measures the tree's fragments as bk_mesh_tree_quality defines.
+/// O(total leaf positions + leaves log leaves).
+bk_mesh_tree_quality bk_mesh_tree_measure_quality(const bk_mesh_tree* tree);
+
 /// Estimated peak memory, in bytes, of bk_mesh_tree_build(source, def)
 /// (including the process's own few MB), known before building: a model of
 /// the source's triangle count and the pieces asked for, fitted to measured
@@ -539,7 +656,7 @@ uint64_t bk_mesh_tree_estimate_file_bytes(const bk_mesh* source, const bk_fractu
 // ---------------------------------------------------------------- cache file
 
 /// Current .mtree format version.
-#define BK_MTREE_VERSION 3u
+#define BK_MTREE_VERSION 4u
 
 /// Writes the tree to a versioned, checksummed binary file (via a temporary
 /// file and rename, so an existing file is never half-written).

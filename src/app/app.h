@@ -65,6 +65,10 @@ bool bk_option_u64(const char* command, const char* option, const char* text, ui
 /// bk_parse_double for the value of a command's option, with the same kind of message.
 bool bk_option_double(const char* command, const char* option, const char* text, double min, double max,
                       double* out);
+/// The shortest text of a number that reads back exactly: plain from 0.0001
+/// to 9999 (0.1, 2000), else with a bare exponent (1e-6, 1e5), as the range
+/// messages of bk_option_double write their bounds.
+void bk_format_number(double value, char* out, size_t size);
 /// Monotonic clock in milliseconds.
 double bk_now_ms(void);
 /// Peak resident memory of this process in MiB.
@@ -88,6 +92,12 @@ typedef struct bk_scene_options {
   uint64_t seed;
   double texture_scale;
   const char* material; ///< a preset for every object (NULL = each object's own)
+  /// A bk_fracture_pattern for every object, or -1 (the default) = each
+  /// object's own (bk_scene_object.pattern).
+  int pattern;
+  uint32_t clusters;     ///< clustered: large chunks (0 = the library's default)
+  double cluster_border; ///< clustered: border width, a fraction of the size (0 = the library's default)
+  double radial_falloff; ///< radial: how fast pieces grow with distance (< 0, the default: the library's)
   double frailty, density, bond_strength;
   int accumulate; ///< -1 = material's choice, 0 = discrete, 1 = accumulating
   bool naive, convex_colliders;
@@ -98,6 +108,36 @@ typedef struct bk_scene_options {
 } bk_scene_options;
 
 bk_scene_options bk_default_scene_options(void);
+
+/// How object `object` of `scene` is fractured: pieces, seed and texture
+/// scale from the options (else the object's or scene's, and the library's
+/// defaults), the pattern from options->pattern (else the object's), and the
+/// pattern's parameters fitted to the object: a brick bond scaled with the
+/// object so it stays on its texture, the game's fracture map
+/// (bk_app_cutout_map) for the cutout pattern, and a radial pattern's impact
+/// at the object's aim point (bk_scene_object_aim) taken into the frame of
+/// its tree (the scaled mesh, placed by the object's position and rotation).
+/// With `source`, the object's mesh as it is fractured (bk_scene_object_source;
+/// may be NULL), the impact moves along the line from the scene's eye through
+/// the aim point to where that line first meets the surface, where the shot
+/// lands; a user's model (fit_to_mesh) is placed by its bounds first.
+bk_fracture_def bk_scene_fracture_def(const bk_scene* scene, uint32_t object, const bk_scene_options* options,
+                                      const bk_mesh* source);
+/// The mesh an object's tree is cut from (bk_app_load_mesh, scaled by the
+/// object's scale); false when it is a tree file (loaded as it is) or cannot
+/// be read (loading the tree then says why). Free it with bk_mesh_free.
+bool bk_scene_object_source(const bk_scene_object* object, bk_mesh* out);
+/// The game's fracture map for the cutout pattern: a square of side
+/// `*size` pixels (grey, row 0 at the top) with a cobweb of cracks, as
+/// glass breaks round a hit at its centre. Made once, never freed.
+const uint8_t* bk_app_cutout_map(uint32_t* size);
+/// A 64-bit key of every parameter of `desc` that shapes a tree: pieces,
+/// seed, texture scale, jitter, aspect bias, the pattern and all its
+/// parameters, the seed points and fracture map themselves (not the
+/// progress callback or the thread count, which change nothing in the
+/// tree). Cache files are named by it, so another pattern or parameter never
+/// loads a tree made for different ones.
+uint64_t bk_app_fracture_key(const bk_fracture_def* desc);
 
 /// A scene set up in a world: its trees (owned) and breakables.
 typedef struct bk_loaded_scene {

@@ -85,9 +85,7 @@ bool bk_parse_double(const char* text, double min, double max, double* out) {
   return scan_double(text, min, max, out) == NUMBER_OK;
 }
 
-// Shortest form of a range bound that reads back exactly: plain from 0.0001
-// to 9999 (0.1, 2000), else with a bare exponent (1e-6, 1e5).
-static void format_bound(double value, char* out, size_t size) {
+void bk_format_number(double value, char* out, size_t size) {
   char text[64] = "";
   int digits = 1;
   for (; digits < 17; ++digits) {
@@ -142,8 +140,8 @@ bool bk_option_double(const char* command, const char* option, const char* text,
   if (status == NUMBER_OK) return true;
   char shown[96] = "", low[32] = "", high[32] = "";
   quote_text(text ? text : "", shown, sizeof shown);
-  format_bound(min, low, sizeof low);
-  format_bound(max, high, sizeof high);
+  bk_format_number(min, low, sizeof low);
+  bk_format_number(max, high, sizeof high);
   fprintf(stderr, "breakables %s: %s '%s' is %s (%s..%s)\n", command, option, shown,
           status == NUMBER_MALFORMED ? "not a decimal number" : "out of range", low, high);
   return false;

@@ -41,3 +41,26 @@ uint32_t bk_mesh_split_overlapping_shells(const bk_mesh* mesh, bk_mesh** parts, 
 /// order. Returns the new count.
 uint32_t bk_merge_pieces(bk_mesh* pieces, bk_moments* moments, uint32_t count, uint32_t below_count,
                          uint32_t cap_tag, uint32_t target);
+
+/// Builds the tree of the cell patterns (Voronoi, clustered, radial,
+/// cut-out): the source is divided into convex cells, every piece's faces
+/// come from one shared cell complex (so every node is closed by topology
+/// and neighbours share their faces exactly), and inner nodes are groups of
+/// adjacent cells. `def` is validated and the source checked.
+bool bk_cell_tree_build(const bk_mesh* source, const bk_fracture_def* def, bk_mesh_tree* tree, bk_error* err);
+/// Bonds of a cell-pattern tree: leaves that share cut-face triangles of one
+/// face (tagged with the face) are bonded with the area, centroid and
+/// area-weighted normal of what they share.
+void bk_cell_tree_compute_bonds(bk_mesh_tree* tree);
+/// True for the patterns whose trees bk_cell_tree_build makes.
+static inline bool bk_fracture_pattern_is_cellular(bk_fracture_pattern p) {
+  return p == BK_PATTERN_VORONOI || p == BK_PATTERN_CLUSTERED || p == BK_PATTERN_RADIAL ||
+         p == BK_PATTERN_CUTOUT;
+}
+/// Clears what a tree's desc must not keep (callbacks, borrowed arrays).
+static inline void bk_fracture_def_clear_borrowed(bk_fracture_def* d) {
+  d->progress = NULL;
+  d->progress_user = NULL;
+  d->seed_points = NULL;
+  d->cutout_pixels = NULL;
+}

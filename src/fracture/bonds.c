@@ -258,6 +258,10 @@ void bk_mesh_tree_compute_bonds(bk_mesh_tree* tree) {
   tree->bonds = NULL;
   tree->bond_count = 0;
   if (tree->leaf_count < 2) return;
+  if (bk_fracture_pattern_is_cellular(tree->desc.pattern)) {
+    bk_cell_tree_compute_bonds(tree);
+    return;
+  }
 
   // Gather every cap triangle of every leaf, keyed by its cut and side.
   uint32_t entry_count = 0, entry_capacity = 0;

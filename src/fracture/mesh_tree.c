@@ -1,31 +1,15 @@
-// The mesh tree: the source mesh at the root, every intermediate piece kept,
-// fragments at the leaves. The largest leaf is split next, so pieces stay
-// even-sized instead of clustering (the thesis saw clusters of tiny pieces
-// from depth-first splitting).
+// The mesh tree of the planes and brick patterns: the source mesh at the
+// root, every intermediate piece kept, fragments at the leaves. The largest
+// leaf is split next, so pieces stay even-sized instead of clustering (the
+// thesis saw clusters of tiny pieces from depth-first splitting); with a
+// brick bond, pieces spanning several bricks go first, cut along the mortar.
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "brick_bond.h"
 #include "cap.h"
 #include "tree_frame.h"
-
-bk_fracture_def bk_default_fracture_def(void) {
-  return (bk_fracture_def){.pieces = 256, .seed = 3000, .texture_scale = 0.1, .jitter = 0.05};
-}
-
-bool bk_fracture_def_validate(const bk_fracture_def* d, bk_error* err) {
-  if (d->pieces == 0) return bk_error_set(err, "fracture: pieces must be at least 1 (got 0)");
-  if (d->pieces > (1u << 20))
-    return bk_error_set(err, "fracture: pieces = %u is too many (at most %u)", d->pieces, 1u << 20);
-  if (!isfinite(d->texture_scale) || !(d->texture_scale > 0.0))
-    return bk_error_set(err, "fracture: texture_scale must be a positive finite number (got %g)",
-                        d->texture_scale);
-  if (!isfinite(d->jitter) || d->jitter < 0.0 || d->jitter > 0.5)
-    return bk_error_set(err, "fracture: jitter must be between 0 and 0.5 (got %g)", d->jitter);
-  if (!isfinite(d->aspect_bias) || d->aspect_bias < 0.0 || d->aspect_bias > 100.0)
-    return bk_error_set(err, "fracture: aspect_bias must be between 0 and 100 (got %g)", d->aspect_bias);
-  return true;
-}
 
 // ---------------------------------------------------------------- building
 
@@ -91,6 +75,53 @@ static bool pieces_hold(const bk_mesh_tree_node* node, const bk_mesh* pieces, ui
   return true;
 }
 
+// Cuts a node by one plane (local frame) into the solid shells on each side,
+// their faces re-triangulated; returns how many, *below_count of them below
+// the plane, or 0 (nothing allocated) with *why set when the plane misses
+// the node or the pieces do not hold.
+static uint32_t cut_node(bk_slicer* slicer, bk_face_simplifier* simplifier, const bk_mesh_tree_node* node,
+                         uint32_t node_index, const bk_fracture_def* d, const bk_tree_frame* frame,
+                         bk_plane plane, bk_mesh** pieces, bk_moments** moments, uint32_t* below_count,
+                         split_failure* why) {
+  bk_vec3 size = bk_v3_sub(node->bounds.max, node->bounds.min);
+  // Cap uvs are world plane coordinates over the tile size; the local
+  // origin's own uv (whole tiles dropped) keeps them so.
+  bk_vec3 u = {0}, v = {0};
+  bk_plane_basis(plane.normal, &u, &v);
+  double origin_u = bk_v3_dot(frame->origin, u) / d->texture_scale;
+  double origin_v = bk_v3_dot(frame->origin, v) / d->texture_scale;
+  bk_slice_def slice = {.plane = plane,
+                        .tolerance = 1e-9 * bk_v3_length(size),
+                        .texture_scale = ldexp(d->texture_scale, -frame->exponent),
+                        .uv_origin = {origin_u - floor(origin_u), origin_v - floor(origin_v)},
+                        .cap_tag = node_index + 1};
+  bk_mesh below = {0}, above = {0};
+  if (!bk_slicer_slice(slicer, &node->mesh, &slice, &below, &above, NULL)) {
+    *why = SPLIT_CAP_FAILED;
+    return 0;
+  }
+  if (below.triangle_count == 0 || above.triangle_count == 0) {
+    bk_mesh_free(&below);
+    bk_mesh_free(&above);
+    *why = SPLIT_MISSED;
+    return 0;
+  }
+  bk_mesh *below_hulls = NULL, *above_hulls = NULL;
+  *below_count = bk_mesh_split_hulls(&below, &below_hulls);
+  uint32_t above_count = bk_mesh_split_hulls(&above, &above_hulls);
+  uint32_t count = *below_count + above_count;
+  *pieces = bk_realloc(below_hulls, sizeof(bk_mesh) * count);
+  memcpy(*pieces + *below_count, above_hulls, sizeof(bk_mesh) * above_count);
+  free(above_hulls);
+  for (uint32_t i = 0; i < count; ++i)
+    bk_face_simplifier_run(simplifier, &(*pieces)[i]);
+  *moments = bk_realloc(*moments, sizeof(bk_moments) * count);
+  if (pieces_hold(node, *pieces, count, *moments, why)) return count;
+  free_pieces(*pieces, count);
+  *pieces = NULL;
+  return 0;
+}
+
 // Tries random planes through the centroid until one splits the node into
 // pieces that hold (closed, volume kept) and are at most `allowed` (what the
 // tree may still take without passing the pieces asked for); returns them,
@@ -126,49 +157,20 @@ static uint32_t split_node(bk_slicer* slicer, bk_face_simplifier* simplifier, co
       bk_vec3 tilt = bk_v3_scale(longest, bk_v3_dot(n, longest) < 0.0 ? -d->aspect_bias : d->aspect_bias);
       n = bk_v3_normalize(bk_v3_add(n, tilt));
     }
-    // Extent of the piece along n, for the jitter and the snapping tolerance.
+    // Extent of the piece along n, for the jitter.
     double extent = fabs(n.x) * size.x + fabs(n.y) * size.y + fabs(n.z) * size.z;
     double shift = d->jitter * extent * (bk_rng_unit(rng) - 0.5);
     *plane = (bk_plane){n, bk_v3_dot(n, mass.centroid) + shift};
-    // Cap uvs are world plane coordinates over the tile size; the local
-    // origin's own uv (whole tiles dropped) keeps them so.
-    bk_vec3 u, v;
-    bk_plane_basis(n, &u, &v);
-    double origin_u = bk_v3_dot(frame->origin, u) / d->texture_scale;
-    double origin_v = bk_v3_dot(frame->origin, v) / d->texture_scale;
-    bk_slice_def slice = {.plane = *plane,
-                          .tolerance = 1e-9 * bk_v3_length(size),
-                          .texture_scale = ldexp(d->texture_scale, -frame->exponent),
-                          .uv_origin = {origin_u - floor(origin_u), origin_v - floor(origin_v)},
-                          .cap_tag = node_index + 1};
-    bk_mesh below = {0}, above = {0};
-    if (!bk_slicer_slice(slicer, &node->mesh, &slice, &below, &above, NULL)) {
-      *why = SPLIT_CAP_FAILED;
-      continue;
-    }
-    if (below.triangle_count == 0 || above.triangle_count == 0) {
-      bk_mesh_free(&below);
-      bk_mesh_free(&above);
-      *why = SPLIT_MISSED;
-      continue;
-    }
-    bk_mesh *below_hulls = NULL, *above_hulls = NULL;
-    uint32_t below_count = bk_mesh_split_hulls(&below, &below_hulls);
-    uint32_t above_count = bk_mesh_split_hulls(&above, &above_hulls);
-    uint32_t count = below_count + above_count;
-    *pieces = bk_realloc(below_hulls, sizeof(bk_mesh) * count);
-    memcpy(*pieces + below_count, above_hulls, sizeof(bk_mesh) * above_count);
-    free(above_hulls);
-    for (uint32_t i = 0; i < count; ++i)
-      bk_face_simplifier_run(simplifier, &(*pieces)[i]);
-    *moments = bk_realloc(*moments, sizeof(bk_moments) * count);
-    bool held = pieces_hold(node, *pieces, count, *moments, why);
-    if (held && count <= allowed) {
+    uint32_t below_count = 0;
+    uint32_t count =
+        cut_node(slicer, simplifier, node, node_index, d, frame, *plane, pieces, moments, &below_count, why);
+    if (count == 0) continue;
+    if (count <= allowed) {
       free_pieces(fewest, fewest_count);
       free(fewest_moments);
       return count;
     }
-    if (held && (fewest_count == 0 || count < fewest_count)) {
+    if (fewest_count == 0 || count < fewest_count) {
       free_pieces(fewest, fewest_count);
       fewest = *pieces;
       fewest_moments = bk_realloc(fewest_moments, sizeof(bk_moments) * count);
@@ -188,6 +190,55 @@ static uint32_t split_node(bk_slicer* slicer, bk_face_simplifier* simplifier, co
   memcpy(*moments, fewest_moments, sizeof(bk_moments) * fewest_count);
   free(fewest_moments);
   return bk_merge_pieces(*pieces, *moments, fewest_count, fewest_below, node_index + 1, allowed);
+}
+
+// The brick pattern's split: a piece spanning several bricks is cut along
+// the bond (an exact plane, no random draw), its pieces merged down to
+// `allowed` when there are more (a concave source; merged pieces are still
+// whole bricks). When the bond's cut does not hold (a tolerance failing on
+// some odd source), the piece is cut by random planes like a single brick,
+// so the build never sticks, and the fallback is counted. A piece within one
+// brick is cut by random planes, as the planes pattern cuts.
+static uint32_t split_bond(bk_slicer* slicer, bk_face_simplifier* simplifier, const bk_mesh_tree_node* node,
+                           uint32_t node_index, const bk_fracture_def* d, const bk_tree_frame* frame,
+                           const bk_brick_bond* bond, uint32_t allowed, bk_rng* rng, bk_plane* plane,
+                           bk_mesh** pieces, bk_moments** moments, split_failure* why,
+                           bk_fracture_shortfall* shortfall) {
+  bk_vec3 centroid = bk_moments_to_mass(node->moments).centroid;
+  if (bk_brick_bond_plane(bond, node->bounds, centroid, plane)) {
+    uint32_t below_count = 0;
+    uint32_t count =
+        cut_node(slicer, simplifier, node, node_index, d, frame, *plane, pieces, moments, &below_count, why);
+    if (count)
+      return count <= allowed
+                 ? count
+                 : bk_merge_pieces(*pieces, *moments, count, below_count, node_index + 1, allowed);
+    shortfall->bond_fallbacks++;
+  }
+  return split_node(slicer, simplifier, node, node_index, d, frame, allowed, rng, plane, pieces, moments,
+                    why);
+}
+
+// Leaves waiting to be split, largest volume first (keys negated), ties by
+// lower node index. With a brick bond, pieces that span several bricks wait
+// in a heap of their own that is emptied first: the source parts along its
+// mortar into whole bricks (or groups of them, with fewer pieces than
+// bricks) before any brick is broken.
+typedef struct leaf_queue {
+  bk_heap within;            // pieces within one brick (every piece, without a bond)
+  bk_heap across;            // pieces spanning several bricks
+  const bk_brick_bond* bond; // NULL: the planes pattern
+} leaf_queue;
+
+static void queue_push(leaf_queue* q, const bk_mesh_tree_node* node, uint32_t index) {
+  bk_plane plane = {0};
+  bool across = q->bond && bk_brick_bond_plane(q->bond, node->bounds,
+                                               bk_moments_to_mass(node->moments).centroid, &plane);
+  bk_heap_push(across ? &q->across : &q->within, -node->moments.v, index);
+}
+
+static uint32_t queue_pop(leaf_queue* q) {
+  return bk_heap_pop(q->across.count ? &q->across : &q->within).value;
 }
 
 static void count_shortfall(bk_fracture_shortfall* s, split_failure why) {
@@ -270,6 +321,8 @@ bool bk_mesh_tree_build(const bk_mesh* source, const bk_fracture_def* desc_in, b
   if (!bk_fracture_def_validate(desc_in, err)) return false;
   bk_fracture_def d = *desc_in;
   if (!check_source(source, &d, err)) return false;
+  if (d.pattern != BK_PATTERN_PLANES && d.pattern != BK_PATTERN_BRICK)
+    return bk_cell_tree_build(source, &d, tree, err);
 
   // Everything is cut in the local frame (centred, about unit size) and moved
   // back to the source's coordinates at the end.
@@ -311,14 +364,14 @@ bool bk_mesh_tree_build(const bk_mesh* source, const bk_fracture_def* desc_in, b
       d.pieces >= 2 ? bk_mesh_split_overlapping_shells(&root, &shell_parts, &overlap) : 0;
   add_node(tree, &capacity, &root, bk_mesh_moments(&root), BK_NULL_INDEX);
 
-  // Largest volume first (keys negated), ties by lower node index.
-  bk_heap heap = {0};
-  bk_heap_push(&heap, -tree->nodes[0].moments.v, 0);
+  bk_brick_bond bond = bk_brick_bond_of(&d, frame);
+  leaf_queue queue = {.bond = d.pattern == BK_PATTERN_BRICK ? &bond : NULL};
+  queue_push(&queue, &tree->nodes[0], 0);
   uint32_t leaves = 1;
   bool cancelled = false;
   bk_moments* moments = NULL; // of the pieces of the last cut, grown as needed
-  while (leaves < d.pieces && heap.count) {
-    uint32_t split = bk_heap_pop(&heap).value;
+  while (leaves < d.pieces && (queue.within.count || queue.across.count)) {
+    uint32_t split = queue_pop(&queue);
     bk_plane plane = {0};
     bk_mesh* pieces = NULL;
     split_failure why = SPLIT_MISSED;
@@ -340,7 +393,10 @@ bool bk_mesh_tree_build(const bk_mesh* source, const bk_fracture_def* desc_in, b
       shell_parts = NULL;
       shell_part_count = 0;
     }
-    if (count == 0)
+    if (count == 0 && queue.bond)
+      count = split_bond(slicer, simplifier, &tree->nodes[split], split, &d, &frame, queue.bond,
+                         d.pieces - leaves + 1, &rng, &plane, &pieces, &moments, &why, &tree->shortfall);
+    else if (count == 0)
       count = split_node(slicer, simplifier, &tree->nodes[split], split, &d, &frame, d.pieces - leaves + 1,
                          &rng, &plane, &pieces, &moments, &why);
     if (count == 0) { // no cut held: stays a leaf
@@ -357,7 +413,7 @@ bool bk_mesh_tree_build(const bk_mesh* source, const bk_fracture_def* desc_in, b
     node->child_count = count;
     leaves += count - 1;
     for (uint32_t i = 0; i < count; ++i)
-      bk_heap_push(&heap, -tree->nodes[first + i].moments.v, first + i);
+      queue_push(&queue, &tree->nodes[first + i], first + i);
     if (d.progress && !d.progress(d.progress_user, leaves, d.pieces)) {
       cancelled = true;
       break;
@@ -365,7 +421,8 @@ bool bk_mesh_tree_build(const bk_mesh* source, const bk_fracture_def* desc_in, b
   }
   free_pieces(shell_parts, shell_part_count);
   free(moments);
-  bk_heap_free(&heap);
+  bk_heap_free(&queue.within);
+  bk_heap_free(&queue.across);
   bk_slicer_destroy(slicer);
   bk_face_simplifier_destroy(simplifier);
   if (cancelled) {
@@ -393,8 +450,7 @@ bool bk_mesh_tree_build(const bk_mesh* source, const bk_fracture_def* desc_in, b
   }
   number_leaves(tree);
   tree->source_hash = bk_mesh_hash(source);
-  d.progress = NULL;
-  d.progress_user = NULL;
+  bk_fracture_def_clear_borrowed(&d);
   tree->desc = d;
   bk_mesh_tree_compute_bonds(tree);
   return true;

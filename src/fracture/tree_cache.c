@@ -7,6 +7,9 @@
 // Layout: a fixed 32-byte header followed by the payload.
 //   header:  "BKMTREE\0" | u32 version | u32 0x01020304 | u64 payload size | u64 FNV-1a-64 of the payload
 //   payload: u64 source_hash | u32 pieces | u64 seed | f64 texture_scale | f64 jitter | f64 aspect_bias
+//            u32 pattern | u32 seed_point_count | u32 clusters | f64 cluster_border | f64 impact[3]
+//            f64 radial_falloff | f64 brick_size[3] | f64 brick_origin[3] | f64 brick_offset
+//            u32 cutout_width, cutout_height, cutout_axis | f64 noise_amplitude, noise_frequency
 //            u32 max_depth | u32 node_count | u32 leaf_count | u32 bond_count
 //            node_count x { f64 bounds[6] | f64 moments[10] | f64 plane[4]
 //                           u32 parent, first_child, child_count, leaf_begin, leaf_end, depth
@@ -18,6 +21,8 @@
 // Floats are stored as their IEEE-754 bits, so a round trip is bit-exact.
 // Version 3: node moments are taken about bk_mesh_tree_origin (version 2 took
 // them about the world origin, which loses all precision far from it).
+// Version 4: the fracture pattern and its parameters (the caller's seed
+// points and cut-out map are not kept, only their counts and size).
 #include <inttypes.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -145,6 +150,21 @@ static void put_payload(byte_writer* w, const bk_mesh_tree* tree) {
   put_f64(w, tree->desc.texture_scale);
   put_f64(w, tree->desc.jitter);
   put_f64(w, tree->desc.aspect_bias);
+  const bk_fracture_def* d = &tree->desc;
+  put_u32(w, (uint32_t)d->pattern);
+  put_u32(w, d->seed_point_count);
+  put_u32(w, d->clusters);
+  put_f64(w, d->cluster_border);
+  put_vec3(w, d->impact);
+  put_f64(w, d->radial_falloff);
+  put_vec3(w, d->brick_size);
+  put_vec3(w, d->brick_origin);
+  put_f64(w, d->brick_offset);
+  put_u32(w, d->cutout_width);
+  put_u32(w, d->cutout_height);
+  put_u32(w, d->cutout_axis);
+  put_f64(w, d->noise_amplitude);
+  put_f64(w, d->noise_frequency);
   put_u32(w, tree->max_depth);
   put_u32(w, tree->node_count);
   put_u32(w, tree->leaf_count);
@@ -180,7 +200,18 @@ static bool moments_finite(const bk_moments* m) {
 // the path; the caller adds it.
 static bool check_tree(const bk_mesh_tree* t, bk_error* why) {
   bk_error inner = {{0}};
-  if (!bk_fracture_def_validate(&t->desc, &inner)) return bk_error_set(why, "%s", inner.message);
+  // A Voronoi tree's desc keeps the count of the caller's seed points but not
+  // the points (bk_fracture_def_clear_borrowed). bk_fracture_def_validate
+  // would read count points from NULL, so the count is checked here (same
+  // limit) and the def validated without it.
+  bk_fracture_def desc = t->desc;
+  if (desc.pattern == BK_PATTERN_VORONOI && !desc.seed_points && desc.seed_point_count) {
+    if (desc.seed_point_count > (1u << 20))
+      return bk_error_set(why, "fracture: seed_point_count = %u is too many (at most %u)",
+                          desc.seed_point_count, 1u << 20);
+    desc.seed_point_count = 0;
+  }
+  if (!bk_fracture_def_validate(&desc, &inner)) return bk_error_set(why, "%s", inner.message);
   if (t->node_count == 0) return bk_error_set(why, "the tree has no nodes");
   if (t->leaf_count == 0 || t->leaf_count > t->node_count)
     return bk_error_set(why, "%u leaves for %u nodes", t->leaf_count, t->node_count);
@@ -476,9 +507,29 @@ static bool parse_payload(byte_reader* r, bk_mesh_tree* t, const char* path, bk_
   t->desc.texture_scale = get_f64(r);
   t->desc.jitter = get_f64(r);
   t->desc.aspect_bias = get_f64(r);
+  bk_fracture_def* d = &t->desc;
+  uint32_t pattern = get_u32(r); // checked below, before it is stored as an enum
+  d->seed_point_count = get_u32(r);
+  d->clusters = get_u32(r);
+  d->cluster_border = get_f64(r);
+  d->impact = get_vec3(r);
+  d->radial_falloff = get_f64(r);
+  d->brick_size = get_vec3(r);
+  d->brick_origin = get_vec3(r);
+  d->brick_offset = get_f64(r);
+  d->cutout_width = get_u32(r);
+  d->cutout_height = get_u32(r);
+  d->cutout_axis = get_u32(r);
+  d->noise_amplitude = get_f64(r);
+  d->noise_frequency = get_f64(r);
   t->max_depth = get_u32(r);
   uint32_t nodes = get_u32(r), leaves = get_u32(r), bonds = get_u32(r);
   if (r->overrun) return corrupt(err, path, "payload ends inside the tree header");
+  // Checked here so the message names the stored value; an out-of-range value never becomes the enum.
+  if (pattern >= BK_PATTERN_COUNT)
+    return corrupt(err, path, "fracture: pattern = %" PRIu32 " is not a pattern (0 to %d)", pattern,
+                   BK_PATTERN_COUNT - 1);
+  d->pattern = (bk_fracture_pattern)pattern;
   uint64_t need =
       (uint64_t)nodes * MTREE_NODE_MIN_BYTES + (uint64_t)leaves * 4u + (uint64_t)bonds * MTREE_BOND_BYTES;
   if (need > remaining(r))

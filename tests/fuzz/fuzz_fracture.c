@@ -8,6 +8,11 @@
 //   tail -c +2 INPUT > x.obj && breakables fracture --mesh x.obj --pieces N
 // (the seed is the CLI's default).
 //
+// Every input is also cut by one cell pattern (Voronoi, clustered or radial,
+// by the last byte; with noisy faces when its bit 3 is set), which must
+// meet the same checks and make exactly the pieces asked for when it builds:
+//   ... breakables fracture --mesh x.obj --pieces N --pattern P [--noise A]
+//
 // Meshes the reader, the hole filler or the build refuses are fine. When a
 // tree is built it must be sound: every node closed, leaf volumes summing to
 // the root's and every node's children to their parent's within 1e-9
@@ -66,10 +71,26 @@ int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     return 0;
   }
   bk_mesh_tree tree = {0};
-  bool built = bk_mesh_tree_build(&mesh, &desc, &tree, &err);
+  if (bk_mesh_tree_build(&mesh, &desc, &tree, &err)) {
+    check_tree(&tree, desc.pieces, desc.seed);
+    bk_mesh_tree_free(&tree);
+  }
+  uint8_t last = data[size - 1];
+  desc.pattern = (bk_fracture_pattern)(BK_PATTERN_VORONOI + last % 3);
+  if (last & 8) {
+    bk_aabb box = bk_mesh_bounds(&mesh);
+    double size_of = bk_v3_length(bk_v3_sub(box.max, box.min));
+    desc.noise_amplitude = 0.02 * size_of;
+    desc.noise_frequency = isfinite(4.0 / size_of) && 4.0 / size_of > 0.0 ? 4.0 / size_of : 1.0;
+  }
+  desc.impact = mesh.position_count ? mesh.positions[0] : bk_v3(0, 0, 0);
+  if (bk_mesh_tree_build(&mesh, &desc, &tree, &err)) {
+    check_tree(&tree, desc.pieces, desc.seed);
+    if (tree.leaf_count != desc.pieces)
+      bk_fuzz_fail("--pattern %s --pieces %u: made %u pieces", bk_fracture_pattern_name(desc.pattern), desc.pieces,
+                   tree.leaf_count);
+    bk_mesh_tree_free(&tree);
+  }
   bk_mesh_free(&mesh);
-  if (!built) return 0;
-  check_tree(&tree, desc.pieces, desc.seed);
-  bk_mesh_tree_free(&tree);
   return 0;
 }

@@ -40,6 +40,42 @@ static void write_bytes(const char* relative, const uint8_t* data, size_t size) 
   printf("wrote %s\n", path);
 }
 
+static void store_f64(uint8_t* p, double v) {
+  uint64_t bits = 0;
+  memcpy(&bits, &v, sizeof bits);
+  for (int i = 0; i < 8; ++i)
+    p[i] = (uint8_t)(bits >> (8 * i));
+}
+
+// Saves a tree whose root is damaged in a way the saver refuses to write:
+// the valid tree is encoded, then `count` doubles at `offset` bytes into the
+// root's record (which starts with its bounds, then 10 moments, then its
+// plane) are overwritten with `values` and the checksum is fixed. The record
+// is found by its bounds, so this does not depend on the header's layout.
+static void save_damaged_root(const bk_mesh_tree* tree, size_t offset, const double* values, int count,
+                              const char* relative) {
+  uint8_t* data = NULL;
+  size_t size = 0;
+  bk_error err = {{0}};
+  if (!bk_mesh_tree_save_memory(tree, relative, &data, &size, &err)) die(relative, err.message);
+  uint8_t bounds[48];
+  const bk_aabb* box = &tree->nodes[0].bounds;
+  const double corners[6] = {box->min.x, box->min.y, box->min.z, box->max.x, box->max.y, box->max.z};
+  for (int k = 0; k < 6; ++k)
+    store_f64(bounds + 8 * k, corners[k]);
+  size_t at = 32;
+  while (at + sizeof bounds <= size && memcmp(data + at, bounds, sizeof bounds) != 0)
+    at++;
+  if (at + offset + 8 * (size_t)count > size) die(relative, "the root's record is not in the saved bytes");
+  for (int k = 0; k < count; ++k)
+    store_f64(data + at + offset + 8 * (size_t)k, values[k]);
+  uint64_t hash = bk_hash_bytes(BK_FNV_OFFSET, data + 32, size - 32);
+  for (int i = 0; i < 8; ++i)
+    data[24 + i] = (uint8_t)(hash >> (8 * i));
+  write_bytes(relative, data, size);
+  free(data);
+}
+
 static uint8_t* read_bytes(const char* relative, size_t* size) {
   char path[4096];
   path_of(path, sizeof path, relative);
@@ -147,17 +183,25 @@ int main(int argc, char** argv) {
   bk_mesh_tree_free(&tree);
 
   // Regression: a cut plane whose normal is not of unit length (the file
-  // stores the plane as four numbers).
+  // stores the plane as four numbers). The loader now refuses it (a split
+  // plane's normal must have length 1), and so does the saver, hence
+  // save_damaged_root.
   build(&tetra, 2, 1, &tree);
-  tree.nodes[0].plane.normal = bk_v3_scale(tree.nodes[0].plane.normal, 0.9997);
-  save_tree(&tree, "regressions/fuzz_bonds/non_unit_plane_normal.mtree");
+  {
+    bk_vec3 n = bk_v3_scale(tree.nodes[0].plane.normal, 0.9997);
+    const double normal[3] = {n.x, n.y, n.z};
+    save_damaged_root(&tree, 16 * 8, normal, 3, "regressions/fuzz_bonds/non_unit_plane_normal.mtree");
+  }
   bk_mesh_tree_free(&tree);
 
   // Regression: root bounds that do not contain the mesh (min > max, far
-  // away); the tree's origin is derived from them.
+  // away); the tree's origin is derived from them. The loader and the saver
+  // now refuse it (stored bounds must be the mesh's).
   build(&cube, 3, 3, &tree);
-  tree.nodes[0].bounds.max = bk_v3(-6.7e155, -8.0, 0.5);
-  save_tree(&tree, "regressions/fuzz_bonds/bad_root_bounds.mtree");
+  {
+    const double max[3] = {-6.7e155, -8.0, 0.5};
+    save_damaged_root(&tree, 3 * 8, max, 3, "regressions/fuzz_bonds/bad_root_bounds.mtree");
+  }
   bk_mesh_tree_free(&tree);
 
   build(&tetra, 4, 2, &tree);

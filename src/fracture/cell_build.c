@@ -1,0 +1,213 @@
+// Makes the cell complex of one build: seeds, each cell's polytope (clipped
+// by the bisectors of the seeds near it, nearest first, until no farther
+// seed can reach it), the source's surface inside each cell, and the cut
+// faces between cells.
+#include <stdlib.h>
+#include <string.h>
+
+#include "cell_tree.h"
+
+// Source triangles binned by their bounds, to find those near a cell.
+typedef struct tri_grid {
+  bk_aabb box;
+  int n[3];
+  bk_vec3 cell;
+  uint32_t *start, *items;
+} tri_grid;
+
+static void bin_range(const tri_grid* g, bk_aabb b, int lo[3], int hi[3]) {
+  const double bmin[3] = {b.min.x, b.min.y, b.min.z}, bmax[3] = {b.max.x, b.max.y, b.max.z};
+  const double gmin[3] = {g->box.min.x, g->box.min.y, g->box.min.z},
+               size[3] = {g->cell.x, g->cell.y, g->cell.z};
+  for (int a = 0; a < 3; ++a) {
+    double l = floor((bmin[a] - gmin[a]) / size[a]), h = floor((bmax[a] - gmin[a]) / size[a]);
+    lo[a] = (int)fmax(fmin(l, g->n[a] - 1), 0);
+    hi[a] = (int)fmax(fmin(h, g->n[a] - 1), 0);
+  }
+}
+
+static bk_aabb tri_bounds(const bk_mesh* m, uint32_t t) {
+  bk_vec3 p = m->positions[bk_mesh_tri_position(m, t, 0)];
+  bk_aabb b = {p, p};
+  for (int k = 1; k < 3; ++k) {
+    p = m->positions[bk_mesh_tri_position(m, t, k)];
+    b.min = bk_v3_min(b.min, p);
+    b.max = bk_v3_max(b.max, p);
+  }
+  return b;
+}
+
+static void tri_grid_build(tri_grid* g, const bk_mesh* m) {
+  g->box = bk_mesh_bounds(m);
+  bk_vec3 size = bk_v3_sub(g->box.max, g->box.min);
+  double per =
+      cbrt(fmax(size.x * size.y * size.z, 1e-300) * 4.0 / (m->triangle_count ? m->triangle_count : 1));
+  g->n[0] = (int)fmin(fmax(ceil(size.x / per), 1), 256);
+  g->n[1] = (int)fmin(fmax(ceil(size.y / per), 1), 256);
+  g->n[2] = (int)fmin(fmax(ceil(size.z / per), 1), 256);
+  g->cell =
+      bk_v3(fmax(size.x / g->n[0], 1e-300), fmax(size.y / g->n[1], 1e-300), fmax(size.z / g->n[2], 1e-300));
+  size_t bins = (size_t)g->n[0] * g->n[1] * g->n[2];
+  g->start = bk_calloc(bins + 1, sizeof(uint32_t));
+  for (int pass = 0; pass < 2; ++pass) {
+    uint32_t* fill = NULL;
+    if (pass == 1) {
+      for (size_t b = 0; b < bins; ++b)
+        g->start[b + 1] += g->start[b];
+      g->items = bk_alloc(sizeof(uint32_t) * (g->start[bins] ? g->start[bins] : 1));
+      fill = bk_alloc(sizeof(uint32_t) * bins);
+      memcpy(fill, g->start, sizeof(uint32_t) * bins);
+    }
+    for (uint32_t t = 0; t < m->triangle_count; ++t) {
+      int lo[3], hi[3];
+      bin_range(g, tri_bounds(m, t), lo, hi);
+      for (int z = lo[2]; z <= hi[2]; ++z)
+        for (int y = lo[1]; y <= hi[1]; ++y)
+          for (int x = lo[0]; x <= hi[0]; ++x) {
+            size_t b = ((size_t)z * g->n[1] + y) * g->n[0] + x;
+            if (pass == 0)
+              g->start[b + 1]++;
+            else
+              g->items[fill[b]++] = t;
+          }
+    }
+    free(fill);
+  }
+}
+
+// Triangles whose bins meet `box`, each once, in increasing order.
+static uint32_t tri_grid_query(const tri_grid* g, bk_aabb box, uint32_t* stamp, uint32_t mark, uint32_t** out,
+                               uint32_t* capacity) {
+  int lo[3], hi[3];
+  bin_range(g, box, lo, hi);
+  uint32_t count = 0;
+  for (int z = lo[2]; z <= hi[2]; ++z)
+    for (int y = lo[1]; y <= hi[1]; ++y)
+      for (int x = lo[0]; x <= hi[0]; ++x) {
+        size_t b = ((size_t)z * g->n[1] + y) * g->n[0] + x;
+        for (uint32_t k = g->start[b]; k < g->start[b + 1]; ++k) {
+          uint32_t t = g->items[k];
+          if (stamp[t] == mark) continue;
+          stamp[t] = mark;
+          if (count == *capacity) {
+            *capacity = bk_grow_capacity(*capacity, count + 1);
+            *out = bk_realloc(*out, sizeof(uint32_t) * *capacity);
+          }
+          (*out)[count++] = t;
+        }
+      }
+  return count;
+}
+
+static int compare_u32(const void* pa, const void* pb) {
+  uint32_t a = *(const uint32_t*)pa, b = *(const uint32_t*)pb;
+  return a < b ? -1 : (a > b);
+}
+
+static bk_aabb polytope_bounds(const bk_cell_complex* cx, const bk_cell_polytope* p) {
+  bk_aabb b = {cx->points[p->loop[0]], cx->points[p->loop[0]]};
+  for (uint32_t i = 1; i < p->loop_count; ++i) {
+    b.min = bk_v3_min(b.min, cx->points[p->loop[i]]);
+    b.max = bk_v3_max(b.max, cx->points[p->loop[i]]);
+  }
+  return b;
+}
+
+bool bk_cell_complex_run(const bk_mesh* m, const bk_fracture_def* d, bk_tree_frame frame, uint32_t attempt,
+                         bk_cell_build* b, bk_error* err) {
+  memset(b, 0, sizeof *b);
+  if (d->pattern == BK_PATTERN_CUTOUT)
+    b->cells = bk_cutout_seeds(m, d, &b->seeds, &b->cell_label, err);
+  else
+    b->cells =
+        bk_cell_seeds(m, d, frame.origin, frame.exponent, &b->seeds, &b->cluster_of, &b->cell_label, err);
+  if (b->cells == 0) return false;
+  if (attempt) {
+    bk_aabb box = bk_mesh_bounds(m);
+    bk_vec3 size = bk_v3_sub(box.max, box.min);
+    double step = 1e-5 * cbrt(fmax(size.x * size.y * size.z, 1e-300) / b->cells);
+    bk_rng rng = bk_rng_seed(d->seed, 0x6a697474u + attempt);
+    for (uint32_t i = 0; i < b->cells; ++i)
+      b->seeds[i] = bk_v3_add(b->seeds[i], bk_v3_scale(bk_rng_direction(&rng), step));
+  }
+  bk_cell_complex_init(&b->cx, m, b->seeds, b->cells);
+  // Cut-out seeds lie in one plane across the map's axis: only distances
+  // within that plane decide which seeds can cut a cell (its prism may be
+  // far longer than wide).
+  if (d->pattern == BK_PATTERN_CUTOUT) b->cx.planar_axis = (int)d->cutout_axis;
+  bk_seed_grid* grid = bk_seed_grid_create(b->seeds, b->cells, b->cx.box);
+  tri_grid tg = {0};
+  tri_grid_build(&tg, m);
+  bk_vec3 size = bk_v3_sub(b->cx.box.max, b->cx.box.min);
+  double spacing = cbrt(size.x * size.y * size.z / b->cells);
+  double whole = bk_v3_length(size);
+  b->polytopes = bk_calloc(b->cells, sizeof(bk_cell_polytope));
+  b->surfaces = bk_calloc(b->cells, sizeof(bk_cell_surface));
+  bk_cell_builder* builder = bk_cell_builder_create();
+  uint32_t *near = NULL, near_capacity = 0, *tris = NULL, tri_capacity = 0;
+  uint32_t* stamp = bk_alloc(sizeof(uint32_t) * (m->triangle_count ? m->triangle_count : 1));
+  memset(stamp, 0xff, sizeof(uint32_t) * m->triangle_count);
+  bool ok = true;
+  for (uint32_t c = 0; c < b->cells && ok; ++c) {
+    double radius = 2.5 * spacing;
+    for (;;) {
+      uint32_t count = bk_seed_grid_near(grid, c, radius, &near, &near_capacity);
+      if (!bk_cell_polytope_build(builder, &b->cx, c, near, count, &b->polytopes[c])) {
+        ok = bk_error_set(err, "fracture: the cell of seed %u degenerated (seeds too close together?)", c);
+        break;
+      }
+      // Every seed that could still cut the cell must have been in the list.
+      double reach = bk_cell_reach(&b->cx, &b->polytopes[c], c);
+      if (2.0 * reach <= radius || radius > 2.0 * whole) break;
+      radius = 2.0 * reach * 1.0001;
+    }
+    if (!ok) break;
+    uint32_t count =
+        tri_grid_query(&tg, polytope_bounds(&b->cx, &b->polytopes[c]), stamp, c, &tris, &tri_capacity);
+    if (count) qsort(tris, count, sizeof(uint32_t), compare_u32);
+    bk_cell_clip_surface(&b->cx, c, &b->polytopes[c], tris, count, &b->surfaces[c]);
+    if (d->progress && (c & 63) == 63 && !d->progress(d->progress_user, c / 2, b->cells)) {
+      ok = bk_error_set(err, "fracture cancelled");
+      break;
+    }
+  }
+  free(near);
+  free(tris);
+  free(stamp);
+  free(tg.start);
+  free(tg.items);
+  bk_cell_builder_destroy(builder);
+  bk_seed_grid_destroy(grid);
+  if (!ok) return false;
+  if (!bk_cell_build_faces(&b->cx, b->polytopes, b->surfaces, b->cells, &b->faces, err)) return false;
+  if (d->noise_amplitude > 0.0)
+    bk_cell_faces_add_noise(&b->cx, &b->faces, ldexp(d->noise_amplitude, -frame.exponent),
+                            ldexp(d->noise_frequency, frame.exponent), d->seed);
+  uint32_t target = d->pattern == BK_PATTERN_CUTOUT || d->seed_points ? UINT32_MAX : d->pieces;
+  return bk_cell_group(b, target, b->cell_label);
+}
+
+void bk_cell_build_free(bk_cell_build* b) {
+  for (uint32_t c = 0; b->polytopes && c < b->cells; ++c)
+    bk_cell_polytope_free(&b->polytopes[c]);
+  for (uint32_t c = 0; b->surfaces && c < b->cells; ++c)
+    bk_cell_surface_free(&b->surfaces[c]);
+  free(b->polytopes);
+  free(b->surfaces);
+  bk_cell_faces_free(&b->faces);
+  bk_cell_parts* p = &b->parts;
+  free(p->tris);
+  free(p->cell_start);
+  free(p->tri_atom);
+  free(p->twin);
+  free(p->atoms);
+  free(p->contacts_a);
+  free(p->contacts_b);
+  free(p->contact_area);
+  free(p->atom_leaf);
+  bk_cell_complex_free(&b->cx);
+  free(b->seeds);
+  free(b->cluster_of);
+  free(b->cell_label);
+  memset(b, 0, sizeof *b);
+}

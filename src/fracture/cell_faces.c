@@ -1,0 +1,341 @@
+// The cut faces of the cell complex. The part of the Voronoi face between
+// cells a and b that lies inside the source is bounded by (1) the surface
+// pieces' edges on that bisector and (2) the stretches of the face's own
+// edges (Voronoi edges) that run inside the source. Whether a Voronoi edge
+// runs inside is known without any ray cast: the box corners are outside,
+// and walking the Voronoi edges from them the status flips at every point
+// where an edge pierces the surface (the surface clipping names those
+// points). The loops are triangulated once per face and shared by a and b.
+#include <stdlib.h>
+#include <string.h>
+
+#include "cap.h"
+#include "cell_complex.h"
+
+// A Voronoi edge named by its three ids (sorted), packed in 63 bits.
+static uint64_t edge_key3(const int32_t s[3]) {
+  return ((uint64_t)(uint32_t)(s[0] + 8) << 42) | ((uint64_t)(uint32_t)(s[1] + 8) << 21) |
+         (uint32_t)(s[2] + 8);
+}
+
+// The three ids two corner vertices share (the edge between them); false
+// when they do not share exactly three.
+static bool common_ids(const bk_cell_key* a, const bk_cell_key* b, int32_t out[3]) {
+  int n = 0;
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j)
+      if (a->s[i] == b->s[j]) {
+        if (n == 3) return false;
+        out[n++] = a->s[i];
+      }
+  return n == 3;
+}
+
+typedef struct piercing {
+  uint64_t edge;
+  uint32_t vertex;
+} piercing;
+
+static int compare_piercings(const void* pa, const void* pb) {
+  const piercing *a = pa, *b = pb;
+  if (a->edge != b->edge) return a->edge < b->edge ? -1 : 1;
+  return a->vertex < b->vertex ? -1 : (a->vertex > b->vertex);
+}
+
+static int compare_pairs(const void* pa, const void* pb) {
+  const uint64_t *a = pa, *b = pb;
+  return *a < *b ? -1 : (*a > *b);
+}
+
+typedef struct graph {
+  piercing* piercings;
+  uint32_t piercing_count;
+  int8_t* status; // per complex vertex: 1 inside the source, 0 outside, -1 not on the Voronoi graph
+} graph;
+
+// Range of piercings on one Voronoi edge.
+static uint32_t find_piercings(const graph* g, uint64_t edge, uint32_t* first) {
+  uint32_t lo = 0, hi = g->piercing_count;
+  while (lo < hi) {
+    uint32_t mid = (lo + hi) / 2;
+    if (g->piercings[mid].edge < edge)
+      lo = mid + 1;
+    else
+      hi = mid;
+  }
+  uint32_t end = lo;
+  while (end < g->piercing_count && g->piercings[end].edge == edge)
+    end++;
+  *first = lo;
+  return end - lo;
+}
+
+static uint32_t edge_piercings(const bk_cell_complex* cx, const graph* g, uint32_t u, uint32_t v,
+                               uint32_t* first) {
+  int32_t ids[3];
+  *first = 0;
+  if (!common_ids(&cx->keys[u], &cx->keys[v], ids) || ids[0] < 0) return 0;
+  return find_piercings(g, edge_key3(ids), first);
+}
+
+static bool classify(const bk_cell_complex* cx, const bk_cell_polytope* polys,
+                     const bk_cell_surface* surfaces, uint32_t cells, graph* g, bk_error* err) {
+  // Piercings, each recorded once (by the lowest of its three cells).
+  uint32_t capacity = 0;
+  for (uint32_t c = 0; c < cells; ++c)
+    for (uint32_t k = 0; k < surfaces[c].vertex_count; ++k) {
+      const bk_cell_key* key = &cx->keys[surfaces[c].vertices[k]];
+      if (key->kind != BK_CELL_PIERCING || key->s[0] != (int32_t)c) continue;
+      if (g->piercing_count == capacity) {
+        capacity = bk_grow_capacity(capacity, g->piercing_count + 1);
+        g->piercings = bk_realloc(g->piercings, sizeof(piercing) * capacity);
+      }
+      g->piercings[g->piercing_count++] = (piercing){edge_key3(key->s), surfaces[c].vertices[k]};
+    }
+  if (g->piercing_count) qsort(g->piercings, g->piercing_count, sizeof(piercing), compare_piercings);
+  // The Voronoi graph's edges, once each.
+  uint32_t pair_count = 0;
+  for (uint32_t c = 0; c < cells; ++c)
+    pair_count += polys[c].loop_count;
+  uint64_t* pairs = bk_alloc(sizeof(uint64_t) * (pair_count ? pair_count : 1));
+  pair_count = 0;
+  for (uint32_t c = 0; c < cells; ++c) {
+    const bk_cell_polytope* p = &polys[c];
+    for (uint32_t f = 0; f < p->faces; ++f)
+      for (uint32_t k = 0; k < p->face_count[f]; ++k) {
+        uint32_t u = p->loop[p->face_first[f] + k],
+                 v = p->loop[p->face_first[f] + (k + 1) % p->face_count[f]];
+        pairs[pair_count++] = bk_edge_key(u, v);
+      }
+  }
+  qsort(pairs, pair_count, sizeof(uint64_t), compare_pairs);
+  uint32_t unique = 0;
+  for (uint32_t i = 0; i < pair_count; ++i)
+    if (unique == 0 || pairs[i] != pairs[unique - 1]) pairs[unique++] = pairs[i];
+  // Adjacency (both directions) in compressed rows.
+  uint32_t n = cx->count;
+  uint32_t* start = bk_calloc(n + 1, sizeof(uint32_t));
+  for (uint32_t i = 0; i < unique; ++i) {
+    start[(uint32_t)(pairs[i] >> 32) + 1]++;
+    start[(uint32_t)pairs[i] + 1]++;
+  }
+  for (uint32_t i = 0; i < n; ++i)
+    start[i + 1] += start[i];
+  uint32_t* fill = bk_alloc(sizeof(uint32_t) * (n ? n : 1));
+  memcpy(fill, start, sizeof(uint32_t) * n);
+  uint32_t* adjacent = bk_alloc(sizeof(uint32_t) * (2 * unique + 1));
+  for (uint32_t i = 0; i < unique; ++i) {
+    uint32_t a = (uint32_t)(pairs[i] >> 32), b = (uint32_t)pairs[i];
+    adjacent[fill[a]++] = b;
+    adjacent[fill[b]++] = a;
+  }
+  free(fill);
+  free(pairs);
+  g->status = bk_alloc(n ? n : 1);
+  memset(g->status, -1, n);
+  uint32_t* queue = bk_alloc(sizeof(uint32_t) * (n ? n : 1));
+  uint32_t head = 0, tail = 0;
+  for (uint32_t v = 0; v < n; ++v) {
+    const bk_cell_key* k = &cx->keys[v];
+    if (k->kind == BK_CELL_CORNER && k->s[0] < 0 && start[v + 1] > start[v]) {
+      g->status[v] = 0; // on the box: outside the source
+      queue[tail++] = v;
+    }
+  }
+  bool ok = true;
+  while (head < tail && ok) {
+    uint32_t u = queue[head++];
+    for (uint32_t e = start[u]; e < start[u + 1]; ++e) {
+      uint32_t v = adjacent[e], first = 0;
+      int8_t expect = (int8_t)(g->status[u] ^ (edge_piercings(cx, g, u, v, &first) & 1u));
+      if (g->status[v] < 0) {
+        g->status[v] = expect;
+        queue[tail++] = v;
+      } else if (g->status[v] != expect) {
+        ok = false;
+        break;
+      }
+    }
+  }
+  free(queue);
+  free(start);
+  free(adjacent);
+  if (!ok)
+    return bk_error_set(err, "fracture: the cells' edges cross the surface inconsistently (rounding in a "
+                             "near-degenerate seed layout); try another seed");
+  return true;
+}
+
+typedef struct face_scratch {
+  uint32_t* edges; // local directed edges
+  uint32_t edge_count, edge_capacity;
+  uint32_t* global; // local -> complex vertex
+  double* xy;
+  uint32_t vertex_count, vertex_capacity;
+  bk_index_map local;
+  double* params;
+  uint32_t param_capacity;
+} face_scratch;
+
+static uint32_t local_vertex(face_scratch* s, const bk_cell_complex* cx, uint32_t v, bk_vec3 u, bk_vec3 w) {
+  bool inserted = false;
+  uint32_t* slot = bk_index_map_insert(&s->local, v, s->vertex_count, &inserted);
+  if (!inserted) return *slot;
+  if (s->vertex_count == s->vertex_capacity) {
+    s->vertex_capacity = bk_grow_capacity(s->vertex_capacity, s->vertex_count + 1);
+    s->global = bk_realloc(s->global, sizeof(uint32_t) * s->vertex_capacity);
+    s->xy = bk_realloc(s->xy, sizeof(double) * 2 * s->vertex_capacity);
+  }
+  s->global[s->vertex_count] = v;
+  s->xy[2 * s->vertex_count] = bk_v3_dot(cx->points[v], u);
+  s->xy[2 * s->vertex_count + 1] = bk_v3_dot(cx->points[v], w);
+  return s->vertex_count++;
+}
+
+static void add_edge(face_scratch* s, const bk_cell_complex* cx, uint32_t a, uint32_t b, bk_vec3 u,
+                     bk_vec3 w) {
+  if (a == b) return;
+  uint32_t la = local_vertex(s, cx, a, u, w), lb = local_vertex(s, cx, b, u, w);
+  if (s->edge_count + 2 > s->edge_capacity) {
+    s->edge_capacity = bk_grow_capacity(s->edge_capacity, s->edge_count + 2);
+    s->edges = bk_realloc(s->edges, sizeof(uint32_t) * s->edge_capacity);
+  }
+  s->edges[s->edge_count++] = la;
+  s->edges[s->edge_count++] = lb;
+}
+
+// Appends the stretches of the Voronoi edge a -> b that run inside the source.
+static bool add_voronoi_edge(face_scratch* s, const bk_cell_complex* cx, const graph* g, uint32_t a,
+                             uint32_t b, bk_vec3 u, bk_vec3 w) {
+  uint32_t first = 0, count = edge_piercings(cx, g, a, b, &first);
+  if (g->status[a] < 0 || g->status[b] < 0) return false;
+  if (count == 0) {
+    if (g->status[a] != g->status[b]) return false;
+    if (g->status[a]) add_edge(s, cx, a, b, u, w);
+    return true;
+  }
+  // Order the piercings along the edge (insertion sort: a handful at most).
+  if (s->param_capacity < 2 * count) {
+    s->param_capacity = 2 * count;
+    s->params = bk_realloc(s->params, sizeof(double) * s->param_capacity);
+  }
+  bk_vec3 pa = cx->points[a], d = bk_v3_sub(cx->points[b], pa);
+  double len2 = bk_v3_dot(d, d);
+  for (uint32_t i = 0; i < count; ++i) {
+    uint32_t v = g->piercings[first + i].vertex;
+    double t = bk_v3_dot(bk_v3_sub(cx->points[v], pa), d) / len2;
+    uint32_t j = i;
+    for (; j > 0 && s->params[2 * (j - 1)] > t; --j) {
+      s->params[2 * j] = s->params[2 * (j - 1)];
+      s->params[2 * j + 1] = s->params[2 * (j - 1) + 1];
+    }
+    s->params[2 * j] = t;
+    s->params[2 * j + 1] = (double)v;
+  }
+  uint32_t at = a;
+  int inside = g->status[a];
+  for (uint32_t i = 0; i < count; ++i) {
+    uint32_t v = (uint32_t)s->params[2 * i + 1];
+    if (inside) add_edge(s, cx, at, v, u, w);
+    at = v;
+    inside ^= 1;
+  }
+  if (inside != g->status[b]) return false;
+  if (inside) add_edge(s, cx, at, b, u, w);
+  return true;
+}
+
+static void push_face(bk_cell_faces* out, bk_cell_face face, const face_scratch* s, const uint32_t* tris,
+                      uint32_t tri_count) {
+  if (out->count == out->capacity) {
+    out->capacity = bk_grow_capacity(out->capacity, out->count + 1);
+    out->faces = bk_realloc(out->faces, sizeof(bk_cell_face) * out->capacity);
+  }
+  if (out->triangle_count + tri_count > out->triangle_capacity) {
+    out->triangle_capacity = bk_grow_capacity(out->triangle_capacity, out->triangle_count + tri_count);
+    out->triangles = bk_realloc(out->triangles, sizeof(uint32_t) * 3 * out->triangle_capacity);
+  }
+  face.first = out->triangle_count;
+  face.count = tri_count;
+  for (uint32_t i = 0; i < 3 * tri_count; ++i)
+    out->triangles[3 * out->triangle_count + i] = s->global[tris[i]];
+  out->triangle_count += tri_count;
+  out->faces[out->count++] = face;
+}
+
+bool bk_cell_build_faces(bk_cell_complex* cx, const bk_cell_polytope* polys, const bk_cell_surface* surfaces,
+                         uint32_t cells, bk_cell_faces* out, bk_error* err) {
+  memset(out, 0, sizeof *out);
+  graph g = {0};
+  if (!classify(cx, polys, surfaces, cells, &g, err)) {
+    free(g.piercings);
+    free(g.status);
+    return false;
+  }
+  bk_cap* cap = bk_cap_create();
+  face_scratch s = {0};
+  bk_index_map_init(&s.local, 64);
+  bool ok = true;
+  for (uint32_t c = 0; c < cells && ok; ++c) {
+    const bk_cell_polytope* p = &polys[c];
+    const bk_cell_surface* sf = &surfaces[c];
+    for (uint32_t f = 0; f < p->faces && ok; ++f) {
+      int32_t other = p->planes[f];
+      if (other <= (int32_t)c) continue; // box faces, and faces the lower cell builds
+      bk_vec3 n = bk_v3_normalize(bk_v3_sub(cx->seeds[other], cx->seeds[c])), u, w;
+      bk_plane_basis(n, &u, &w);
+      s.edge_count = s.vertex_count = 0;
+      bk_index_map_clear(&s.local);
+      const uint32_t* loop = p->loop + p->face_first[f];
+      uint32_t count = p->face_count[f];
+      for (uint32_t k = 0; k < count && ok; ++k)
+        ok = add_voronoi_edge(&s, cx, &g, loop[k], loop[(k + 1) % count], u, w);
+      uint32_t source_triangle = UINT32_MAX;
+      for (uint32_t q = 0; q < sf->polygon_count && ok; ++q) {
+        const bk_cell_polygon* poly = &sf->polygons[q];
+        for (uint32_t k = 0; k < poly->count; ++k)
+          if (sf->supports[poly->first + k] == other) {
+            // The surface runs a -> b here; the cut face runs back along it.
+            uint32_t a = sf->vertices[poly->first + k], b = sf->vertices[poly->first + (k + 1) % poly->count];
+            add_edge(&s, cx, b, a, u, w);
+            if (source_triangle == UINT32_MAX) source_triangle = poly->triangle;
+          }
+      }
+      if (!ok) {
+        bk_error_set(err,
+                     "fracture: a Voronoi edge between cells %u and %d crosses the surface inconsistently", c,
+                     other);
+        break;
+      }
+      if (s.edge_count == 0) continue; // the face lies outside the source
+      const uint32_t* tris = NULL;
+      uint32_t tri_count = 0;
+      bk_error inner = {0};
+      if (!bk_cap_triangulate(cap, s.edges, s.edge_count / 2, s.xy, s.vertex_count, &tris, &tri_count,
+                              &inner)) {
+        ok = bk_error_set(err, "fracture: the cut face between cells %u and %d cannot be triangulated (%s)",
+                          c, other, inner.message);
+        break;
+      }
+      push_face(out,
+                (bk_cell_face){.a = c, .b = (uint32_t)other, .source_triangle = source_triangle, .normal = n},
+                &s, tris, tri_count);
+    }
+  }
+  bk_cap_destroy(cap);
+  bk_index_map_free(&s.local);
+  free(s.edges);
+  free(s.global);
+  free(s.xy);
+  free(s.params);
+  free(g.piercings);
+  free(g.status);
+  if (!ok) bk_cell_faces_free(out);
+  return ok;
+}
+
+void bk_cell_faces_free(bk_cell_faces* f) {
+  free(f->faces);
+  free(f->triangles);
+  memset(f, 0, sizeof *f);
+}
