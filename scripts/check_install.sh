@@ -208,10 +208,14 @@ ok "example own_physics: built with pkg-config too; three runs (two builds) prin
 for binary in "$tmp/examples/own_physics/own_physics" "$tmp/own_physics_pc"; do
   found="$(nm "$binary" | grep -E "$bullet_re" | head -n 3 | tr '\n' ' ' || true)"
   [[ -z "$found" ]] || fail examples "$binary has Bullet symbols: $found"
-  if ldd "$binary" | grep -qiE 'bullet|LinearMath'; then fail examples "$binary loads Bullet: $(ldd "$binary" | grep -iE 'bullet|LinearMath')"; fi
+  # ldd's output is captured first: grep -q stops reading at its first match,
+  # and under pipefail the pipeline would then fail on ldd's broken pipe.
+  libs="$(ldd "$binary")"
+  if grep -qiE 'bullet|LinearMath' <<<"$libs"; then fail examples "$binary loads Bullet: $(grep -iE 'bullet|LinearMath' <<<"$libs")"; fi
 done
 # ... while the Bullet example does load Bullet (the check can see it).
-ldd "$tmp/examples/headless_wall/headless_wall" | grep -q libBulletDynamics || fail examples "headless_wall does not load Bullet: the check itself is broken"
+libs="$(ldd "$tmp/examples/headless_wall/headless_wall")"
+grep -q libBulletDynamics <<<"$libs" || fail examples "headless_wall does not load Bullet: the check itself is broken"
 ok "example own_physics: no Bullet symbol (nm) and no Bullet library (ldd) in its binaries"
 
 # ---------------------------------------------------------------- f. subproject
@@ -251,7 +255,8 @@ run headless headless-build.log cmake --build "$headless" -j2
 if [[ -n "$(find "$headless" -type f \( -name 'libglad.a' -o -name 'libbk_ui.a' -o -name 'libbk_render.a' -o -name 'breakables' \))" ]]; then
   fail headless "glad, the UI, the renderer or the game was built"
 fi
-if cmake --build "$headless" --target help | grep -qwE 'glad|bk_ui|bk_render|breakables'; then
+targets="$(cmake --build "$headless" --target help)"
+if grep -qwE 'glad|bk_ui|bk_render|breakables' <<<"$targets"; then
   fail headless "a target of the demo exists"
 fi
 run headless headless-ctest.log ctest --test-dir "$headless" --output-on-failure -j2

@@ -445,7 +445,8 @@ typedef struct bk_fracture_def {
   /// Noise frequency, in waves per source unit, > 0; default 8.
   double noise_frequency;
   /// Threads the build may use; 0 (the default) = every core. The tree is
-  /// byte-identical for any count.
+  /// byte-identical for any count. The cell patterns build their cells on
+  /// them; planes and brick still cut on the calling thread.
   uint32_t threads;
 } bk_fracture_def;
 

@@ -106,7 +106,8 @@ static const pattern_option options_table[] = {
      "{range}, not 0 (default: {default})"},
     {"--threads", "N", KIND_COUNT, 0, FIELD(threads), 0, 1024,
      "threads the fracture may use, {range} (0 = every core; the\n"
-     "tree is the same for any count; default: {default})"},
+     "tree is the same for any count; the cell patterns use them,\n"
+     "planes and brick cut on one; default: {default})"},
 };
 enum { OPTION_COUNT = sizeof options_table / sizeof options_table[0] };
 

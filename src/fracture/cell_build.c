@@ -2,8 +2,11 @@
 // by the bisectors of the seeds near it, nearest first, until no farther
 // seed can reach it), the source's surface inside each cell, and the cut
 // faces between cells.
+#include <pthread.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "cell_tree.h"
 
@@ -113,6 +116,160 @@ static bk_aabb polytope_bounds(const bk_cell_complex* cx, const bk_cell_polytope
   return b;
 }
 
+// ---------------------------------------------------------------- cells on every core
+
+// Cells are independent once the seeds are known: each worker builds the
+// polytopes and surfaces of the cells it takes into a vertex table of its
+// own (a vertex's coordinates follow from its name, so every table agrees
+// on them). The tables are then merged in cell order, so the vertex numbers
+// and everything after them are the same for any number of threads.
+typedef struct cell_worker {
+  const bk_mesh* m;
+  const bk_fracture_def* d;
+  bk_cell_build* b;
+  const bk_seed_grid* grid;
+  const tri_grid* tg;
+  double spacing, whole;
+  uint32_t index;
+  uint32_t* owner;
+  atomic_uint* next;
+  atomic_bool* cancelled;
+  bk_cell_complex cx;
+  uint32_t failed_cell; // the lowest cell that degenerated, or UINT32_MAX
+} cell_worker;
+
+static void* cell_work(void* arg) {
+  cell_worker* w = arg;
+  bk_cell_build* b = w->b;
+  bk_cell_builder* builder = bk_cell_builder_create();
+  uint32_t *near = NULL, near_capacity = 0, *tris = NULL, tri_capacity = 0;
+  uint32_t* stamp = bk_alloc(sizeof(uint32_t) * (w->m->triangle_count ? w->m->triangle_count : 1));
+  memset(stamp, 0xff, sizeof(uint32_t) * w->m->triangle_count);
+  uint32_t done = 0;
+  for (;;) {
+    uint32_t c = atomic_fetch_add(w->next, 1u);
+    if (c >= b->cells || atomic_load(w->cancelled)) break;
+    w->owner[c] = w->index;
+    bool ok = true;
+    for (double radius = 2.5 * w->spacing;;) {
+      uint32_t count = bk_seed_grid_near(w->grid, c, radius, &near, &near_capacity);
+      if (!bk_cell_polytope_build(builder, &w->cx, c, near, count, &b->polytopes[c])) {
+        ok = false;
+        break;
+      }
+      // Every seed that could still cut the cell must have been in the list.
+      double reach = bk_cell_reach(&w->cx, &b->polytopes[c], c);
+      if (2.0 * reach <= radius || radius > 2.0 * w->whole) break;
+      radius = 2.0 * reach * 1.0001;
+    }
+    if (!ok) {
+      if (c < w->failed_cell) w->failed_cell = c;
+      bk_cell_polytope_free(&b->polytopes[c]);
+      continue;
+    }
+    uint32_t count =
+        tri_grid_query(w->tg, polytope_bounds(&w->cx, &b->polytopes[c]), stamp, c, &tris, &tri_capacity);
+    if (count) qsort(tris, count, sizeof(uint32_t), compare_u32);
+    bk_cell_clip_surface(&w->cx, c, &b->polytopes[c], tris, count, &b->surfaces[c]);
+    // Only the calling thread reports, as bk_fracture_def.progress promises.
+    if (w->index == 0 && w->d->progress && (++done & 31) == 0 &&
+        !w->d->progress(w->d->progress_user, c / 2, b->cells))
+      atomic_store(w->cancelled, true);
+  }
+  free(near);
+  free(tris);
+  free(stamp);
+  bk_cell_builder_destroy(builder);
+  return NULL;
+}
+
+static uint32_t thread_count(const bk_fracture_def* d, uint32_t cells) {
+  long cores = sysconf(_SC_NPROCESSORS_ONLN);
+  uint32_t n = d->threads ? d->threads : (cores > 0 ? (uint32_t)cores : 1u);
+  uint32_t most = cells / 16 > 1 ? cells / 16 : 1; // small jobs are not worth a thread
+  n = n < most ? n : most;
+  return n < 64 ? n : 64;
+}
+
+// Renumbers one worker's vertex into the shared table.
+static uint32_t merged(bk_cell_complex* cx, cell_worker* w, uint32_t* remap, uint32_t v) {
+  if (remap[v] == UINT32_MAX) remap[v] = bk_cell_vertex_at(cx, &w->cx.keys[v], w->cx.points[v]);
+  return remap[v];
+}
+
+static bool run_cells(const bk_mesh* m, const bk_fracture_def* d, bk_cell_build* b, bk_error* err) {
+  bk_seed_grid* grid = bk_seed_grid_create(b->seeds, b->cells, b->cx.box);
+  tri_grid tg = {0};
+  tri_grid_build(&tg, m);
+  bk_vec3 size = bk_v3_sub(b->cx.box.max, b->cx.box.min);
+  b->polytopes = bk_calloc(b->cells, sizeof(bk_cell_polytope));
+  b->surfaces = bk_calloc(b->cells, sizeof(bk_cell_surface));
+  uint32_t threads = thread_count(d, b->cells);
+  cell_worker* workers = bk_calloc(threads, sizeof(cell_worker));
+  uint32_t* owner = bk_alloc(sizeof(uint32_t) * b->cells);
+  atomic_uint next = 0;
+  atomic_bool cancelled = false;
+  for (uint32_t t = 0; t < threads; ++t) {
+    cell_worker* w = &workers[t];
+    *w = (cell_worker){.m = m,
+                       .d = d,
+                       .b = b,
+                       .grid = grid,
+                       .tg = &tg,
+                       .spacing = cbrt(size.x * size.y * size.z / b->cells),
+                       .whole = bk_v3_length(size),
+                       .index = t,
+                       .owner = owner,
+                       .next = &next,
+                       .cancelled = &cancelled,
+                       .failed_cell = UINT32_MAX};
+    bk_cell_complex_init(&w->cx, m, b->seeds, b->cells);
+    w->cx.planar_axis = b->cx.planar_axis;
+  }
+  pthread_t* ids = bk_calloc(threads, sizeof(pthread_t));
+  uint32_t started = 1;
+  for (uint32_t t = 1; t < threads; ++t, ++started)
+    if (pthread_create(&ids[t], NULL, cell_work, &workers[t]) != 0) break; // the others take its share
+  cell_work(&workers[0]);
+  for (uint32_t t = 1; t < started; ++t)
+    pthread_join(ids[t], NULL);
+  free(ids);
+  uint32_t failed = UINT32_MAX;
+  for (uint32_t t = 0; t < threads; ++t)
+    failed = workers[t].failed_cell < failed ? workers[t].failed_cell : failed;
+  bool ok = true;
+  if (atomic_load(&cancelled))
+    ok = bk_error_set(err, "fracture cancelled");
+  else if (failed != UINT32_MAX)
+    ok = bk_error_set(err, "fracture: the cell of seed %u degenerated (seeds too close together?)", failed);
+  // Merge the workers' tables in cell order.
+  uint32_t** remap = bk_calloc(threads, sizeof(uint32_t*));
+  for (uint32_t t = 0; t < threads && ok; ++t) {
+    remap[t] = bk_alloc(sizeof(uint32_t) * (workers[t].cx.count ? workers[t].cx.count : 1));
+    memset(remap[t], 0xff, sizeof(uint32_t) * workers[t].cx.count);
+  }
+  for (uint32_t c = 0; c < b->cells && ok; ++c) {
+    cell_worker* w = &workers[owner[c]];
+    bk_cell_polytope* p = &b->polytopes[c];
+    for (uint32_t i = 0; i < p->loop_count; ++i)
+      p->loop[i] = merged(&b->cx, w, remap[owner[c]], p->loop[i]);
+    bk_cell_surface* s = &b->surfaces[c];
+    for (uint32_t i = 0; i < s->vertex_count; ++i)
+      s->vertices[i] = merged(&b->cx, w, remap[owner[c]], s->vertices[i]);
+  }
+  for (uint32_t t = 0; t < threads; ++t) {
+    free(remap[t]);
+    bk_cell_complex_free(&workers[t].cx);
+  }
+  free(remap);
+  free(workers);
+  free(owner);
+  free(tg.start);
+  free(tg.items);
+  bk_seed_grid_destroy(grid);
+  return ok;
+}
+
 bool bk_cell_complex_run(const bk_mesh* m, const bk_fracture_def* d, bk_tree_frame frame, uint32_t attempt,
                          bk_cell_build* b, bk_error* err) {
   memset(b, 0, sizeof *b);
@@ -135,50 +292,7 @@ bool bk_cell_complex_run(const bk_mesh* m, const bk_fracture_def* d, bk_tree_fra
   // within that plane decide which seeds can cut a cell (its prism may be
   // far longer than wide).
   if (d->pattern == BK_PATTERN_CUTOUT) b->cx.planar_axis = (int)d->cutout_axis;
-  bk_seed_grid* grid = bk_seed_grid_create(b->seeds, b->cells, b->cx.box);
-  tri_grid tg = {0};
-  tri_grid_build(&tg, m);
-  bk_vec3 size = bk_v3_sub(b->cx.box.max, b->cx.box.min);
-  double spacing = cbrt(size.x * size.y * size.z / b->cells);
-  double whole = bk_v3_length(size);
-  b->polytopes = bk_calloc(b->cells, sizeof(bk_cell_polytope));
-  b->surfaces = bk_calloc(b->cells, sizeof(bk_cell_surface));
-  bk_cell_builder* builder = bk_cell_builder_create();
-  uint32_t *near = NULL, near_capacity = 0, *tris = NULL, tri_capacity = 0;
-  uint32_t* stamp = bk_alloc(sizeof(uint32_t) * (m->triangle_count ? m->triangle_count : 1));
-  memset(stamp, 0xff, sizeof(uint32_t) * m->triangle_count);
-  bool ok = true;
-  for (uint32_t c = 0; c < b->cells && ok; ++c) {
-    double radius = 2.5 * spacing;
-    for (;;) {
-      uint32_t count = bk_seed_grid_near(grid, c, radius, &near, &near_capacity);
-      if (!bk_cell_polytope_build(builder, &b->cx, c, near, count, &b->polytopes[c])) {
-        ok = bk_error_set(err, "fracture: the cell of seed %u degenerated (seeds too close together?)", c);
-        break;
-      }
-      // Every seed that could still cut the cell must have been in the list.
-      double reach = bk_cell_reach(&b->cx, &b->polytopes[c], c);
-      if (2.0 * reach <= radius || radius > 2.0 * whole) break;
-      radius = 2.0 * reach * 1.0001;
-    }
-    if (!ok) break;
-    uint32_t count =
-        tri_grid_query(&tg, polytope_bounds(&b->cx, &b->polytopes[c]), stamp, c, &tris, &tri_capacity);
-    if (count) qsort(tris, count, sizeof(uint32_t), compare_u32);
-    bk_cell_clip_surface(&b->cx, c, &b->polytopes[c], tris, count, &b->surfaces[c]);
-    if (d->progress && (c & 63) == 63 && !d->progress(d->progress_user, c / 2, b->cells)) {
-      ok = bk_error_set(err, "fracture cancelled");
-      break;
-    }
-  }
-  free(near);
-  free(tris);
-  free(stamp);
-  free(tg.start);
-  free(tg.items);
-  bk_cell_builder_destroy(builder);
-  bk_seed_grid_destroy(grid);
-  if (!ok) return false;
+  if (!run_cells(m, d, b, err)) return false;
   if (!bk_cell_build_faces(&b->cx, b->polytopes, b->surfaces, b->cells, &b->faces, err)) return false;
   if (d->noise_amplitude > 0.0)
     bk_cell_faces_add_noise(&b->cx, &b->faces, ldexp(d->noise_amplitude, -frame.exponent),
