@@ -151,7 +151,10 @@ static void* cell_work(void* arg) {
     if (c >= b->cells || atomic_load(w->cancelled)) break;
     w->owner[c] = w->index;
     bool ok = true;
-    for (double radius = 2.5 * w->spacing;;) {
+    // Start from the local spacing: seeds of the radial and clustered
+    // patterns are far denser in places than on average.
+    double local = bk_seed_grid_spacing(w->grid, c);
+    for (double radius = 2.5 * (local < w->spacing ? local : w->spacing);;) {
       uint32_t count = bk_seed_grid_near(w->grid, c, radius, &near, &near_capacity);
       if (!bk_cell_polytope_build(builder, &w->cx, c, near, count, &b->polytopes[c])) {
         ok = false;

@@ -110,6 +110,9 @@ double bk_cell_distance(const bk_cell_complex* cx, bk_vec3 a, bk_vec3 b);
 typedef struct bk_seed_grid bk_seed_grid;
 bk_seed_grid* bk_seed_grid_create(const bk_vec3* seeds, uint32_t count, bk_aabb box);
 void bk_seed_grid_destroy(bk_seed_grid* g);
+/// The typical distance between seeds around seed `cell` (from the seed
+/// density of the bins around it).
+double bk_seed_grid_spacing(const bk_seed_grid* g, uint32_t cell);
 /// Seeds within `radius` of seed `cell` (itself excluded), nearest first,
 /// into *out (grown as needed). Returns the count.
 uint32_t bk_seed_grid_near(const bk_seed_grid* g, uint32_t cell, double radius, uint32_t** out,

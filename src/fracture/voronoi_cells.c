@@ -485,6 +485,24 @@ static inline int compare_near(const near_entry* a, const near_entry* b) {
   return a->index < b->index ? -1 : (a->index > b->index);
 }
 
+double bk_seed_grid_spacing(const bk_seed_grid* g, uint32_t cell) {
+  bk_vec3 p = g->seeds[cell];
+  int x = bin_coord(g, p.x, g->box.min.x, g->n[0]), y = bin_coord(g, p.y, g->box.min.y, g->n[1]),
+      z = bin_coord(g, p.z, g->box.min.z, g->n[2]);
+  // Seeds in the 3 x 3 x 3 bins around: their density gives the spacing here.
+  uint32_t count = 0, bins = 0;
+  for (int dz = -1; dz <= 1; ++dz)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        int bx = x + dx, by = y + dy, bz = z + dz;
+        if (bx < 0 || by < 0 || bz < 0 || bx >= g->n[0] || by >= g->n[1] || bz >= g->n[2]) continue;
+        size_t b = ((size_t)bz * g->n[1] + by) * g->n[0] + bx;
+        count += g->start[b + 1] - g->start[b];
+        bins++;
+      }
+  return cbrt(bins * g->cell * g->cell * g->cell / (count ? count : 1));
+}
+
 uint32_t bk_seed_grid_near(const bk_seed_grid* g, uint32_t cell, double radius, uint32_t** out,
                            uint32_t* capacity) {
   bk_vec3 p = g->seeds[cell];
