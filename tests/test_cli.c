@@ -524,12 +524,69 @@ static bool bench_file_exists(const char* name) {
   return f != NULL;
 }
 
+// 7. Fracture patterns (--quick): each pattern at 64 and 1024 pieces (brick
+// and planes on the wall, the others on the bunny) and each cell pattern with
+// noise at 1024; every row's tree closed, with all its pieces and its volume.
+static void test_bench_patterns(const char* out, const char* report) {
+  static const struct {
+    const char* mesh;
+    const char* pattern;
+    uint32_t pieces;
+    bool noisy;
+  } expected[] = {{"bunny", "planes", 64, false},    {"bunny", "planes", 1024, false},
+                  {"bunny", "voronoi", 64, false},   {"bunny", "voronoi", 1024, false},
+                  {"bunny", "clustered", 64, false}, {"bunny", "clustered", 1024, false},
+                  {"bunny", "radial", 64, false},    {"bunny", "radial", 1024, false},
+                  {"wall", "brick", 64, false},      {"wall", "brick", 1024, false},
+                  {"wall", "planes", 64, false},     {"wall", "planes", 1024, false},
+                  {"bunny", "voronoi", 1024, true},  {"bunny", "clustered", 1024, true},
+                  {"bunny", "radial", 1024, true}};
+  enum { EXPECTED = sizeof expected / sizeof *expected };
+  const csv_table* t =
+      read_csv("patterns",
+               "mesh,pattern,noise,fragments,runs,ms_median,leaves,nodes,bonds,leaf_triangles,"
+               "sliver_fraction,volume_ratio_p95_p5,open_nodes,volume_rel_error",
+               EXPECTED);
+  const char* keys[] = {"ms_median", "leaves", "nodes", "bonds", "leaf_triangles", "volume_ratio_p95_p5"};
+  ensure_positive(t, keys, sizeof keys / sizeof *keys);
+  for (uint32_t e = 0; e < EXPECTED; ++e) {
+    uint32_t found = 0;
+    for (uint32_t i = 0; i < t->row_count; ++i)
+      found += strcmp(csv_field(t, i, "mesh"), expected[e].mesh) == 0 &&
+               strcmp(csv_field(t, i, "pattern"), expected[e].pattern) == 0 &&
+               csv_number(t, i, "fragments") == expected[e].pieces &&
+               (csv_number(t, i, "noise") > 0.0) == expected[e].noisy;
+    ENSURE_MSG(found == 1, "patterns.csv has %u rows of %s on the %s at %u pieces%s", found,
+               expected[e].pattern, expected[e].mesh, expected[e].pieces,
+               expected[e].noisy ? " with noise" : "");
+  }
+  for (uint32_t i = 0; i < t->row_count; ++i) {
+    ENSURE_MSG(csv_number(t, i, "open_nodes") == 0.0, "patterns.csv row %u (%s) has open nodes", i,
+               csv_field(t, i, "pattern"));
+    ENSURE(csv_number(t, i, "runs") == 1.0 && csv_number(t, i, "leaves") == csv_number(t, i, "fragments"));
+    ENSURE(csv_number(t, i, "nodes") >= csv_number(t, i, "leaves"));
+    double slivers = csv_number(t, i, "sliver_fraction");
+    ENSURE(slivers >= 0.0 && slivers <= 1.0 && csv_number(t, i, "volume_ratio_p95_p5") >= 1.0);
+    ENSURE(csv_number(t, i, "volume_rel_error") < 1e-9);
+  }
+  // The answers: planes' time against each cell pattern's, Voronoi's slivers against planes'.
+  const char* answers[] = {"**Are the cell patterns fast enough?** At 1024 pieces on the bunny, planes take",
+                           "**Do Voronoi cells avoid slivers?**", "Every tree is closed"};
+  for (size_t i = 0; i < sizeof answers / sizeof *answers; ++i)
+    ENSURE_MSG(strstr(report, answers[i]) != NULL, "report lacks %s", answers[i]);
+  const char* lines[] = {
+      "voronoi at 1024 pieces on the bunny: ", "clustered at 1024 pieces on the bunny: ",
+      "radial at 1024 pieces on the bunny: ", "slivers at 1024 pieces on the bunny: voronoi"};
+  for (size_t i = 0; i < sizeof lines / sizeof *lines; ++i)
+    ENSURE_MSG(strstr(out, lines[i]) != NULL, "stdout lacks '%s'", lines[i]);
+}
+
 static void test_bench_quick(void) {
   setenv("BREAKABLES_CACHE_DIR", BK_TEST_TMP "/cache", 1);
   run_result* r = run("bench --quick --out '" BK_TEST_TMP "/bench'");
   ENSURE_MSG(r->status == 0, "%s", r->err);
-  const char* sections[] = {"1. Fracture speed", "2. Meshes",  "3. Maximum fragments",
-                            "4. Runtime",        "5. Scaling", "6. Asset pipeline"};
+  const char* sections[] = {"1. Fracture speed", "2. Meshes",         "3. Maximum fragments", "4. Runtime",
+                            "5. Scaling",        "6. Asset pipeline", "7. Fracture patterns"};
   for (size_t i = 0; i < sizeof sections / sizeof *sections; ++i)
     ENSURE_MSG(strstr(r->out, sections[i]) != NULL, "stdout lacks %s", sections[i]);
 
@@ -539,13 +596,21 @@ static void test_bench_quick(void) {
   ENSURE(f != NULL);
   report[fread(report, 1, sizeof report - 1, f)] = 0;
   fclose(f);
-  const char* report_parts[] = {
-      "bench --quick --out",  "| processor |", "| memory |",           "| build |", "| date |",
-      "## 1. Fracture speed", "## 5. Scaling", "## 6. Asset pipeline", "| ---: |"};
+  const char* report_parts[] = {"bench --quick --out",
+                                "| processor |",
+                                "| memory |",
+                                "| build |",
+                                "| date |",
+                                "## 1. Fracture speed",
+                                "## 5. Scaling",
+                                "## 6. Asset pipeline",
+                                "## 7. Fracture patterns",
+                                "| ---: |"};
   for (size_t i = 0; i < sizeof report_parts / sizeof *report_parts; ++i)
     ENSURE_MSG(strstr(report, report_parts[i]) != NULL, "report lacks %s", report_parts[i]);
   bool gnuplot = system("command -v gnuplot >/dev/null 2>&1") == 0;
-  const char* plots[] = {"fracture_speed.png", "runtime.png", "colliders.png"};
+  const char* plots[] = {"fracture_speed.png", "runtime.png", "colliders.png", "patterns_time.png",
+                         "patterns_slivers.png"};
   for (size_t i = 0; i < sizeof plots / sizeof *plots; ++i) {
     char embedded[64];
     snprintf(embedded, sizeof embedded, "](%s)", plots[i]);
@@ -635,6 +700,7 @@ static void test_bench_quick(void) {
                  strstr(report, "`--quick`; run without it to measure 4096") != NULL,
              "the report does not state the export target and the quick cube");
   ENSURE(!bench_file_exists("cube_1024.glb") && !bench_file_exists("torus_100000.glb"));
+  test_bench_patterns(r->out, report);
 
   r = run("bench --help");
   const char* options[] = {"--quick", "--out", "--seed"};

@@ -110,7 +110,7 @@ typedef struct bk_scene_options {
 bk_scene_options bk_default_scene_options(void);
 
 /// How object `object` of `scene` is fractured: pieces, seed and texture
-/// scale from the options (else the object's or scene's, and the library's
+/// scale from the options (else the scene's, and the library's
 /// defaults), the pattern from options->pattern (else the object's), and the
 /// pattern's parameters fitted to the object: a brick bond scaled with the
 /// object so it stays on its texture, the game's fracture map

@@ -3,6 +3,7 @@
 #include "bench_report.h"
 
 #include <errno.h>
+#include <math.h>
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
@@ -140,6 +141,15 @@ bool bench_table_write(const bench* b, const bench_table* t) {
   }
   bench_say(b, "\nCSV: [%s](%s)\n\n", name, name);
   return true;
+}
+
+// ---------------------------------------------------------------- measurements
+
+double bench_leaf_volume_error(const bk_mesh_tree* tree) {
+  double source = bk_mesh_volume(&tree->nodes[0].mesh), sum = 0.0;
+  for (uint32_t l = 0; l < tree->leaf_count; ++l)
+    sum += bk_mesh_volume(&bk_mesh_tree_leaf(tree, l)->mesh);
+  return fabs(sum - source) / fabs(source);
 }
 
 // ---------------------------------------------------------------- plots
@@ -300,8 +310,8 @@ void bench_report_header(const bench* b, int argc, char** argv) {
   bench_say(b,
             "# Breakables benchmarks\n\n"
             "The tests of the thesis's chapter 6 (*Tests and Results*) run on this implementation%s, plus "
-            "scaling to several objects and the speed of the asset pipeline (glTF out and in). Tables are "
-            "also in the CSV files next to this report; plots are drawn "
+            "scaling to several objects, the speed of the asset pipeline (glTF out and in) and the fracture "
+            "patterns compared. Tables are also in the CSV files next to this report; plots are drawn "
             "from them.\n\n",
             b->quick ? " (`--quick`: smaller counts)" : "");
   bench_say(b, "| | |\n| --- | --- |\n");

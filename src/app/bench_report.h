@@ -8,6 +8,8 @@
 #include <stdint.h>
 #include <stdio.h>
 
+#include <breakables/authoring.h>
+
 enum {
   BENCH_CELL_SIZE = 48, ///< characters per table cell
 };
@@ -67,6 +69,11 @@ void bench_table_free(bench_table* t);
 /// Writes DIR/<name>.csv, prints the table aligned on stdout and appends it to the report as Markdown.
 bool bench_table_write(const bench* b, const bench_table* t);
 
+// ---------------------------------------------------------------- measurements shared by sections
+
+/// |sum of the leaves' mesh volumes - source volume| / source volume, from the geometry itself.
+double bench_leaf_volume_error(const bk_mesh_tree* tree);
+
 // ---------------------------------------------------------------- plots
 
 /// gnuplot's PNG terminal: pngcairo, else png; NULL if gnuplot is missing or has neither.
@@ -90,3 +97,6 @@ bool bench_plot(const bench* b, const char* name, const char* caption, int width
 /// 6. Asset pipeline (bench_assets.c): glTF export and load-back of the cube
 /// tree, and import of a 100k-triangle glTF, against issue 15's targets.
 bool bench_section_assets(const bench* b);
+/// 7. Fracture patterns (bench_patterns.c): each pattern's build time, tree
+/// size and fragment quality against planes', on the bunny and the wall.
+bool bench_section_patterns(const bench* b);

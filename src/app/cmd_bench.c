@@ -1,8 +1,8 @@
 // breakables bench: the measurements of the thesis's chapter 6 (fracture
 // speed, meshes, maximum fragment count, the runtime cost of a break) plus
-// scaling and the asset pipeline (bench_assets.c), written to a directory as a
-// Markdown report with CSV tables and gnuplot plots (bench_report.c), and
-// printed as tables.
+// scaling, the asset pipeline (bench_assets.c) and the fracture patterns
+// (bench_patterns.c), written to a directory as a Markdown report with CSV
+// tables and gnuplot plots (bench_report.c), and printed as tables.
 #include <errno.h>
 #include <malloc.h>
 #include <math.h>
@@ -32,12 +32,15 @@ static const char* const bench_usage =
     "  6. asset pipeline: the cube of 4096 fragments exported to .glb and loaded\n"
     "     back, and a torus of 100,000 triangles imported from a .glb (assimp),\n"
     "     against issue 15's targets (export under 1 s, import under 0.5 s)\n"
+    "  7. fracture patterns: planes, voronoi, clustered and radial on the bunny, brick\n"
+    "     and planes on the wall, into 64 to 4096 pieces: time, slivers, sizes\n"
     "\n"
     "options:\n"
     "  --quick     a short run (under a minute): fracture speed up to 1024 fragments,\n"
     "              maximum fragments up to 2048, runtime up to 256, 1 and 4 walls,\n"
-    "              the export with a cube of 1024 fragments. The full run goes to\n"
-    "              65536, 65536, 4096, 16 walls and 4096 fragments (minutes).\n"
+    "              the export with a cube of 1024 fragments, the patterns at 64 and\n"
+    "              1024 pieces. The full run goes to 65536, 65536, 4096, 16 walls,\n"
+    "              4096 fragments and 4096 pieces (minutes).\n"
     "  --out DIR   output directory, created if missing (default: bench-out);\n"
     "              files of the same names in it are replaced\n"
     "  --seed S    fracture seed of every mesh, 0..18446744073709551615 (default: 3000)\n"
@@ -113,14 +116,6 @@ static uint32_t leaf_triangles(const bk_mesh_tree* tree) {
   for (uint32_t l = 0; l < tree->leaf_count; ++l)
     sum += bk_mesh_tree_leaf(tree, l)->mesh.triangle_count;
   return sum;
-}
-
-/// |sum of the leaves' mesh volumes - source volume| / source volume, from the geometry itself.
-static double leaf_volume_error(const bk_mesh_tree* tree) {
-  double source = bk_mesh_volume(&tree->nodes[0].mesh), sum = 0.0;
-  for (uint32_t l = 0; l < tree->leaf_count; ++l)
-    sum += bk_mesh_volume(&bk_mesh_tree_leaf(tree, l)->mesh);
-  return fabs(sum - source) / fabs(source);
 }
 
 // ---------------------------------------------------------------- 1. fracture speed
@@ -348,7 +343,7 @@ static bool section_max_fragments(const bench* b) {
     double ms = 0.0, fastest = 0.0;
     bool built = timed_build(&cube, pieces, b->seed, 1, &tree, &ms, &fastest, &err);
     bk_mesh_tree_stats st = bk_mesh_tree_measure(&tree);
-    double error = built ? leaf_volume_error(&tree) : NAN;
+    double error = built ? bench_leaf_volume_error(&tree) : NAN;
     bool good = built && st.open_nodes == 0 && error <= volume_tolerance;
     bench_table_cell(&t, "%u", pieces);
     bench_table_cell(&t, "%u", tree.leaf_count);
@@ -760,7 +755,8 @@ int bk_cmd_bench(int argc, char** argv) {
   bench_report_header(&b, argc, argv);
   double start = bk_now_ms();
   bool ok = section_fracture_speed(&b) && section_meshes(&b) && section_max_fragments(&b) &&
-            section_runtime(&b) && section_scaling(&b) && bench_section_assets(&b);
+            section_runtime(&b) && section_scaling(&b) && bench_section_assets(&b) &&
+            bench_section_patterns(&b);
   if (ok) bench_say(&b, "\n---\n\nThe whole run took %.0f s.\n", (bk_now_ms() - start) / 1000.0);
   ok = bench_output_close(&report, ok) && ok;
   if (!ok) return 1;

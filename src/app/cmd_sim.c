@@ -6,9 +6,8 @@
 #include "app.h"
 
 static const char* const sim_usage =
-    "usage: breakables sim [--scene NAME | --mesh PATH] [--material NAME] [--pieces N] [--seed S] [--shots "
-    "K]\n"
-    "                      [--steps F] [--volley V]\n"
+    "usage: breakables sim [--scene NAME | --mesh PATH] [--material NAME] [--pattern NAME] [--pieces N]\n"
+    "                      [--seed S] [--shots K] [--steps F] [--volley V]\n"
     "                      [--speed M/S] [--frailty X] [--density X] [--discrete|--accumulate] [--naive]\n"
     "                      [--max-memory MIB] [--json]\n"
     "\n"
@@ -23,7 +22,12 @@ static const char* const sim_usage =
     "                   and shot at from the front\n"
     "  --material NAME  stone, concrete, glass, porcelain, eggshell, wood: every object's\n"
     "                   material (default: the scene's; stone for --mesh)\n"
-    "  --pieces N       fragments per object, 1..65536 (default: the scene's)\n"
+    "  --pattern NAME   how every object breaks: planes, voronoi, clustered, radial, brick\n"
+    "                   or cutout (default: each object's own: the walls brick, the pillar\n"
+    "                   clustered, the bunny radial round its aim point, the eggshell\n"
+    "                   voronoi, the rest planes); see 'breakables fracture --help'\n"
+    "  --pieces N       fragments per object, 1..65536 (default: the scene's; cutout\n"
+    "                   makes as many as its fracture map has regions)\n"
     "  --seed S         fracture seed, 0..18446744073709551615 (default: 3000)\n"
     "  --shots K        projectiles to fire, 0..1000 (default: 3)\n"
     "  --steps F        60 Hz steps to run, 1..1000000 (default: 300)\n"
@@ -41,7 +45,9 @@ static const char* const sim_usage =
     "                   break_events, bonds_broken, colliders_initial, colliders_final,\n"
     "                   colliders_naive_final, step_ms_median, step_ms_max, break_ms_median,\n"
     "                   break_ms_max, step_ms_last_second, awake_final, pairs_final,\n"
-    "                   manifolds_final, mass_rel_error, nan, fragments_free, from_cache\n"
+    "                   manifolds_final, mass_rel_error, nan, fragments_free, from_cache,\n"
+    "                   pattern (the objects' pattern, or \"mixed\") and patterns (one per\n"
+    "                   object)\n"
     "  -h, --help       show this help\n"
     "\n"
     "Mesh trees are cached in $BREAKABLES_CACHE_DIR (else $XDG_CACHE_HOME/breakables,\n"
@@ -57,6 +63,29 @@ static double maximum(const double* values, uint32_t count) {
   for (uint32_t i = 0; i < count; ++i)
     m = values[i] > m ? values[i] : m;
   return m;
+}
+
+// The patterns the objects' trees were made with (a tree loaded from a file
+// keeps its own): JSON members "pattern" (the one they share, else "mixed")
+// and "patterns" (one per object), or a line of text.
+static void print_patterns(const bk_loaded_scene* s, bool json) {
+  const char* shared = s->tree_count ? bk_fracture_pattern_name(s->trees[0].desc.pattern) : "none";
+  for (uint32_t i = 1; i < s->tree_count; ++i)
+    if (s->trees[i].desc.pattern != s->trees[0].desc.pattern) shared = "mixed";
+  if (json) {
+    printf("\"pattern\": \"%s\", \"patterns\": [", shared);
+    for (uint32_t i = 0; i < s->tree_count; ++i)
+      printf("%s\"%s\"", i ? ", " : "", bk_fracture_pattern_name(s->trees[i].desc.pattern));
+    printf("]");
+  } else if (strcmp(shared, "mixed") != 0) {
+    printf("  pattern %s\n", shared);
+  } else {
+    printf("  patterns:");
+    for (uint32_t i = 0; i < s->tree_count; ++i)
+      printf("%s %s %s", i ? "," : "", s->scene->objects[i].mesh,
+             bk_fracture_pattern_name(s->trees[i].desc.pattern));
+    printf("\n");
+  }
 }
 
 int bk_cmd_sim(int argc, char** argv) {
@@ -88,8 +117,9 @@ int bk_cmd_sim(int argc, char** argv) {
       flag = false;
     }
     if (flag) continue;
-    const char* known[] = {"--scene", "--pieces",  "--seed",    "--shots", "--steps",    "--volley",
-                           "--speed", "--frailty", "--density", "--mesh",  "--material", "--max-memory"};
+    const char* known[] = {"--scene",    "--pieces",  "--seed",      "--shots",   "--steps",
+                           "--volley",   "--speed",   "--frailty",   "--density", "--mesh",
+                           "--material", "--pattern", "--max-memory"};
     bool is_known = false;
     for (size_t k = 0; k < sizeof known / sizeof *known; ++k)
       is_known = is_known || strcmp(arg, known[k]) == 0;
@@ -106,6 +136,14 @@ int bk_cmd_sim(int argc, char** argv) {
       mesh = value;
     } else if (strcmp(arg, "--material") == 0) {
       material = value;
+    } else if (strcmp(arg, "--pattern") == 0) {
+      bk_fracture_pattern pattern = BK_PATTERN_PLANES;
+      bk_error err = {0};
+      if (!bk_scene_pattern_from_name(value, &pattern, &err)) {
+        fprintf(stderr, "breakables sim: %s\n", err.message);
+        return 2;
+      }
+      options.pattern = (int)pattern;
     } else if (strcmp(arg, "--max-memory") == 0) {
       if (!bk_app_parse_max_memory("sim", value)) return 2;
     } else if (strcmp(arg, "--pieces") == 0) {
@@ -185,12 +223,14 @@ int bk_cmd_sim(int argc, char** argv) {
         "\"colliders_final\": %u, \"colliders_naive_final\": %u, \"fragments_free\": %u, "
         "\"step_ms_median\": %.4f, \"step_ms_max\": %.4f, \"break_ms_median\": %.4f, \"break_ms_max\": %.4f, "
         "\"step_ms_last_second\": %.4f, \"awake_final\": %u, \"pairs_final\": %u, \"manifolds_final\": %u, "
-        "\"mass_rel_error\": %.3e, \"nan\": %s, \"from_cache\": %s}\n",
+        "\"mass_rel_error\": %.3e, \"nan\": %s, \"from_cache\": %s, ",
         scene->name, pieces, fired, (unsigned long long)steps, initial.bodies, final.bodies,
         final.break_events, final.bonds_broken, initial.colliders, final.colliders, final.colliders_naive,
         final.fragments_free, step_median, step_max, break_median, break_max, last_median,
         physics.awake_bodies, physics.pairs, physics.manifolds, mass_error, final.nan ? "true" : "false",
         loaded.from_cache ? "true" : "false");
+    print_patterns(&loaded, true);
+    printf("}\n");
   } else {
     printf("%s: %u fragments, %u shots over %llu steps (%.1f s)\n", scene->name, pieces, fired,
            (unsigned long long)steps, (double)steps / 60.0);
@@ -203,6 +243,7 @@ int bk_cmd_sim(int argc, char** argv) {
     printf("  last second: step ms median %.3f, %u bodies awake, %u pairs, %u manifolds, %u contact points\n",
            last_median, physics.awake_bodies, physics.pairs, physics.manifolds, physics.contact_points);
     printf("  mass error %.2e%s\n", mass_error, final.nan ? ", NaN detected" : "");
+    print_patterns(&loaded, false);
   }
   free(step_ms);
   free(break_ms);

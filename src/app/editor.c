@@ -1,7 +1,7 @@
 // breakables editor: preview the fragments of a mesh (thesis Appendix A).
 // Orbit with Alt + left drag, zoom with Alt + right drag, pull the fragments
-// apart with Shift + drag or the explode slider; change mesh, pieces, seed
-// and texture scale; export the fragments to OBJ and the tree to .mtree and .glb.
+// apart with Shift + drag or the explode slider; change mesh, pattern, pieces,
+// seed and texture scale; export the fragments to OBJ and the tree to .mtree and .glb.
 #include <GLFW/glfw3.h>
 #include <stdio.h>
 #include <string.h>
@@ -10,8 +10,9 @@
 #include "game.h"
 
 static const char* const editor_usage =
-    "usage: breakables editor [--mesh NAME|PATH] [--pieces N] [--seed S] [--texture-scale X]\n"
-    "                         [--explode X] [--export PATH] [--frames N] [--screenshot FILE.png]\n"
+    "usage: breakables editor [--mesh NAME|PATH] [--pattern NAME] [--pieces N] [--seed S]\n"
+    "                         [--texture-scale X] [--explode X] [--colors] [--export PATH]\n"
+    "                         [--frames N] [--screenshot FILE.png]\n"
     "                         [--width W] [--height H] [--max-memory MIB]\n"
     "\n"
     "Preview the fragments of a mesh and export them.\n"
@@ -19,10 +20,14 @@ static const char* const editor_usage =
     "options:\n"
     "  --mesh NAME|PATH      cube, torus, eggshell, bunny, wall, slab, pillar, a model file or an\n"
     "                        .mtree (default: bunny); the panel opens others by path\n"
+    "  --pattern NAME        planes, voronoi, clustered, radial, brick or cutout (default: planes);\n"
+    "                        radial centres on the surface facing the first view, brick follows\n"
+    "                        the wall's brick texture, cutout uses the game's cobweb map\n"
     "  --pieces N            fragments, 1..65536 (default: 64)\n"
     "  --seed S              fracture seed, 0..2147483647 (default: 3000)\n"
     "  --texture-scale X     world size of one interior texture tile, 1e-6..1e6 (default: 0.1)\n"
     "  --explode X           pull fragments apart, 0..3 (default: 0)\n"
+    "  --colors              tint each fragment its own colour (the panel's 'colors' box)\n"
     "  --export PATH         where the panel's export writes: PATH.obj, PATH.mtree and PATH.glb\n"
     "                        (default: fragments, in the current directory); a run with\n"
     "                        --frames exports there when it ends\n"
@@ -45,8 +50,10 @@ typedef struct editor {
   char export_path[4096]; // the panel's export base name: <path>.obj and <path>.mtree
   char file_label[128];   // the mesh selector's entry for a file (its name)
   int mesh_choice;
+  int pattern; // a bk_fracture_pattern
   int pieces, seed;
   double texture_scale, explode;
+  bool colors; // each fragment tinted its own colour: a pattern reads at a glance
   bk_mesh_tree tree;
   bk_render_tree render_tree;
   bk_vec3* leaf_offsets; // leaf centroid - source centroid
@@ -56,13 +63,46 @@ typedef struct editor {
   char status[600];
 } editor;
 
+// The view the editor opens with (radians); the radial pattern's impact faces it.
+#define START_YAW 0.6
+#define START_PITCH 0.35
+
 static const char* const mesh_names[] = {"bunny", "cube", "torus", "eggshell", "wall", "slab", "pillar"};
+
+// The radial pattern's impact: the point of the mesh's surface that faces
+// the editor's first view most (a fixed direction, so turning the view does
+// not make a new tree), where a shot from there would land. The origin when
+// the mesh cannot be read here (a tree file: it is not fractured anyway).
+static bk_vec3 facing_point(const char* spec) {
+  bk_vec3 towards =
+      bk_v3(cos(START_PITCH) * sin(START_YAW), sin(START_PITCH), cos(START_PITCH) * cos(START_YAW));
+  bk_mesh mesh = {0};
+  bk_error err = {{0}};
+  bk_vec3 best = bk_v3(0, 0, 0);
+  size_t length = strlen(spec);
+  if ((length > 6 && strcmp(spec + length - 6, ".mtree") == 0) || !bk_app_load_mesh(spec, &mesh, &err))
+    return best;
+  double most = -INFINITY;
+  for (uint32_t i = 0; i < mesh.position_count; ++i) {
+    double along = bk_v3_dot(mesh.positions[i], towards);
+    if (along > most) most = along, best = mesh.positions[i];
+  }
+  bk_mesh_free(&mesh);
+  return best;
+}
 
 static bool rebuild(editor* e, bk_error* err) {
   bk_fracture_def desc = bk_default_fracture_def();
   desc.pieces = (uint32_t)e->pieces;
   desc.seed = (uint64_t)e->seed;
   desc.texture_scale = e->texture_scale;
+  desc.pattern = (bk_fracture_pattern)e->pattern;
+  if (desc.pattern == BK_PATTERN_RADIAL) desc.impact = facing_point(e->mesh);
+  if (desc.pattern == BK_PATTERN_CUTOUT) {
+    uint32_t size = 0;
+    desc.cutout_pixels = bk_app_cutout_map(&size);
+    desc.cutout_width = desc.cutout_height = size;
+  }
   bk_mesh_tree tree = {0};
   bool cached = false;
   double start = glfwGetTime();
@@ -178,12 +218,22 @@ static void panel(editor* e) {
     rebuild_now = true;
   }
   bk_ui_tooltip("a model file (obj, glb, gltf, fbx, ply, stl, ...) or an .mtree");
+  const char* patterns[BK_PATTERN_COUNT];
+  for (int p = 0; p < BK_PATTERN_COUNT; ++p)
+    patterns[p] = bk_fracture_pattern_name((bk_fracture_pattern)p);
+  // A new pattern is what the preview is for: it fractures at once, as a new mesh does.
+  if (bk_ui_combo("pattern", &e->pattern, patterns, BK_PATTERN_COUNT)) rebuild_now = true;
+  bk_ui_tooltip("planes: random cuts; voronoi: even cells; clustered: chunks with broken borders; radial: "
+                "fine round the side facing the first view; brick: along the wall texture's mortar; cutout: "
+                "the game's cobweb map, seen along z");
   bk_ui_slider_int_log("pieces", &e->pieces, 1, 65536);
   bk_ui_slider_int("seed", &e->seed, 0, 100000);
   bk_ui_slider_double("texture scale", &e->texture_scale, 0.01, 2.0, "%.2f", true);
   if (bk_ui_button("fracture")) rebuild_now = true;
   bk_ui_slider_double("explode", &e->explode, 0.0, 3.0, "%.2f", false);
   bk_ui_tooltip("or Shift + drag");
+  bk_ui_checkbox("colors", &e->colors);
+  bk_ui_tooltip("tint each fragment its own colour");
   bk_ui_input_text("export to", e->export_path, sizeof e->export_path);
   bk_ui_tooltip("writes <path>.obj (the fragments), <path>.mtree (the tree) and <path>.glb (glTF 2.0)");
   if (bk_ui_button("export")) export_files(e);
@@ -201,7 +251,8 @@ int bk_cmd_editor(int argc, char** argv) {
   snprintf(e->mesh, sizeof e->mesh, "bunny");
   snprintf(e->export_path, sizeof e->export_path, "fragments");
   bool export_given = false;
-  e->pieces = 64, e->seed = 3000, e->texture_scale = 0.1, e->pitch = 0.35, e->yaw = 0.6, e->show_panel = true;
+  e->pieces = 64, e->seed = 3000, e->texture_scale = 0.1, e->show_panel = true;
+  e->pitch = START_PITCH, e->yaw = START_YAW;
   for (int i = 1; i < argc; ++i) {
     const char* arg = argv[i];
     int parsed = bk_parse_window_option("editor", argc, argv, &i, &wo);
@@ -213,10 +264,22 @@ int bk_cmd_editor(int argc, char** argv) {
       fputs(editor_usage, stdout);
       return free(e), 0;
     }
+    if (strcmp(arg, "--colors") == 0) {
+      e->colors = true;
+      continue;
+    }
     bool ok = value != NULL;
     if (ok && strcmp(arg, "--mesh") == 0)
       ok = snprintf(e->mesh, sizeof e->mesh, "%s", value) < (int)sizeof e->mesh;
-    else if (ok && strcmp(arg, "--pieces") == 0)
+    else if (ok && strcmp(arg, "--pattern") == 0) {
+      bk_fracture_pattern pattern = BK_PATTERN_PLANES;
+      bk_error pattern_err = {0};
+      if (!bk_scene_pattern_from_name(value, &pattern, &pattern_err)) {
+        fprintf(stderr, "breakables editor: %s\n", pattern_err.message);
+        return free(e), 2;
+      }
+      e->pattern = (int)pattern;
+    } else if (ok && strcmp(arg, "--pieces") == 0)
       ok = bk_option_u64("editor", arg, value, 1, 65536, &number), e->pieces = (int)number;
     else if (ok && strcmp(arg, "--seed") == 0) // the panel's seed is an int
       ok = bk_option_u64("editor", arg, value, 0, 2147483647, &number), e->seed = (int)number;
@@ -286,8 +349,17 @@ int bk_cmd_editor(int argc, char** argv) {
     for (uint32_t l = 0; l < e->tree.leaf_count; ++l) {
       uint32_t node = e->tree.leaf_nodes[l];
       bk_transform model = {bk_v3_add(lift, bk_v3_scale(e->leaf_offsets[l], e->explode)), bk_quat_identity()};
-      bk_node_draw draw = {
-          .tree = e->render_tree, .nodes = &node, .node_count = 1, .model = model, .material = look};
+      // Hues a golden angle apart: neighbours never look alike, however many there are.
+      double hue = fmod(l * 0.618033988749895, 1.0);
+      float tint[4] = {(float)(0.5 + 0.5 * cos(6.283185307 * hue)),
+                       (float)(0.5 + 0.5 * cos(6.283185307 * (hue + 0.33))),
+                       (float)(0.5 + 0.5 * cos(6.283185307 * (hue + 0.67))), 0.6f};
+      bk_node_draw draw = {.tree = e->render_tree,
+                           .nodes = &node,
+                           .node_count = 1,
+                           .model = model,
+                           .material = look,
+                           .node_colors = e->colors ? tint : NULL};
       bk_renderer_draw_nodes(e->renderer, &draw);
     }
     unsigned error = bk_renderer_end_frame(e->renderer);

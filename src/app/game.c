@@ -9,8 +9,8 @@
 #include "game_state.h"
 
 static const char* const play_usage =
-    "usage: breakables [play] [--scene NAME | --mesh PATH] [--material NAME] [--pieces N] [--seed S]\n"
-    "                  [--frames N] [--autofire K]\n"
+    "usage: breakables [play] [--scene NAME | --mesh PATH] [--material NAME] [--pattern NAME] [--pieces N]\n"
+    "                  [--seed S] [--frames N] [--autofire K]\n"
     "                  [--screenshot FILE.png] [--width W] [--height H] [--hide-panel] [--overlay NAME]\n"
     "                  [--volley V] [--benchmark] [--max-memory MIB]\n"
     "\n"
@@ -22,7 +22,12 @@ static const char* const play_usage =
     "                        exported by fracture), stood on the ground in front of you\n"
     "  --material NAME       stone, concrete, glass, porcelain, eggshell, wood: every object's\n"
     "                        material (default: the scene's; stone for --mesh)\n"
-    "  --pieces N            fragments per object, 1..65536 (default: the scene's)\n"
+    "  --pattern NAME        how every object breaks: planes, voronoi, clustered, radial, brick\n"
+    "                        or cutout (default: each object's own: the walls brick, the pillar\n"
+    "                        clustered, the bunny radial round its aim point, the eggshell\n"
+    "                        voronoi, the rest planes); the panel changes it too\n"
+    "  --pieces N            fragments per object, 1..65536 (default: the scene's; cutout makes\n"
+    "                        as many as its fracture map has regions)\n"
     "  --seed S              fracture seed, 0..18446744073709551615 (default: 3000)\n"
     "  --frames N            run N frames, 1..10000000, then exit with a one-line summary\n"
     "  --autofire K          fire K projectiles, 0..10000, at the scene's target at regular\n"
@@ -304,6 +309,14 @@ int bk_cmd_play(int argc, char** argv) {
       mesh = argv[++i];
     } else if (strcmp(arg, "--material") == 0 && i + 1 < argc) {
       material = argv[++i];
+    } else if (strcmp(arg, "--pattern") == 0 && i + 1 < argc) {
+      bk_fracture_pattern pattern = BK_PATTERN_PLANES;
+      bk_error err = {0};
+      if (!bk_scene_pattern_from_name(argv[++i], &pattern, &err)) {
+        fprintf(stderr, "breakables play: %s\n", err.message);
+        return free(g), 2;
+      }
+      g->options.pattern = (int)pattern;
     } else if (strcmp(arg, "--max-memory") == 0 && i + 1 < argc) {
       if (!bk_app_parse_max_memory("play", argv[++i])) return free(g), 2;
     } else if (strcmp(arg, "--pieces") == 0 && i + 1 < argc) {

@@ -1,7 +1,7 @@
 // The live tuning panel. Frailty and density change the objects in the world
-// at once; pieces, seed and texture scale re-fracture on a worker thread (the
-// game keeps running, a progress bar shows how far it got) and the result is
-// cached so the next start is instant.
+// at once; pattern, pieces, seed and texture scale re-fracture on a worker
+// thread (the game keeps running, a progress bar shows how far it got) and the
+// result is cached so the next start is instant.
 #include <pthread.h>
 #include <stdatomic.h>
 #include <string.h>
@@ -108,6 +108,11 @@ static void sweep_window(void) {
 }
 static int pieces_setting = 0, seed_setting = 3000;
 static double texture_scale_setting = 0.1;
+// The pattern selector's entry: 0 = each object's own, 1 + a bk_fracture_pattern
+// otherwise; -1 until it is read from the game's options. The parameters of
+// the clustered and radial patterns start at the library's defaults.
+static int pattern_setting = -1, clusters_setting = 0;
+static double cluster_border_setting = 0.0, radial_falloff_setting = -1.0;
 static char status_line[600];
 
 static bool report_progress(void* user, uint32_t leaves, uint32_t target) {
@@ -131,6 +136,10 @@ static void start_refracture(bk_game* g) {
   job.options.pieces = (uint32_t)pieces_setting;
   job.options.seed = (uint64_t)seed_setting;
   job.options.texture_scale = texture_scale_setting;
+  job.options.pattern = pattern_setting - 1;
+  job.options.clusters = (uint32_t)clusters_setting;
+  job.options.cluster_border = cluster_border_setting;
+  job.options.radial_falloff = radial_falloff_setting;
   job.options.progress = report_progress;
   job.scene = g->scene.scene;
   atomic_store(&job.done, false);
@@ -153,6 +162,10 @@ static void finish_refracture(bk_game* g) {
   g->options.pieces = job.options.pieces;
   g->options.seed = job.options.seed;
   g->options.texture_scale = job.options.texture_scale;
+  g->options.pattern = job.options.pattern;
+  g->options.clusters = job.options.clusters;
+  g->options.cluster_border = job.options.cluster_border;
+  g->options.radial_falloff = job.options.radial_falloff;
   bk_vec3 eye = g->eye;
   double yaw = g->yaw, pitch = g->pitch;
   bk_game_unload_scene(g);
@@ -162,7 +175,10 @@ static void finish_refracture(bk_game* g) {
   if (!bk_game_load_scene(g, index, &err))
     snprintf(status_line, sizeof status_line, "%s", err.message);
   else
-    snprintf(status_line, sizeof status_line, "re-fractured into %u pieces", g->scene.trees[0].leaf_count);
+    snprintf(status_line, sizeof status_line, "re-fractured into %u pieces (%s)",
+             g->scene.trees[0].leaf_count,
+             pattern_setting > 0 ? bk_fracture_pattern_name((bk_fracture_pattern)(pattern_setting - 1))
+                                 : "each object's own pattern");
   g->eye = eye, g->yaw = yaw, g->pitch = pitch;
 }
 
@@ -222,9 +238,53 @@ static void material_section(bk_game* g) {
   if (bk_ui_button("reset with these settings (R)")) g->reload = true;
 }
 
+// True when the selector's choice breaks some object of the scene by `pattern`.
+static bool pattern_used(const bk_scene* scene, bk_fracture_pattern pattern) {
+  if (pattern_setting > 0) return pattern_setting == 1 + (int)pattern;
+  for (uint32_t i = 0; i < scene->object_count; ++i)
+    if (scene->objects[i].pattern == pattern) return true;
+  return false;
+}
+
+// The pattern selector: the scene's own choice first (named when all its
+// objects share one), then every pattern, with the parameters of the chosen
+// one worth tuning by eye.
+static void pattern_selector(bk_game* g) {
+  const bk_scene* scene = g->scene.scene;
+  if (pattern_setting < 0) pattern_setting = g->options.pattern + 1;
+  bk_fracture_pattern own = scene->objects[0].pattern;
+  for (uint32_t i = 1; i < scene->object_count; ++i)
+    if (scene->objects[i].pattern != own) own = BK_PATTERN_COUNT;
+  char scene_default[64];
+  snprintf(scene_default, sizeof scene_default, "scene default (%s)",
+           own == BK_PATTERN_COUNT ? "per object" : bk_fracture_pattern_name(own));
+  const char* names[1 + BK_PATTERN_COUNT] = {scene_default};
+  for (int p = 0; p < BK_PATTERN_COUNT; ++p)
+    names[1 + p] = bk_fracture_pattern_name((bk_fracture_pattern)p);
+  bk_ui_combo("pattern", &pattern_setting, names, 1 + BK_PATTERN_COUNT);
+  bk_ui_tooltip(
+      "how the objects break: the scene's choice (walls brick, pillar clustered, bunny radial round "
+      "its aim point, eggshell voronoi, the rest planes) or one pattern for all (applies on "
+      "re-fracture)");
+  bk_fracture_def defaults = bk_default_fracture_def();
+  if (pattern_used(scene, BK_PATTERN_CLUSTERED)) {
+    if (clusters_setting == 0) clusters_setting = (int)defaults.clusters;
+    if (!(cluster_border_setting > 0.0)) cluster_border_setting = defaults.cluster_border;
+    bk_ui_slider_int("clusters", &clusters_setting, 1, 64);
+    bk_ui_slider_double("cluster border", &cluster_border_setting, 0.01, 0.5, "%.2f", true);
+    bk_ui_tooltip("width of a chunk's finely broken border, a fraction of the object's size");
+  }
+  if (pattern_used(scene, BK_PATTERN_RADIAL)) {
+    if (radial_falloff_setting < 0.0) radial_falloff_setting = defaults.radial_falloff;
+    bk_ui_slider_double("radial falloff", &radial_falloff_setting, 0.0, 1.4, "%.2f", false);
+    bk_ui_tooltip("how fast pieces grow away from the aim point (0 = evenly)");
+  }
+}
+
 static void fracture_section(bk_game* g) {
   if (pieces_setting == 0)
     pieces_setting = (int)(g->options.pieces ? g->options.pieces : g->scene.scene->pieces);
+  pattern_selector(g);
   bk_ui_slider_int("pieces", &pieces_setting, 2, 4096);
   bk_ui_slider_int("seed", &seed_setting, 0, 100000);
   bk_ui_slider_double("texture scale", &texture_scale_setting, 0.01, 2.0, "%.2f", true);

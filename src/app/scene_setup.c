@@ -6,7 +6,8 @@
 #include "app.h"
 
 bk_scene_options bk_default_scene_options(void) {
-  return (bk_scene_options){.seed = 3000, .texture_scale = 0.1, .accumulate = -1};
+  return (bk_scene_options){
+      .seed = 3000, .texture_scale = 0.1, .accumulate = -1, .pattern = -1, .radial_falloff = -1.0};
 }
 
 bk_world_breakable_def bk_scene_object_def(const bk_scene_object* object, const bk_mesh_tree* tree,
@@ -54,13 +55,12 @@ bool bk_loaded_scene_create(const bk_scene* scene, const bk_scene_options* optio
   if (!out->world) return false;
   for (uint32_t i = 0; i < scene->object_count; ++i) {
     const bk_scene_object* object = &scene->objects[i];
-    bk_fracture_def fd = bk_default_fracture_def();
-    fd.pieces = options->pieces ? options->pieces : scene->pieces;
-    fd.seed = options->seed;
-    fd.texture_scale = options->texture_scale > 0.0 ? options->texture_scale : fd.texture_scale;
-    fd.aspect_bias = scene->aspect_bias;
-    fd.progress = options->progress;
-    fd.progress_user = options->progress_user;
+    bk_fracture_def fd = bk_scene_fracture_def(scene, i, options, NULL);
+    bk_mesh source = {0};
+    // A radial pattern centres where the shot meets the object: that takes its mesh.
+    if (fd.pattern == BK_PATTERN_RADIAL && bk_scene_object_source(object, &source))
+      fd = bk_scene_fracture_def(scene, i, options, &source);
+    bk_mesh_free(&source);
     bool cached = false;
     if (!bk_app_load_tree(object->mesh, object->scale, &fd, &out->trees[i], &cached, err)) {
       bk_loaded_scene_destroy(out);

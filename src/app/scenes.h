@@ -19,6 +19,10 @@ typedef struct bk_scene_object {
   const char* material; ///< material preset name (physics)
   const char* look;     ///< how it is drawn (render material); NULL = same as material
   bool anchored;
+  /// How it breaks (zero = BK_PATTERN_PLANES). The parameters follow from the
+  /// object: a brick bond lines up with its texture, a radial pattern centres
+  /// on its aim point (bk_scene_fracture_def).
+  bk_fracture_pattern pattern;
 } bk_scene_object;
 
 /// A scene: data, not code paths.
@@ -49,6 +53,12 @@ const bk_scene* bk_scene_find(const char* name);
 uint32_t bk_scene_add_mesh(const char* path, const char* material, bk_error* err);
 /// True for a preset name; else err lists the presets.
 bool bk_scene_check_material(const char* material, bk_error* err);
+/// The fracture pattern called `name` (as bk_fracture_pattern_name spells
+/// it); false with err saying "unknown pattern 'NAME': use planes, ..." (one line).
+bool bk_scene_pattern_from_name(const char* name, bk_fracture_pattern* pattern, bk_error* err);
+/// The aim point of object `object`: of the scene's target and extra
+/// targets, the one nearest to where the object stands (world coordinates).
+bk_vec3 bk_scene_object_aim(const bk_scene* scene, uint32_t object);
 /// What a command's --scene NAME (scene_given: it was on the command line),
 /// --mesh PATH and --material NAME choose: a scene's index, or UINT32_MAX
 /// with err saying which option is wrong (one line, for the command to print).

@@ -45,8 +45,12 @@ static bool cache_location_form(cache_location* at, const char* mesh_spec, uint6
   }
   const char* base = strrchr(mesh_spec, '/');
   base = base ? base + 1 : mesh_spec;
-  int path_length = snprintf(at->path, sizeof at->path, "%s/%.64s-%016llx-%u-%llu.mtree", at->dir, base,
-                             (unsigned long long)hash, desc->pieces, (unsigned long long)desc->seed);
+  // The key tells every parameter apart; the pattern, pieces and seed are
+  // spelled out too, for whoever looks into the directory.
+  int path_length =
+      snprintf(at->path, sizeof at->path, "%s/%.64s-%016llx-%s-%u-%llu-%016llx.mtree", at->dir, base,
+               (unsigned long long)hash, bk_fracture_pattern_name(desc->pattern), desc->pieces,
+               (unsigned long long)desc->seed, (unsigned long long)bk_app_fracture_key(desc));
   if (length < 0 || path_length < 0) {
     *needed = SIZE_MAX;
     return false;
@@ -73,10 +77,65 @@ static bool make_directories(const char* path, char* failed, size_t failed_size,
   }
 }
 
+// FNV-1a, 64 bits, over the bytes of each value in turn.
+static void key_bytes(uint64_t* key, const void* bytes, size_t size) {
+  const uint8_t* p = bytes;
+  for (size_t i = 0; i < size; ++i)
+    *key = (*key ^ p[i]) * 0x100000001b3ull;
+}
+static void key_u64(uint64_t* key, uint64_t value) { key_bytes(key, &value, sizeof value); }
+static void key_f64(uint64_t* key, double value) {
+  value = value == 0.0 ? 0.0 : value; // -0 asks for what 0 asks for
+  key_bytes(key, &value, sizeof value);
+}
+static void key_vec3(uint64_t* key, bk_vec3 v) {
+  key_f64(key, v.x);
+  key_f64(key, v.y);
+  key_f64(key, v.z);
+}
+
+// The key of the parameters a tree's file keeps (bk_mesh_tree.desc): every
+// scalar of the def, counts of the borrowed arrays but not their contents.
+static uint64_t stored_key(const bk_fracture_def* d) {
+  uint64_t key = 0xcbf29ce484222325ull;
+  // A fracture map's regions or the caller's seed points fix the count of a
+  // cell pattern's pieces, and the tree's desc then holds the count made, not
+  // the one asked for: neither tells trees apart.
+  bool cells = d->pattern != BK_PATTERN_PLANES && d->pattern != BK_PATTERN_BRICK;
+  bool counted = d->pattern == BK_PATTERN_CUTOUT || (cells && d->seed_point_count > 0);
+  key_u64(&key, counted ? 0 : d->pieces);
+  key_u64(&key, d->seed);
+  key_f64(&key, d->texture_scale);
+  key_f64(&key, d->jitter);
+  key_f64(&key, d->aspect_bias);
+  key_u64(&key, (uint64_t)d->pattern);
+  key_u64(&key, d->seed_point_count);
+  key_u64(&key, d->clusters);
+  key_f64(&key, d->cluster_border);
+  key_vec3(&key, d->impact);
+  key_f64(&key, d->radial_falloff);
+  key_vec3(&key, d->brick_size);
+  key_vec3(&key, d->brick_origin);
+  key_f64(&key, d->brick_offset);
+  key_u64(&key, d->cutout_width);
+  key_u64(&key, d->cutout_height);
+  key_u64(&key, d->cutout_axis);
+  key_f64(&key, d->noise_amplitude);
+  key_f64(&key, d->noise_frequency);
+  return key;
+}
+
+uint64_t bk_app_fracture_key(const bk_fracture_def* d) {
+  uint64_t key = stored_key(d);
+  // The arrays' contents are not in the file: only the name tells them apart.
+  for (uint32_t i = 0; d->seed_points && i < d->seed_point_count; ++i)
+    key_vec3(&key, d->seed_points[i]);
+  if (d->cutout_pixels) key_bytes(&key, d->cutout_pixels, (size_t)d->cutout_width * d->cutout_height);
+  return key;
+}
+
 static bool same_parameters(const bk_mesh_tree* tree, uint64_t hash, const bk_fracture_def* d) {
-  return tree->source_hash == hash && tree->desc.pieces == d->pieces && tree->desc.seed == d->seed &&
-         tree->desc.texture_scale == d->texture_scale && tree->desc.jitter == d->jitter &&
-         tree->desc.aspect_bias == d->aspect_bias;
+  return tree->source_hash == hash && stored_key(&tree->desc) == stored_key(d);
 }
 
 // A scene fractures several objects: say once, not once per object.
