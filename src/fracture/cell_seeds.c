@@ -8,6 +8,10 @@
 
 #include "cell_complex.h"
 
+/// Generated seeds keep at least this fraction of the mean seed spacing
+/// (cube root of volume per piece) apart, while the draws allow it.
+#define BK_CELL_SEED_GAP 0.3
+
 typedef struct seed_list {
   bk_vec3* points;
   uint32_t count, capacity;
@@ -30,7 +34,55 @@ typedef struct draw_def {
   double border; // border: largest (second nearest - nearest) distance
   bk_vec3 impact;
   double reach, exponent, min_radius; // radial
+  double gap;                         // no two seeds closer (0: any)
 } draw_def;
+
+// The seeds drawn so far, hashed on a grid of the gap's size, to keep new
+// ones at least `gap` from all of them.
+typedef struct gap_grid {
+  double cell;
+  bk_index_map heads; // grid cell -> first point + 1
+  uint32_t* next;     // per point: the next in its grid cell + 1
+  uint32_t capacity;
+} gap_grid;
+
+static uint64_t gap_key(const gap_grid* g, bk_vec3 p, int dx, int dy, int dz) {
+  int64_t x = (int64_t)floor(p.x / g->cell) + dx, y = (int64_t)floor(p.y / g->cell) + dy,
+          z = (int64_t)floor(p.z / g->cell) + dz;
+  return ((uint64_t)(x & 0x1fffff) << 42) | ((uint64_t)(y & 0x1fffff) << 21) | (uint64_t)(z & 0x1fffff);
+}
+
+static void gap_add(gap_grid* g, const bk_vec3* points, uint32_t i) {
+  if (i >= g->capacity) {
+    g->capacity = bk_grow_capacity(g->capacity, i + 1);
+    g->next = bk_realloc(g->next, sizeof(uint32_t) * g->capacity);
+  }
+  bool inserted = false;
+  uint32_t* head = bk_index_map_insert(&g->heads, gap_key(g, points[i], 0, 0, 0), i + 1, &inserted);
+  g->next[i] = inserted ? 0 : *head;
+  *head = i + 1;
+}
+
+static void gap_reset(gap_grid* g, double gap, const seed_list* out) {
+  g->cell = gap;
+  bk_index_map_clear(&g->heads);
+  for (uint32_t i = 0; gap > 0.0 && i < out->count; ++i)
+    gap_add(g, out->points, i);
+}
+
+static bool gap_clear(const gap_grid* g, const seed_list* out, bk_vec3 p) {
+  if (!(g->cell > 0.0)) return true;
+  for (int dz = -1; dz <= 1; ++dz)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const uint32_t* head = bk_index_map_find(&g->heads, gap_key(g, p, dx, dy, dz));
+        for (uint32_t i = head ? *head : 0; i; i = g->next[i - 1]) {
+          bk_vec3 e = bk_v3_sub(out->points[i - 1], p);
+          if (bk_v3_dot(e, e) < g->cell * g->cell) return false;
+        }
+      }
+  return true;
+}
 
 static bk_vec3 candidate(bk_rng* rng, bk_aabb box, const draw_def* dd) {
   if (dd->kind == DRAW_RADIAL) {
@@ -71,16 +123,31 @@ static bool draw_inside(const bk_mesh* m, bk_rng* rng, const draw_def* dd, uint3
   uint32_t batch = want < 64 ? 256 : want * 4;
   bk_vec3* pts = bk_alloc(sizeof(bk_vec3) * batch);
   uint8_t* inside = bk_alloc(batch);
-  uint64_t drawn = 0, limit = (uint64_t)want * 2000 + 100000;
+  uint64_t drawn = 0, limit = (uint64_t)want * 2000 + 100000, relax = limit / 8;
   uint32_t target = out->count + want;
+  gap_grid grid = {0};
+  bk_index_map_init(&grid.heads, want * 2 + 64);
+  double gap = dd->gap;
+  gap_reset(&grid, gap, out);
   while (out->count < target && drawn < limit) {
     for (uint32_t i = 0; i < batch; ++i)
       pts[i] = candidate(rng, box, dd);
     drawn += batch;
     bk_points_inside(m, pts, batch, inside);
     for (uint32_t i = 0; i < batch && out->count < target; ++i)
-      if (inside[i] && accept(dd, pts[i])) push(out, pts[i]);
+      if (inside[i] && accept(dd, pts[i]) && gap_clear(&grid, out, pts[i])) {
+        push(out, pts[i]);
+        if (gap > 0.0) gap_add(&grid, out->points, out->count - 1);
+      }
+    // Too crowded for the gap (a thin band, a dense impact): halve it.
+    if (gap > 0.0 && drawn >= relax) {
+      gap = gap > 0.02 * dd->gap ? 0.5 * gap : 0.0;
+      gap_reset(&grid, gap, out);
+      relax += limit / 8;
+    }
   }
+  bk_index_map_free(&grid.heads);
+  free(grid.next);
   free(pts);
   free(inside);
   return out->count == target;
@@ -139,6 +206,10 @@ uint32_t bk_cell_seeds(const bk_mesh* m, const bk_fracture_def* d, bk_vec3 origi
   bk_aabb box = bk_mesh_bounds(m);
   bk_vec3 size = bk_v3_sub(box.max, box.min);
   double largest = fmax(size.x, fmax(size.y, size.z));
+  // No two generated seeds closer than this: a crowd of seeds (the impact's
+  // neighbourhood, a chunk's border band, chance) makes pieces so small
+  // that a physics engine cannot rest them (they jitter awake for ever).
+  double gap = BK_CELL_SEED_GAP * cbrt(fmax(bk_mesh_volume(m), 0.0) / d->pieces);
   bool ok = true;
   switch (d->pattern) {
   case BK_PATTERN_CLUSTERED: {
@@ -180,7 +251,7 @@ uint32_t bk_cell_seeds(const bk_mesh* m, const bk_fracture_def* d, bk_vec3 origi
         cored += has;
       }
       draw_def border = {
-          .kind = DRAW_BORDER, .centres = centres.points, .centre_count = chunks, .border = band};
+          .gap = gap, .kind = DRAW_BORDER, .centres = centres.points, .centre_count = chunks, .border = band};
       if (ok && d->pieces > cored) ok = draw_inside(m, &rng, &border, d->pieces - cored, &list);
     } else if (ok) { // one chunk: no borders, it stays whole
       push(&list, centres.points[0]);
@@ -208,6 +279,7 @@ uint32_t bk_cell_seeds(const bk_mesh* m, const bk_fracture_def* d, bk_vec3 origi
       reach = fmax(reach, bk_v3_length(bk_v3_sub(corner, impact)));
     }
     draw_def radial = {.kind = DRAW_RADIAL,
+                       .gap = gap,
                        .impact = impact,
                        .reach = reach,
                        .exponent = 3.0 - 2.0 * d->radial_falloff,
@@ -222,7 +294,7 @@ uint32_t bk_cell_seeds(const bk_mesh* m, const bk_fracture_def* d, bk_vec3 origi
         return 0;
       }
     } else {
-      draw_def uniform = {.kind = DRAW_UNIFORM};
+      draw_def uniform = {.kind = DRAW_UNIFORM, .gap = gap};
       ok = draw_inside(m, &rng, &uniform, d->pieces, &list);
     }
     break;
