@@ -205,3 +205,7 @@ bool bk_app_load_scene_tree(uint64_t seed, const bk_scene* scene, uint32_t piece
                             bk_error* err);
 /// Runs an impact in a fresh world.
 bool bk_impact_run(const bk_impact* setup, bk_impact_result* out, bk_error* err);
+
+/// An option's text as it can be shown in a one-line message: control
+/// characters as \xNN, long text cut short with "...".
+void bk_quote_text(const char* text, char* out, size_t size);

@@ -104,9 +104,7 @@ void bk_format_number(double value, char* out, size_t size) {
   }
 }
 
-// The option's text as it can be shown on one line: control characters as
-// \xNN, long text cut short.
-static void quote_text(const char* text, char* out, size_t size) {
+void bk_quote_text(const char* text, char* out, size_t size) {
   size_t used = 0;
   for (const char* p = text; *p && used + 8 < size; ++p) {
     unsigned char c = (unsigned char)*p;
@@ -127,7 +125,7 @@ bool bk_option_u64(const char* command, const char* option, const char* text, ui
   number_status status = scan_u64(text, min, max, out);
   if (status == NUMBER_OK) return true;
   char shown[96] = "";
-  quote_text(text ? text : "", shown, sizeof shown);
+  bk_quote_text(text ? text : "", shown, sizeof shown);
   fprintf(stderr, "breakables %s: %s '%s' is %s (%llu..%llu)\n", command, option, shown,
           status == NUMBER_MALFORMED ? "not a whole number" : "out of range", (unsigned long long)min,
           (unsigned long long)max);
@@ -139,7 +137,7 @@ bool bk_option_double(const char* command, const char* option, const char* text,
   number_status status = scan_double(text, min, max, out);
   if (status == NUMBER_OK) return true;
   char shown[96] = "", low[32] = "", high[32] = "";
-  quote_text(text ? text : "", shown, sizeof shown);
+  bk_quote_text(text ? text : "", shown, sizeof shown);
   bk_format_number(min, low, sizeof low);
   bk_format_number(max, high, sizeof high);
   fprintf(stderr, "breakables %s: %s '%s' is %s (%s..%s)\n", command, option, shown,

@@ -156,23 +156,6 @@ static void patterns_of(uint32_t patterns, char* out, size_t size) {
   }
 }
 
-// An option's value as it can be shown on one line: control bytes as \xNN, cut short.
-static void quote_value(const char* text, char* out, size_t size) {
-  size_t used = 0;
-  for (const char* p = text; *p && used + 8 < size; ++p) {
-    unsigned char c = (unsigned char)*p;
-    if (used >= 60) {
-      used += (size_t)snprintf(out + used, size - used, "...");
-      break;
-    }
-    if (c < 0x20 || c == 0x7f)
-      used += (size_t)snprintf(out + used, size - used, "\\x%02x", c);
-    else
-      out[used++] = (char)c;
-  }
-  out[used] = 0;
-}
-
 static void field_text(const pattern_option* o, const bk_fracture_def* def, char* out, size_t size) {
   const char* base = (const char*)def + o->field;
   char a[48] = "", b[48] = "", c[48] = "";
@@ -278,7 +261,7 @@ static bool parse_point(const pattern_option* o, const char* value, bk_vec3* out
     return true;
   }
   char shown[96] = "", range[96] = "";
-  quote_value(value, shown, sizeof shown);
+  bk_quote_text(value, shown, sizeof shown);
   range_text(o, range, sizeof range);
   fprintf(stderr, "breakables fracture: %s '%s' is %s (each %s)\n", o->name, shown,
           malformed ? "not three decimal numbers separated by commas" : "out of range", range);
@@ -299,7 +282,7 @@ bk_pattern_option_result bk_pattern_option(const char* arg, const char* value, b
   case KIND_PATTERN:
     if (!bk_fracture_pattern_from_name(value, &def->pattern)) {
       char shown[96] = "", list[128] = "";
-      quote_value(value, shown, sizeof shown);
+      bk_quote_text(value, shown, sizeof shown);
       patterns_of((1u << BK_PATTERN_COUNT) - 1, list, sizeof list);
       fprintf(stderr, "breakables fracture: unknown pattern '%s': use %s\n", shown, list);
       return BK_PATTERN_OPTION_REFUSED;

@@ -252,30 +252,6 @@ static void add_triangle(mesh_maker* mm, bk_mesh* out, const bk_cell_tri* t, uin
   bk_mesh_add_triangle(out, corners[0], corners[1], corners[2], material, tag);
 }
 
-// Leaves are numbered in depth-first order so each subtree is a contiguous range.
-static void number_leaves(bk_mesh_tree* tree) {
-  tree->leaf_nodes = bk_alloc(sizeof(uint32_t) * tree->node_count);
-  uint32_t* stack = bk_alloc(sizeof(uint32_t) * (tree->node_count + 1));
-  uint32_t top = 0, leaves = 0;
-  stack[top++] = 0;
-  while (top) {
-    uint32_t i = stack[--top];
-    bk_mesh_tree_node* node = &tree->nodes[i];
-    node->leaf_begin = leaves;
-    if (node->child_count == 0) {
-      tree->leaf_nodes[leaves++] = i;
-      node->leaf_end = leaves;
-      for (uint32_t a = node->parent; a != BK_NULL_INDEX; a = tree->nodes[a].parent)
-        tree->nodes[a].leaf_end = leaves;
-      continue;
-    }
-    for (uint32_t c = node->child_count; c > 0; --c)
-      stack[top++] = node->first_child + c - 1;
-  }
-  tree->leaf_count = leaves;
-  free(stack);
-}
-
 bool bk_cell_tree_assemble(const bk_mesh* root, const bk_fracture_def* d, bk_tree_frame frame,
                            bk_cell_build* b, bk_mesh_tree* tree, bk_error* err) {
   const bk_cell_parts* parts = &b->parts;
@@ -387,7 +363,7 @@ bool bk_cell_tree_assemble(const bk_mesh* root, const bk_fracture_def* d, bk_tre
   // Back to the source's coordinates (the root is restored by the caller's copy).
   for (uint32_t i = 1; i < tree->node_count; ++i)
     bk_tree_frame_to_world(frame, &tree->nodes[i].mesh);
-  number_leaves(tree);
+  bk_mesh_tree_number_leaves(tree);
   bk_fracture_def desc = *d;
   bk_fracture_def_clear_borrowed(&desc);
   if (d->pattern == BK_PATTERN_CUTOUT || d->seed_points) desc.pieces = tree->leaf_count;

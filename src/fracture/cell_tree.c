@@ -304,16 +304,9 @@ bool bk_cell_tree_build(const bk_mesh* source, const bk_fracture_def* d, bk_mesh
   memset(tree, 0, sizeof *tree);
   if (d->pattern == BK_PATTERN_CUTOUT && (!d->cutout_pixels || d->cutout_width < 2 || d->cutout_height < 2))
     return bk_error_set(err, "fracture: the cutout pattern needs cutout_pixels (a map of at least 2 x 2)");
-  bk_tree_frame frame = bk_tree_frame_of(bk_mesh_bounds(source));
+  bk_tree_frame frame = {0};
   bk_mesh root = {0};
-  bk_mesh_copy(&root, source);
-  bk_tree_frame_to_local(frame, &root);
-  double volume = bk_mesh_volume(&root);
-  if (!(volume > 0.0)) {
-    bk_mesh_free(&root);
-    return bk_error_set(err, "mesh encloses no volume (signed volume %g): are its triangles wound inward?",
-                        ldexp(volume, 3 * frame.exponent));
-  }
+  if (!bk_tree_frame_local_source(source, &frame, &root, err)) return false;
   bk_mesh* shells = NULL;
   bk_fracture_overlap overlap = {0};
   uint32_t shell_count = bk_mesh_split_overlapping_shells(&root, &shells, &overlap);

@@ -259,8 +259,7 @@ static void count_shortfall(bk_fracture_shortfall* s, split_failure why) {
   }
 }
 
-// Leaves are numbered in depth-first order so each subtree is a contiguous range.
-static void number_leaves(bk_mesh_tree* tree) {
+void bk_mesh_tree_number_leaves(bk_mesh_tree* tree) {
   tree->leaf_nodes = bk_alloc(sizeof(uint32_t) * tree->node_count);
   uint32_t* stack = bk_alloc(sizeof(uint32_t) * tree->node_count);
   uint8_t* visited = bk_calloc(tree->node_count, 1);
@@ -326,16 +325,10 @@ bool bk_mesh_tree_build(const bk_mesh* source, const bk_fracture_def* desc_in, b
 
   // Everything is cut in the local frame (centred, about unit size) and moved
   // back to the source's coordinates at the end.
-  bk_tree_frame frame = bk_tree_frame_of(bk_mesh_bounds(source));
+  bk_tree_frame frame = {0};
   bk_mesh root = {0};
-  bk_mesh_copy(&root, source);
-  bk_tree_frame_to_local(frame, &root);
+  if (!bk_tree_frame_local_source(source, &frame, &root, err)) return false;
   double volume = bk_mesh_volume(&root);
-  if (!(volume > 0.0)) {
-    bk_mesh_free(&root);
-    return bk_error_set(err, "mesh encloses no volume (signed volume %g): are its triangles wound inward?",
-                        ldexp(volume, 3 * frame.exponent));
-  }
   bk_aabb local_box = bk_mesh_bounds(&root);
   double area = bk_mesh_area(&root), size = bk_v3_length(bk_v3_sub(local_box.max, local_box.min));
   if (volume < BK_FRACTURE_MIN_THICKNESS * area * size) {
@@ -448,7 +441,7 @@ bool bk_mesh_tree_build(const bk_mesh* source, const bk_fracture_def* desc_in, b
                                ldexp(o->point.z, frame.exponent)),
                          frame.origin);
   }
-  number_leaves(tree);
+  bk_mesh_tree_number_leaves(tree);
   tree->source_hash = bk_mesh_hash(source);
   bk_fracture_def_clear_borrowed(&d);
   tree->desc = d;

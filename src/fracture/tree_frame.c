@@ -1,4 +1,6 @@
 // The frame a mesh tree is cut in (see tree_frame.h).
+#include <string.h>
+
 #include "tree_frame.h"
 
 static double round_to_grid(double x, int exponent) {
@@ -52,4 +54,18 @@ bk_moments bk_tree_frame_moments_to_world(bk_tree_frame f, bk_moments m) {
 
 bk_plane bk_tree_frame_plane_to_world(bk_tree_frame f, bk_plane p) {
   return (bk_plane){p.normal, ldexp(p.offset, f.exponent) + bk_v3_dot(p.normal, f.origin)};
+}
+
+bool bk_tree_frame_local_source(const bk_mesh* source, bk_tree_frame* frame, bk_mesh* root, bk_error* err) {
+  *frame = bk_tree_frame_of(bk_mesh_bounds(source));
+  memset(root, 0, sizeof *root);
+  bk_mesh_copy(root, source);
+  bk_tree_frame_to_local(*frame, root);
+  double volume = bk_mesh_volume(root);
+  if (!(volume > 0.0)) {
+    bk_mesh_free(root);
+    return bk_error_set(err, "mesh encloses no volume (signed volume %g): are its triangles wound inward?",
+                        ldexp(volume, 3 * frame->exponent));
+  }
+  return true;
 }

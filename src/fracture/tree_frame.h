@@ -26,3 +26,6 @@ void bk_tree_frame_to_world(bk_tree_frame frame, bk_mesh* mesh);
 bk_moments bk_tree_frame_moments_to_world(bk_tree_frame frame, bk_moments local);
 /// A local plane as the world plane.
 bk_plane bk_tree_frame_plane_to_world(bk_tree_frame frame, bk_plane local);
+/// The frame of a source and a copy of it in that frame (`root`,
+/// overwritten); false (nothing allocated) when it encloses no volume.
+bool bk_tree_frame_local_source(const bk_mesh* source, bk_tree_frame* frame, bk_mesh* root, bk_error* err);
