@@ -12,22 +12,7 @@
 #define RUN_STDERR_PATH BK_TEST_TMP "/cli_stderr.txt"
 #include "run_exe.h"
 
-static void write_file(const char* name, const char* text) {
-  char path[512];
-  snprintf(path, sizeof path, "%s/%s", BK_TEST_TMP, name);
-  FILE* f = fopen(path, "wb");
-  ENSURE(f != NULL);
-  fputs(text, f);
-  fclose(f);
-}
-
-static double json_number(const char* json, const char* key) {
-  char pattern[64];
-  snprintf(pattern, sizeof pattern, "\"%s\": ", key);
-  const char* at = strstr(json, pattern);
-  ENSURE_MSG(at != NULL, "key %s missing in %s", key, json);
-  return strtod(at + strlen(pattern), NULL);
-}
+#include "cli_util.h"
 
 static void test_help(void) {
   run_result* r = run("--help");
@@ -98,15 +83,6 @@ static void test_same_seed_same_file(void) {
   ENSURE(run("fracture --mesh eggshell --pieces 32 --seed 5 --out '" BK_TEST_TMP "/s3.mtree'")->status == 0);
   ENSURE(system("cmp -s '" BK_TEST_TMP "/s1.mtree' '" BK_TEST_TMP "/s2.mtree'") == 0);
   ENSURE(system("cmp -s '" BK_TEST_TMP "/s1.mtree' '" BK_TEST_TMP "/s3.mtree'") != 0);
-}
-
-static void expect_error(const char* args, int status, const char* message) {
-  run_result* r = run(args);
-  ENSURE_MSG(r->status == status, "'%s' exited %d, expected %d (%s)", args, r->status, status, r->err);
-  ENSURE_MSG(strstr(r->err, message) != NULL, "'%s': expected '%s' in: %s", args, message, r->err);
-  // One line, naming the problem.
-  const char* newline = strchr(r->err, '\n');
-  ENSURE_MSG(newline && newline[1] == 0, "'%s': error is not one line: %s", args, r->err);
 }
 
 static void test_errors(void) {

@@ -14,33 +14,7 @@
 #define RUN_STDERR_PATH BK_TEST_TMP "/cli_patterns_stderr.txt"
 #include "run_exe.h"
 
-static void write_file(const char* name, const char* text) {
-  char path[512];
-  snprintf(path, sizeof path, "%s/%s", BK_TEST_TMP, name);
-  FILE* f = fopen(path, "wb");
-  ENSURE(f != NULL);
-  fputs(text, f);
-  fclose(f);
-}
-
-static double json_number(const char* json, const char* key) {
-  char pattern[64];
-  snprintf(pattern, sizeof pattern, "\"%s\": ", key);
-  const char* at = strstr(json, pattern);
-  ENSURE_MSG(at != NULL, "key %s missing in %s", key, json);
-  char* end = NULL;
-  double value = strtod(at + strlen(pattern), &end);
-  ENSURE_MSG(end != at + strlen(pattern), "key %s is not a number in %s", key, json);
-  return value;
-}
-
-static void expect_error(const char* args, int status, const char* message) {
-  run_result* r = run(args);
-  ENSURE_MSG(r->status == status, "'%s' exited %d, expected %d (%s)", args, r->status, status, r->err);
-  ENSURE_MSG(strstr(r->err, message) != NULL, "'%s': expected '%s' in: %s", args, message, r->err);
-  const char* newline = strchr(r->err, '\n');
-  ENSURE_MSG(newline && newline[1] == 0, "'%s': error is not one line: %s", args, r->err);
-}
+#include "cli_util.h"
 
 // Every option is described with the default bk_default_fracture_def gives.
 static void test_help(void) {

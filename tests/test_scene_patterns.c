@@ -14,15 +14,9 @@
 #define RUN_STDERR_PATH BK_TEST_TMP "/scene_patterns_stderr.txt"
 #include "run_exe.h"
 
-#define CACHE BK_TEST_TMP "/scene_patterns_cache"
+#include "cli_util.h"
 
-static double json_number(const char* json, const char* key) {
-  char pattern[64];
-  snprintf(pattern, sizeof pattern, "\"%s\": ", key);
-  const char* at = strstr(json, pattern);
-  ENSURE_MSG(at != NULL, "key %s missing in %s", key, json);
-  return strtod(at + strlen(pattern), NULL);
-}
+#define CACHE BK_TEST_TMP "/scene_patterns_cache"
 
 static const bk_scene_object* find_object(const char* scene, const char* mesh) {
   const bk_scene* s = bk_scene_find(scene);
