@@ -13,49 +13,44 @@
 /// map to about one sample spacing).
 #define CUTOUT_SAMPLES 3000.0
 
+// Breadth first from the queued pixels: each gives its label to its
+// unlabelled 4-neighbours (only to pixels below 128 when `open_only`).
+static void grow(const uint8_t* px, uint32_t w, uint32_t h, bool open_only, uint32_t* label, uint32_t* queue,
+                 size_t tail) {
+  static const int dx[4] = {1, -1, 0, 0}, dy[4] = {0, 0, 1, -1};
+  for (size_t head = 0; head < tail;) {
+    uint32_t at = queue[head++], x = at % w, y = at / w;
+    for (int k = 0; k < 4; ++k) {
+      int nx = (int)x + dx[k], ny = (int)y + dy[k];
+      if (nx < 0 || ny < 0 || nx >= (int)w || ny >= (int)h) continue;
+      uint32_t o = (uint32_t)ny * w + (uint32_t)nx;
+      if (label[o] != UINT32_MAX || (open_only && px[o] >= 128)) continue;
+      label[o] = label[at];
+      queue[tail++] = o;
+    }
+  }
+}
+
 // Labels every pixel with its region: flood fill of the non-line pixels,
 // then the line pixels from their nearest labelled neighbour (breadth
-// first, so each takes the region it is closest to). Returns the count.
+// first from every region at once, so each takes the region it is closest
+// to). Returns the count.
 static uint32_t label_regions(const uint8_t* px, uint32_t w, uint32_t h, uint32_t* label) {
   size_t n = (size_t)w * h;
   uint32_t* queue = bk_alloc(sizeof(uint32_t) * n);
   for (size_t i = 0; i < n; ++i)
     label[i] = UINT32_MAX;
   uint32_t regions = 0;
-  static const int dx[4] = {1, -1, 0, 0}, dy[4] = {0, 0, 1, -1};
   for (size_t start = 0; start < n; ++start) {
     if (px[start] >= 128 || label[start] != UINT32_MAX) continue;
-    size_t head = 0, tail = 0;
-    queue[tail++] = (uint32_t)start;
-    label[start] = regions;
-    while (head < tail) {
-      uint32_t at = queue[head++], x = at % w, y = at / w;
-      for (int k = 0; k < 4; ++k) {
-        int nx = (int)x + dx[k], ny = (int)y + dy[k];
-        if (nx < 0 || ny < 0 || nx >= (int)w || ny >= (int)h) continue;
-        uint32_t o = (uint32_t)ny * w + (uint32_t)nx;
-        if (px[o] >= 128 || label[o] != UINT32_MAX) continue;
-        label[o] = regions;
-        queue[tail++] = o;
-      }
-    }
-    regions++;
+    label[start] = regions++;
+    queue[0] = (uint32_t)start;
+    grow(px, w, h, true, label, queue, 1);
   }
-  // Line pixels: grown into from every region at once.
-  size_t head = 0, tail = 0;
+  size_t tail = 0;
   for (size_t i = 0; i < n; ++i)
     if (label[i] != UINT32_MAX) queue[tail++] = (uint32_t)i;
-  while (head < tail) {
-    uint32_t at = queue[head++], x = at % w, y = at / w;
-    for (int k = 0; k < 4; ++k) {
-      int nx = (int)x + dx[k], ny = (int)y + dy[k];
-      if (nx < 0 || ny < 0 || nx >= (int)w || ny >= (int)h) continue;
-      uint32_t o = (uint32_t)ny * w + (uint32_t)nx;
-      if (label[o] != UINT32_MAX) continue;
-      label[o] = label[at];
-      queue[tail++] = o;
-    }
-  }
+  grow(px, w, h, false, label, queue, tail);
   free(queue);
   return regions;
 }

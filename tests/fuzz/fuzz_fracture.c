@@ -87,8 +87,8 @@ int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (bk_mesh_tree_build(&mesh, &desc, &tree, &err)) {
     check_tree(&tree, desc.pieces, desc.seed);
     if (tree.leaf_count != desc.pieces)
-      bk_fuzz_fail("--pattern %s --pieces %u: made %u pieces", bk_fracture_pattern_name(desc.pattern), desc.pieces,
-                   tree.leaf_count);
+      bk_fuzz_fail("--pattern %s --pieces %u: made %u pieces", bk_fracture_pattern_name(desc.pattern),
+                   desc.pieces, tree.leaf_count);
     bk_mesh_tree_free(&tree);
   }
   bk_mesh_free(&mesh);
