@@ -17,17 +17,22 @@
 
 // A cube of side 2 centred at (3, -2, 5): the tree's origin, the centroids and
 // the node translations are all different from each other.
-static void build_tree(uint32_t pieces, bk_mesh_tree* tree) {
+static void build_pattern_tree(uint32_t pieces, bk_fracture_pattern pattern, bk_mesh_tree* tree) {
   bk_mesh cube = {0};
   bk_shape_build(BK_SHAPE_CUBE, &cube);
   for (uint32_t i = 0; i < cube.position_count; ++i)
     cube.positions[i] = bk_v3_add(bk_v3_scale(cube.positions[i], 2.0), bk_v3(3, -2, 5));
   bk_fracture_def desc = bk_default_fracture_def();
   desc.pieces = pieces;
+  desc.pattern = pattern;
   bk_error err = {{0}};
   ENSURE_MSG(bk_mesh_tree_build(&cube, &desc, tree, &err), "%s", err.message);
   bk_mesh_free(&cube);
   ENSURE(tree->leaf_count == pieces && tree->bond_count > 0);
+}
+
+static void build_tree(uint32_t pieces, bk_mesh_tree* tree) {
+  build_pattern_tree(pieces, BK_PATTERN_PLANES, tree);
 }
 
 static uint8_t* read_all(const char* path, size_t* size) {
@@ -308,7 +313,7 @@ static void check_export(const bk_mesh_tree* tree, const char* path, bool glb, b
   ENSURE(number_at(&p, last, 2) == tree->bonds[tree->bond_count - 1].area);
   ENSURE(number_at(&p, last, 8) == tree->bonds[tree->bond_count - 1].normal.z);
   uint32_t fracture = get(&p, ours, "fracture");
-  ENSURE(bk_json_string_is(d, get(&p, fracture, "pattern"), "planes"));
+  ENSURE(bk_json_string_is(d, get(&p, fracture, "pattern"), bk_fracture_pattern_name(tree->desc.pattern)));
   ENSURE(get_uint(&p, fracture, "pieces") == tree->desc.pieces &&
          get_uint(&p, fracture, "seed") == tree->desc.seed);
   ENSURE(get_uint(&p, ours, "node_count") == tree->node_count);
@@ -362,6 +367,13 @@ static void test_exports(void) {
   ENSURE(a_size == b_size && memcmp(a, b, a_size) == 0);
   free(a);
   free(b);
+  bk_mesh_tree_free(&tree);
+  // A Voronoi tree (inner nodes are groups of cells; its pattern is recorded).
+  build_pattern_tree(16, BK_PATTERN_VORONOI, &tree);
+  const char* voronoi = BK_TEST_TMP "/cube16_voronoi.glb";
+  ENSURE_MSG(bk_mesh_tree_save_gltf(&tree, voronoi, NULL, &err), "%s", err.message);
+  check_export(&tree, voronoi, true, BK_GLTF_LEVELS_ALL, 1);
+  round_trip(&tree, voronoi);
   bk_mesh_tree_free(&tree);
 }
 

@@ -220,8 +220,9 @@ static void write_asset_extras(text_buffer* t, const export_state* s) {
             def->levels == BK_GLTF_LEVELS_LEAVES ? "leaves" : "all", tree->node_count, tree->leaf_count,
             tree->max_depth);
   bk_tb_doubles(t, (const double[3]){origin.x, origin.y, origin.z}, 3);
-  bk_tb_fmt(t, ",\"fracture\":{\"pattern\":\"planes\",\"pieces\":%u,\"seed\":%llu,\"texture_scale\":",
-            tree->desc.pieces, (unsigned long long)tree->desc.seed);
+  bk_tb_fmt(t, ",\"fracture\":{\"pattern\":\"%s\",\"pieces\":%u,\"seed\":%llu,\"texture_scale\":",
+            bk_fracture_pattern_name(tree->desc.pattern), tree->desc.pieces,
+            (unsigned long long)tree->desc.seed);
   bk_tb_double(t, tree->desc.texture_scale);
   bk_tb_raw(t, ",\"jitter\":");
   bk_tb_double(t, tree->desc.jitter);
