@@ -35,6 +35,19 @@ static void build_tree(uint32_t pieces, bk_mesh_tree* tree) {
   build_pattern_tree(pieces, BK_PATTERN_PLANES, tree);
 }
 
+static void build_noisy_voronoi_tree(uint32_t pieces, bk_mesh_tree* tree) {
+  bk_mesh torus = {0};
+  bk_shape_build(BK_SHAPE_TORUS, &torus);
+  bk_fracture_def desc = bk_default_fracture_def();
+  desc.pieces = pieces;
+  desc.pattern = BK_PATTERN_VORONOI;
+  desc.noise_amplitude = 0.02;
+  bk_error err = {{0}};
+  ENSURE_MSG(bk_mesh_tree_build(&torus, &desc, tree, &err), "%s", err.message);
+  bk_mesh_free(&torus);
+  ENSURE(tree->leaf_count == pieces);
+}
+
 static uint8_t* read_all(const char* path, size_t* size) {
   void* data = NULL;
   bk_error err = {{0}};
@@ -710,6 +723,13 @@ static int export_for_js(const char* dir) {
   }
   free(png);
   free(interior);
+  bk_mesh_tree_free(&tree);
+  // A noisy Voronoi tree: inner nodes are groups of cells, cut faces curved.
+  build_noisy_voronoi_tree(48, &tree);
+  snprintf(path, sizeof path, "%s/voronoi48.glb", dir);
+  ENSURE_MSG(bk_mesh_tree_save_gltf(&tree, path, NULL, &err), "%s", err.message);
+  printf("%s --nodes %u --leaves %u --meshes %u --materials 2\n", path, tree.node_count, tree.leaf_count,
+         tree.node_count);
   bk_mesh_tree_free(&tree);
   return 0;
 }
