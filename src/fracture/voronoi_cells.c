@@ -31,9 +31,11 @@ void bk_cell_complex_init(bk_cell_complex* cx, const bk_mesh* source, const bk_v
   }
   // A margin keeps every box plane clear of the source, so no box face ever
   // meets the solid and the box's corners are known to lie outside it.
-  bk_vec3 margin = bk_v3_scale(bk_v3_sub(box.max, box.min), 0.125);
-  double pad = 0.125 * fmax(margin.x, fmax(margin.y, margin.z)) + 1e-3;
-  margin = bk_v3_add(margin, bk_v3(pad, pad, pad));
+  // It is kept small: a cell on the outside reaches to the box, and the
+  // farther it reaches, the more seeds may cut it.
+  bk_vec3 extent = bk_v3_sub(box.max, box.min);
+  double pad = 0.02 * fmax(extent.x, fmax(extent.y, extent.z)) + 1e-3;
+  bk_vec3 margin = bk_v3(pad, pad, pad);
   cx->box = (bk_aabb){bk_v3_sub(box.min, margin), bk_v3_add(box.max, margin)};
   cx->slot_mask = 1023;
   cx->slots = bk_calloc(cx->slot_mask + 1, sizeof(uint32_t));
