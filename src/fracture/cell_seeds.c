@@ -46,10 +46,16 @@ typedef struct gap_grid {
   uint32_t capacity;
 } gap_grid;
 
+// A grid coordinate, wrapped to 21 bits (a far point only shares a bucket,
+// its distance is still checked); clamped first so no cast overflows.
+static uint64_t gap_coord(double v, double cell, int d) {
+  double c = floor(v / cell);
+  c = c > 1e15 ? 1e15 : (c < -1e15 ? -1e15 : (c == c ? c : 0.0));
+  return (uint64_t)((int64_t)c + d) & 0x1fffff;
+}
+
 static uint64_t gap_key(const gap_grid* g, bk_vec3 p, int dx, int dy, int dz) {
-  int64_t x = (int64_t)floor(p.x / g->cell) + dx, y = (int64_t)floor(p.y / g->cell) + dy,
-          z = (int64_t)floor(p.z / g->cell) + dz;
-  return ((uint64_t)(x & 0x1fffff) << 42) | ((uint64_t)(y & 0x1fffff) << 21) | (uint64_t)(z & 0x1fffff);
+  return gap_coord(p.x, g->cell, dx) << 42 | gap_coord(p.y, g->cell, dy) << 21 | gap_coord(p.z, g->cell, dz);
 }
 
 static void gap_add(gap_grid* g, const bk_vec3* points, uint32_t i) {
@@ -210,6 +216,7 @@ uint32_t bk_cell_seeds(const bk_mesh* m, const bk_fracture_def* d, bk_vec3 origi
   // neighbourhood, a chunk's border band, chance) makes pieces so small
   // that a physics engine cannot rest them (they jitter awake for ever).
   double gap = BK_CELL_SEED_GAP * cbrt(fmax(bk_mesh_volume(m), 0.0) / d->pieces);
+  if (!(gap > 1e-9 * largest)) gap = 0.0; // a sliver of a source: no gap to keep
   bool ok = true;
   switch (d->pattern) {
   case BK_PATTERN_CLUSTERED: {
