@@ -46,13 +46,15 @@ is_installed() {
   return 1
 }
 
-# The npm packages of the glTF checks (tests/js: gltf-validator, three, pinned
-# by tests/js/package-lock.json), installed into tests/js/node_modules
+# The npm packages of the glTF checks and the Manifold comparison (tests/js:
+# gltf-validator, three, manifold-3d, pinned by tests/js/package-lock.json),
+# installed into tests/js/node_modules
 # (git-ignored) when missing: the build and the tests never download.
 install_js_packages() {
   local js
   js="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)/tests/js"
-  if [[ -d "$js/node_modules/gltf-validator" && -d "$js/node_modules/three" ]]; then
+  if [[ -d "$js/node_modules/gltf-validator" && -d "$js/node_modules/three" &&
+    -d "$js/node_modules/manifold-3d" ]]; then
     return 0
   fi
   echo "setup: installing the npm packages of tests/js (npm ci)"
