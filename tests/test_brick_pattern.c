@@ -11,6 +11,7 @@
 
 #include "bk_fracture.h"
 #include "ensure.h"
+#include "tree_bytes.h"
 
 // World units: a point within this of a bond plane lies on it.
 #define ON_PLANE 1e-9
@@ -241,14 +242,7 @@ static void ensure_bonds_touch(const bk_mesh_tree* tree) {
 }
 
 static void ensure_same_bytes(const bk_mesh_tree* a, const bk_mesh_tree* b) {
-  uint8_t *bytes_a = NULL, *bytes_b = NULL;
-  size_t size_a = 0, size_b = 0;
-  bk_error err = {0};
-  ENSURE_MSG(bk_mesh_tree_save_memory(a, "a", &bytes_a, &size_a, &err), "%s", err.message);
-  ENSURE_MSG(bk_mesh_tree_save_memory(b, "b", &bytes_b, &size_b, &err), "%s", err.message);
-  ENSURE(size_a == size_b && memcmp(bytes_a, bytes_b, size_a) == 0);
-  free(bytes_a);
-  free(bytes_b);
+  ENSURE(trees_same_bytes(a, b));
 }
 
 // One build of the wall checked whole: sound, cut along the bond, and its

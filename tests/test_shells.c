@@ -9,6 +9,7 @@
 
 #include "bk_fracture.h"
 #include "ensure.h"
+#include "tree_bytes.h"
 
 // An axis-aligned box from `lo` to `hi`.
 static void box_mesh(bk_mesh* m, bk_vec3 lo, bk_vec3 hi) {
@@ -66,14 +67,7 @@ static void ensure_sound(const bk_mesh_tree* tree, const bk_mesh* source) {
 // The same seed gives the same tree, byte for byte.
 static void ensure_deterministic(const bk_mesh* source, uint32_t pieces) {
   bk_mesh_tree a = build(source, pieces, 77), b = build(source, pieces, 77);
-  uint8_t *bytes_a = NULL, *bytes_b = NULL;
-  size_t size_a = 0, size_b = 0;
-  bk_error err = {0};
-  ENSURE(bk_mesh_tree_save_memory(&a, "a", &bytes_a, &size_a, &err));
-  ENSURE(bk_mesh_tree_save_memory(&b, "b", &bytes_b, &size_b, &err));
-  ENSURE(size_a == size_b && memcmp(bytes_a, bytes_b, size_a) == 0);
-  free(bytes_a);
-  free(bytes_b);
+  ENSURE(trees_same_bytes(&a, &b));
   bk_mesh_tree_free(&a);
   bk_mesh_tree_free(&b);
 }
