@@ -156,7 +156,7 @@ static void test_pattern_errors(void) {
   expect_error("fracture --pattern radial --clusters 3", 2, "--clusters needs --pattern clustered");
   expect_error("fracture --brick-offset 0.25", 2, "--brick-offset needs --pattern brick");
   expect_error("fracture --pattern brick --noise 0.1", 2,
-               "--noise needs --pattern voronoi, clustered or radial (the pattern is brick)");
+               "--noise needs --pattern voronoi, clustered, radial or cutout (the pattern is brick)");
   expect_error("fracture --cutout-axis x", 2, "--cutout-axis needs --pattern cutout");
   expect_error("fracture --pattern cutout", 2, "--pattern cutout needs --cutout FILE.png");
   // Values are read strictly and within the ranges --help states.

@@ -209,3 +209,7 @@ bool bk_impact_run(const bk_impact* setup, bk_impact_result* out, bk_error* err)
 /// An option's text as it can be shown in a one-line message: control
 /// characters as \xNN, long text cut short with "...".
 void bk_quote_text(const char* text, char* out, size_t size);
+
+/// Appends name number `index` of `count` to a list in out ("a", "a or b",
+/// "a, b or c"); returns the new length (at most size - 1 is written).
+size_t bk_append_name(char* out, size_t size, size_t used, uint32_t index, uint32_t count, const char* name);

@@ -191,3 +191,10 @@ double bk_median(double* values, uint32_t count) {
   qsort(values, count, sizeof(double), compare_double);
   return count % 2 ? values[count / 2] : 0.5 * (values[count / 2 - 1] + values[count / 2]);
 }
+
+size_t bk_append_name(char* out, size_t size, size_t used, uint32_t index, uint32_t count, const char* name) {
+  if (used >= size) return used;
+  int n =
+      snprintf(out + used, size - used, "%s%s", index == 0 ? "" : (index + 1 == count ? " or " : ", "), name);
+  return n < 0 ? used : used + (size_t)n;
+}

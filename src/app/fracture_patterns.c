@@ -33,7 +33,8 @@ typedef enum option_kind {
 
 #define PATTERN(p) (1u << (p))
 #define NOISE_PATTERNS                                                                                       \
-  (PATTERN(BK_PATTERN_VORONOI) | PATTERN(BK_PATTERN_CLUSTERED) | PATTERN(BK_PATTERN_RADIAL))
+  (PATTERN(BK_PATTERN_VORONOI) | PATTERN(BK_PATTERN_CLUSTERED) | PATTERN(BK_PATTERN_RADIAL) |                \
+   PATTERN(BK_PATTERN_CUTOUT))
 #define FIELD(f) offsetof(bk_fracture_def, f)
 
 typedef struct pattern_option {
@@ -98,11 +99,12 @@ static const pattern_option options_table[] = {
     {"--cutout-axis", "x|y|z", KIND_AXIS, PATTERN(BK_PATTERN_CUTOUT), FIELD(cutout_axis), 0, 2,
      "cutout: the axis the map is projected along (default: {default})"},
     {"--noise", "AMPLITUDE", KIND_NUMBER, NOISE_PATTERNS, FIELD(noise_amplitude), 0, BK_FRACTURE_MAX_SIZE,
-     "voronoi, clustered, radial: cut faces are displaced by\n"
+     "voronoi, clustered, radial, cutout: cut faces are displaced by\n"
      "coherent noise of this amplitude, in source units, {range}\n"
      "(0 = flat; default: {default})"},
     {"--noise-frequency", "F", KIND_NUMBER, NOISE_PATTERNS, FIELD(noise_frequency), 0, BK_FRACTURE_MAX_SIZE,
-     "voronoi, clustered, radial: noise waves per source unit,\n"
+     "voronoi, clustered, radial, cutout: noise waves per source\n"
+     "unit, "
      "{range}, not 0 (default: {default})"},
     {"--threads", "N", KIND_COUNT, 0, FIELD(threads), 0, 1024,
      "threads the fracture may use, {range} (0 = every core; the\n"
@@ -140,20 +142,15 @@ void bk_app_json_number(FILE* out, double value) {
 
 // "radial", "voronoi, clustered or radial": the patterns of a PATTERN mask.
 static void patterns_of(uint32_t patterns, char* out, size_t size) {
-  int total = 0, written = 0;
+  uint32_t total = 0, written = 0;
   for (int p = 0; p < BK_PATTERN_COUNT; ++p)
     total += (patterns >> p) & 1;
   size_t used = 0;
   out[0] = 0;
-  for (int p = 0; p < BK_PATTERN_COUNT && used < size; ++p) {
-    if (!((patterns >> p) & 1)) continue;
-    ++written;
-    used += (size_t)snprintf(out + used, size - used, "%s%s",
-                             written == 1       ? ""
-                             : written == total ? " or "
-                                                : ", ",
-                             bk_fracture_pattern_name((bk_fracture_pattern)p));
-  }
+  for (int p = 0; p < BK_PATTERN_COUNT; ++p)
+    if ((patterns >> p) & 1)
+      used =
+          bk_append_name(out, size, used, written++, total, bk_fracture_pattern_name((bk_fracture_pattern)p));
 }
 
 static void field_text(const pattern_option* o, const bk_fracture_def* def, char* out, size_t size) {

@@ -3,6 +3,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "app.h"
 #include "scenes.h"
 
 static const bk_scene scenes[] = {
@@ -149,12 +150,10 @@ bool bk_scene_check_material(const char* material, bk_error* err) {
 bool bk_scene_pattern_from_name(const char* name, bk_fracture_pattern* pattern, bk_error* err) {
   if (bk_fracture_pattern_from_name(name, pattern)) return true;
   char names[200] = {0};
-  for (int i = 0; i < BK_PATTERN_COUNT; ++i)
-    snprintf(names + strlen(names), sizeof names - strlen(names), "%s%s",
-             i == 0                      ? ""
-             : i + 1 == BK_PATTERN_COUNT ? " or "
-                                         : ", ",
-             bk_fracture_pattern_name((bk_fracture_pattern)i));
+  size_t used = 0;
+  for (uint32_t i = 0; i < BK_PATTERN_COUNT; ++i)
+    used = bk_append_name(names, sizeof names, used, i, BK_PATTERN_COUNT,
+                          bk_fracture_pattern_name((bk_fracture_pattern)i));
   return bk_error_set(err, "unknown pattern '%s': use %s", name, names);
 }
 
@@ -179,12 +178,9 @@ uint32_t bk_scene_resolve(const char* scene_name, bool scene_given, const char* 
   for (uint32_t i = 0; i < BUILT_IN; ++i)
     if (strcmp(scenes[i].name, scene_name) == 0) return i;
   char names[200] = {0};
+  size_t used = 0;
   for (uint32_t i = 0; i < BUILT_IN; ++i)
-    snprintf(names + strlen(names), sizeof names - strlen(names), "%s%s",
-             i == 0              ? ""
-             : i + 1 == BUILT_IN ? " or "
-                                 : ", ",
-             scenes[i].name);
+    used = bk_append_name(names, sizeof names, used, i, BUILT_IN, scenes[i].name);
   return bk_error_set(err, "unknown scene '%s': use %s", scene_name, names), UINT32_MAX;
 }
 
