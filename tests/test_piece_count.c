@@ -13,6 +13,7 @@
 
 #include "bk_fracture.h"
 #include "ensure.h"
+#include "plane_split.h"
 #include "tree_bytes.h"
 
 static const uint64_t seeds[] = {1, 77, 3000, 424242};
@@ -332,6 +333,66 @@ static void test_merge_order(void) {
   bk_mesh_free(&pieces[1]);
 }
 
+static bool same_pieces(const bk_plane_split* a, const bk_plane_split* b) {
+  if (a->count != b->count || memcmp(&a->plane, &b->plane, sizeof a->plane) != 0) return false;
+  for (uint32_t i = 0; i < a->count; ++i) {
+    const bk_mesh *x = &a->pieces[i], *y = &b->pieces[i];
+    if (x->position_count != y->position_count || x->triangle_count != y->triangle_count ||
+        memcmp(x->positions, y->positions, sizeof(bk_vec3) * x->position_count) != 0 ||
+        memcmp(x->indices, y->indices, sizeof(uint32_t) * 3 * x->triangle_count) != 0)
+      return false;
+  }
+  return true;
+}
+
+// The threaded build splits leaves ahead with room for the pieces the tree
+// could take then, and keeps such a split when its pieces fit what is left
+// when it is taken (else makes it again). That is sound only if a split made
+// with room for more, when it fits, is the split made with less room:
+// checked on a comb, whose cuts often cross several teeth, for several
+// nodes and seeds, with every room from 2 to 5.
+static void test_split_room(void) {
+  bk_mesh comb = {0};
+  comb_shape(&comb, 6);
+  bk_tree_frame frame = {0};
+  bk_mesh local = {0};
+  bk_error err = {0};
+  ENSURE_MSG(bk_tree_frame_local_source(&comb, &frame, &local, &err), "%s", err.message);
+  bk_label_planar_faces(&local);
+  bk_mesh_tree_node node = {
+      .mesh = local, .bounds = bk_mesh_bounds(&local), .moments = bk_mesh_moments(&local)};
+  bk_plane_splitter* splitter = bk_plane_splitter_create();
+  uint32_t fitted = 0, made_again = 0;
+  for (uint64_t seed = 1; seed <= 12; ++seed)
+    for (uint32_t index = 0; index < 3; ++index) {
+      bk_fracture_def desc = bk_default_fracture_def();
+      desc.seed = seed;
+      bk_plane_split_context ctx = {&desc, &frame, NULL};
+      bk_plane_split roomy = {0};
+      bk_plane_split_node(splitter, &ctx, &node, index, UINT32_MAX, &roomy);
+      ENSURE(roomy.count >= 2);
+      for (uint32_t room = 2; room <= 5; ++room) {
+        bk_plane_split tight = {0};
+        bk_plane_split_node(splitter, &ctx, &node, index, room, &tight);
+        ENSURE(tight.count >= 2 && tight.count <= room);
+        if (roomy.count <= room) {
+          ENSURE_MSG(same_pieces(&roomy, &tight), "seed %llu node %u room %u: another split",
+                     (unsigned long long)seed, index, room);
+          fitted++;
+        } else {
+          made_again++;
+        }
+        bk_plane_split_free(&tight);
+      }
+      bk_plane_split_free(&roomy);
+    }
+  ENSURE_MSG(fitted > 0 && made_again > 0, "%u fitted, %u made again: both cases must occur", fitted,
+             made_again);
+  bk_plane_splitter_destroy(splitter);
+  bk_mesh_free(&local);
+  bk_mesh_free(&comb);
+}
+
 int main(void) {
   RUN(test_merge_order);
   RUN(test_torus);
@@ -339,6 +400,7 @@ int main(void) {
   RUN(test_comb);
   RUN(test_separate_shells);
   RUN(test_overlapping_shells);
+  RUN(test_split_room);
   ENSURE_MSG(multi_shell_leaves > 0, "no leaf was made of several shells");
   fprintf(stderr, "  %u leaves made of several shells\n", multi_shell_leaves);
   puts("test_piece_count: ok");

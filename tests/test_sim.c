@@ -442,9 +442,11 @@ static void test_many_breaks(void) {
     bk_world_breakable_def desc = bk_default_world_breakable_def();
     desc.breakable.transform.position = bk_v3(0, 0.5, 0);
     add(world, &tree, desc);
-    // Knock out bonds one region at a time: 30 times a bond's hit points at s_min from its centroid.
+    // Knock out every bond, one at a time from a different one each round:
+    // 30 times a bond's hit points at s_min from its centroid.
     double s_min = bk_default_world_def().damage_min_distance;
-    for (uint32_t bond = (uint32_t)round % 3; bond < tree.bond_count; bond += 2) {
+    for (uint32_t k = 0; k < tree.bond_count; ++k) {
+      uint32_t bond = (k + 7u * (uint32_t)round) % tree.bond_count;
       double initial = 0.0;
       bk_world_bond_health(world, (bk_breakable_id){0, 1}, bond, &initial);
       bk_world_impact(world, bk_v3_add(tree.bonds[bond].centroid, bk_v3(0, 0.5, 0)),

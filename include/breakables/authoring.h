@@ -445,8 +445,10 @@ typedef struct bk_fracture_def {
   /// Noise frequency, in waves per source unit, > 0; default 8.
   double noise_frequency;
   /// Threads the build may use; 0 (the default) = every core. The tree is
-  /// byte-identical for any count. The cell patterns build their cells on
-  /// them; planes and brick still cut on the calling thread.
+  /// byte-identical for any count. Planes and brick split the largest
+  /// pieces ahead on them (each piece's random planes come from its own
+  /// stream); the cell patterns build their cells on them; bonds are found
+  /// on them. Progress is reported from the calling thread only.
   uint32_t threads;
 } bk_fracture_def;
 
@@ -521,6 +523,10 @@ typedef struct bk_fracture_overlap {
 
 /// How many planes are tried on a piece before it stays whole.
 #define BK_FRACTURE_SPLIT_ATTEMPTS 16
+/// The fracture's generation: raised whenever the same source and def make
+/// a different tree (2: the planes and brick patterns draw a random stream
+/// per piece). A cache of built trees keys on it, so it rebuilds them.
+#define BK_FRACTURE_GENERATION 2
 /// How far the pieces of one cut may miss their whole's volume, relative to
 /// it (trees are at most a few dozen levels deep, so the leaves of a tree add
 /// up to the source within 1e-9).

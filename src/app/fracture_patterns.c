@@ -108,8 +108,9 @@ static const pattern_option options_table[] = {
      "{range}, not 0 (default: {default})"},
     {"--threads", "N", KIND_COUNT, 0, FIELD(threads), 0, 1024,
      "threads the fracture may use, {range} (0 = every core; the\n"
-     "tree is the same for any count; the cell patterns use them,\n"
-     "planes and brick cut on one; default: {default})"},
+     "tree is the same for any count: planes and brick split\n"
+     "pieces ahead on them, the cell patterns build cells on them;\n"
+     "default: {default})"},
 };
 enum { OPTION_COUNT = sizeof options_table / sizeof options_table[0] };
 

@@ -127,6 +127,7 @@ static uint64_t stored_key(const bk_fracture_def* d) {
 
 uint64_t bk_app_fracture_key(const bk_fracture_def* d) {
   uint64_t key = stored_key(d);
+  key_u64(&key, BK_FRACTURE_GENERATION); // trees of an older build are made again
   // The arrays' contents are not in the file: only the name tells them apart.
   for (uint32_t i = 0; d->seed_points && i < d->seed_point_count; ++i)
     key_vec3(&key, d->seed_points[i]);

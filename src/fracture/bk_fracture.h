@@ -48,6 +48,11 @@ uint32_t bk_merge_pieces(bk_mesh* pieces, bk_moments* moments, uint32_t count, u
 /// and neighbours share their faces exactly), and inner nodes are groups of
 /// adjacent cells. `def` is validated and the source checked.
 bool bk_cell_tree_build(const bk_mesh* source, const bk_fracture_def* def, bk_mesh_tree* tree, bk_error* err);
+/// Builds the tree of the planes and brick patterns (leaves, nodes, planes
+/// and shortfall; the caller numbers the leaves and computes the bonds).
+/// `def` is validated and the source checked.
+bool bk_plane_tree_build(const bk_mesh* source, const bk_fracture_def* def, bk_mesh_tree* tree,
+                         bk_error* err);
 /// Numbers the leaves depth first (each subtree covers a contiguous range)
 /// and fills leaf_nodes, leaf_count and every node's leaf range.
 void bk_mesh_tree_number_leaves(bk_mesh_tree* tree);

@@ -5,8 +5,10 @@
 // gives the contact's area and centroid (not bounding-box overlap). A leaf's
 // cap on one cut is usually a single convex polygon, so it is clipped as one
 // piece; other caps are clipped triangle by triangle.
+#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "bk_fracture.h"
 
@@ -229,60 +231,43 @@ typedef struct bond_list {
   bk_bond* items;
   uint32_t count, capacity;
   bk_index_map index_of_pair;
+  bool raw; // every contact kept as met (a thread's share), merged later in cut order
 } bond_list;
+
+static void append_bond(bond_list* list, bk_bond bond) {
+  if (list->count == list->capacity) {
+    list->capacity = bk_grow_capacity(list->capacity, list->count + 1);
+    list->items = bk_realloc(list->items, sizeof(bk_bond) * list->capacity);
+  }
+  list->items[list->count++] = bond;
+}
 
 static void add_contact(bond_list* list, uint32_t below_leaf, uint32_t above_leaf, double area,
                         bk_vec3 centroid, bk_vec3 n) {
   uint32_t a = below_leaf < above_leaf ? below_leaf : above_leaf;
   uint32_t b = below_leaf < above_leaf ? above_leaf : below_leaf;
+  bk_bond bond = {a, b, area, centroid, a == below_leaf ? n : bk_v3_scale(n, -1.0)};
+  if (list->raw) {
+    append_bond(list, bond);
+    return;
+  }
   bool inserted = false;
   uint32_t* slot = bk_index_map_insert(&list->index_of_pair, bk_edge_key(a, b), list->count, &inserted);
   if (inserted) {
-    if (list->count == list->capacity) {
-      list->capacity = bk_grow_capacity(list->capacity, list->count + 1);
-      list->items = bk_realloc(list->items, sizeof(bk_bond) * list->capacity);
-    }
-    list->items[list->count++] = (bk_bond){a, b, area, centroid, a == below_leaf ? n : bk_v3_scale(n, -1.0)};
+    append_bond(list, bond);
     return;
   }
   // Same pair over a second cut (only in degenerate trees): merge by area.
-  bk_bond* bond = &list->items[*slot];
-  double total = bond->area + area;
-  bond->centroid =
-      bk_v3_add(bk_v3_scale(bond->centroid, bond->area / total), bk_v3_scale(centroid, area / total));
-  bond->area = total;
+  bk_bond* kept = &list->items[*slot];
+  double total = kept->area + area;
+  kept->centroid =
+      bk_v3_add(bk_v3_scale(kept->centroid, kept->area / total), bk_v3_scale(centroid, area / total));
+  kept->area = total;
 }
 
-void bk_mesh_tree_compute_bonds(bk_mesh_tree* tree) {
-  free(tree->bonds);
-  tree->bonds = NULL;
-  tree->bond_count = 0;
-  if (tree->leaf_count < 2) return;
-  if (bk_fracture_pattern_is_cellular(tree->desc.pattern)) {
-    bk_cell_tree_compute_bonds(tree);
-    return;
-  }
-
-  // Gather every cap triangle of every leaf, keyed by its cut and side.
-  uint32_t entry_count = 0, entry_capacity = 0;
-  cap_entry* entries = NULL;
-  for (uint32_t leaf = 0; leaf < tree->leaf_count; ++leaf) {
-    const bk_mesh* mesh = &bk_mesh_tree_leaf(tree, leaf)->mesh;
-    for (uint32_t t = 0; t < mesh->triangle_count; ++t) {
-      uint32_t tag = mesh->tags[t];
-      if (!bk_material_is_interior(mesh->materials[t]) || tag == 0 || tag > tree->node_count) continue;
-      bk_vec3 n = tree->nodes[tag - 1].plane.normal;
-      bk_vec3 a = mesh->positions[bk_mesh_tri_position(mesh, t, 0)];
-      bk_vec3 e = bk_v3_cross(bk_v3_sub(mesh->positions[bk_mesh_tri_position(mesh, t, 1)], a),
-                              bk_v3_sub(mesh->positions[bk_mesh_tri_position(mesh, t, 2)], a));
-      if (entry_count == entry_capacity) {
-        entry_capacity = bk_grow_capacity(entry_capacity, entry_count + 1);
-        entries = bk_realloc(entries, sizeof(cap_entry) * entry_capacity);
-      }
-      entries[entry_count++] = (cap_entry){tag - 1, bk_v3_dot(e, n) > 0.0 ? 0u : 1u, leaf, t};
-    }
-  }
-  if (entry_count > 1) qsort(entries, entry_count, sizeof(cap_entry), compare_entries);
+// The bonds made by the caps of entries [first, last) (whole cuts), into `list`.
+static void bond_cuts(const bk_mesh_tree* tree, const cap_entry* entries, uint32_t first, uint32_t last,
+                      bond_list* list) {
   // Plane coordinates are taken relative to the tree's origin, so a mesh far
   // from the world origin measures its contacts as precisely as one at it.
   bk_vec3 origin = bk_mesh_tree_origin(tree);
@@ -290,16 +275,19 @@ void bk_mesh_tree_compute_bonds(bk_mesh_tree* tree) {
   bk_aabb root_box = tree->nodes[0].bounds;
   bk_vec3 diag = bk_v3_sub(root_box.max, root_box.min);
   double min_area = 1e-12 * bk_v3_dot(diag, diag); // below this an overlap is rounding noise
-  bond_list list = {0};
-  bk_index_map_init(&list.index_of_pair, tree->leaf_count * 4u);
   scratch s = {0};
-  leaf_group* groups = bk_alloc(sizeof(leaf_group) * (entry_count + 1u));
-  uint32_t* active[2] = {bk_alloc(sizeof(uint32_t) * (entry_count + 1u)),
-                         bk_alloc(sizeof(uint32_t) * (entry_count + 1u))};
+  uint32_t most = 1; // entries of one cut at most
+  for (uint32_t begin = first, end = first; begin < last; begin = end) {
+    while (end < last && entries[end].cut == entries[begin].cut)
+      end++;
+    most = end - begin > most ? end - begin : most;
+  }
+  leaf_group* groups = bk_alloc(sizeof(leaf_group) * (most + 1u));
+  uint32_t* active[2] = {bk_alloc(sizeof(uint32_t) * (most + 1u)), bk_alloc(sizeof(uint32_t) * (most + 1u))};
 
-  for (uint32_t begin = 0; begin < entry_count;) {
+  for (uint32_t begin = first; begin < last;) {
     uint32_t cut = entries[begin].cut, end = begin;
-    while (end < entry_count && entries[end].cut == cut)
+    while (end < last && entries[end].cut == cut)
       end++;
     bk_vec3 n = tree->nodes[cut].plane.normal, u, v;
     bk_plane_basis(n, &u, &v);
@@ -362,7 +350,7 @@ void bk_mesh_tree_compute_bonds(bk_mesh_tree* tree) {
         double height = tree->nodes[cut].plane.offset - bk_v3_dot(n, origin);
         bk_vec3 centroid = bk_v3_add(bk_v3_add(origin, bk_v3_scale(n, height)),
                                      bk_v3_add(bk_v3_scale(u, cx / area), bk_v3_scale(v, cy / area)));
-        add_contact(&list, gb->leaf, ga->leaf, area, centroid, n);
+        add_contact(list, gb->leaf, ga->leaf, area, centroid, n);
       }
       active_count[1 - side] = kept;
       active[side][active_count[side]++] = (uint32_t)(g - groups);
@@ -377,6 +365,104 @@ void bk_mesh_tree_compute_bonds(bk_mesh_tree* tree) {
   free(groups);
   free(active[0]);
   free(active[1]);
+}
+
+// One thread's share of the cuts.
+typedef struct bond_job {
+  const bk_mesh_tree* tree;
+  const cap_entry* entries;
+  uint32_t first, last;
+  bond_list list;
+} bond_job;
+
+static void* bond_work(void* arg) {
+  bond_job* job = arg;
+  bond_cuts(job->tree, job->entries, job->first, job->last, &job->list);
+  return NULL;
+}
+
+// Bonds of every cut, on the tree's threads: each takes a run of whole cuts
+// (about equal entry counts) and keeps its contacts as met; they are joined
+// in cut order, so a pair met on several cuts is merged in the same order as
+// on one thread and the bonds are the same bit for bit.
+static void bond_all_cuts(const bk_mesh_tree* tree, const cap_entry* entries, uint32_t entry_count,
+                          bond_list* list) {
+  long cores = sysconf(_SC_NPROCESSORS_ONLN);
+  uint32_t threads = tree->desc.threads ? tree->desc.threads : (cores > 0 ? (uint32_t)cores : 1u);
+  uint32_t most = entry_count / 4096 > 1 ? entry_count / 4096 : 1; // small trees are not worth a thread
+  threads = threads < most ? threads : most;
+  threads = threads < 64 ? threads : 64;
+  if (threads <= 1) {
+    bond_cuts(tree, entries, 0, entry_count, list);
+    return;
+  }
+  bond_job* jobs = bk_calloc(threads, sizeof(bond_job));
+  pthread_t* ids = bk_calloc(threads, sizeof(pthread_t));
+  bool* started = bk_calloc(threads, sizeof(bool));
+  uint32_t at = 0;
+  for (uint32_t t = 0; t < threads; ++t) {
+    uint32_t end = t + 1 == threads ? entry_count : (uint32_t)((uint64_t)entry_count * (t + 1) / threads);
+    end = end < at ? at : end;
+    while (end > at && end < entry_count && entries[end].cut == entries[end - 1].cut)
+      end++; // whole cuts only
+    jobs[t] = (bond_job){tree, entries, at, end, {.raw = true}};
+    at = end;
+  }
+  for (uint32_t t = 1; t < threads; ++t)
+    started[t] = pthread_create(&ids[t], NULL, bond_work, &jobs[t]) == 0;
+  bond_work(&jobs[0]);
+  for (uint32_t t = 1; t < threads; ++t)
+    if (started[t])
+      pthread_join(ids[t], NULL);
+    else
+      bond_work(&jobs[t]); // no thread: made here
+  for (uint32_t t = 0; t < threads; ++t) {
+    for (uint32_t i = 0; i < jobs[t].list.count; ++i) {
+      const bk_bond* b = &jobs[t].list.items[i];
+      // add_contact's pair is (below, above); giving it (leaf_a, leaf_b) with
+      // the normal seen from leaf_a keeps the bond's orientation.
+      add_contact(list, b->leaf_a, b->leaf_b, b->area, b->centroid, b->normal);
+    }
+    free(jobs[t].list.items);
+  }
+  free(jobs);
+  free(ids);
+  free(started);
+}
+
+void bk_mesh_tree_compute_bonds(bk_mesh_tree* tree) {
+  free(tree->bonds);
+  tree->bonds = NULL;
+  tree->bond_count = 0;
+  if (tree->leaf_count < 2) return;
+  if (bk_fracture_pattern_is_cellular(tree->desc.pattern)) {
+    bk_cell_tree_compute_bonds(tree);
+    return;
+  }
+
+  // Gather every cap triangle of every leaf, keyed by its cut and side.
+  uint32_t entry_count = 0, entry_capacity = 0;
+  cap_entry* entries = NULL;
+  for (uint32_t leaf = 0; leaf < tree->leaf_count; ++leaf) {
+    const bk_mesh* mesh = &bk_mesh_tree_leaf(tree, leaf)->mesh;
+    for (uint32_t t = 0; t < mesh->triangle_count; ++t) {
+      uint32_t tag = mesh->tags[t];
+      if (!bk_material_is_interior(mesh->materials[t]) || tag == 0 || tag > tree->node_count) continue;
+      bk_vec3 n = tree->nodes[tag - 1].plane.normal;
+      bk_vec3 a = mesh->positions[bk_mesh_tri_position(mesh, t, 0)];
+      bk_vec3 e = bk_v3_cross(bk_v3_sub(mesh->positions[bk_mesh_tri_position(mesh, t, 1)], a),
+                              bk_v3_sub(mesh->positions[bk_mesh_tri_position(mesh, t, 2)], a));
+      if (entry_count == entry_capacity) {
+        entry_capacity = bk_grow_capacity(entry_capacity, entry_count + 1);
+        entries = bk_realloc(entries, sizeof(cap_entry) * entry_capacity);
+      }
+      entries[entry_count++] = (cap_entry){tag - 1, bk_v3_dot(e, n) > 0.0 ? 0u : 1u, leaf, t};
+    }
+  }
+  if (entry_count > 1) qsort(entries, entry_count, sizeof(cap_entry), compare_entries);
+  bond_list list = {0};
+  bk_index_map_init(&list.index_of_pair, tree->leaf_count * 4u);
+  bond_all_cuts(tree, entries, entry_count, &list);
   free(entries);
   bk_index_map_free(&list.index_of_pair);
   if (list.count > 1) qsort(list.items, list.count, sizeof(bk_bond), compare_bonds);

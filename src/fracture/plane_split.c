@@ -1,0 +1,215 @@
+// One split of the planes and brick patterns: random planes through the
+// piece's centroid (tilted towards its longest axis, shifted by the jitter)
+// until the pieces hold, or the brick bond's plane for a piece spanning
+// several bricks. Each node draws from its own generator, so the result
+// does not depend on which thread splits it or when.
+#include <stdlib.h>
+#include <string.h>
+
+#include "plane_split.h"
+
+struct bk_plane_splitter {
+  bk_slicer* slicer;
+  bk_face_simplifier* simplifier;
+};
+
+bk_plane_splitter* bk_plane_splitter_create(void) {
+  bk_slicer* slicer = bk_slicer_create();
+  if (!slicer) return NULL;
+  bk_plane_splitter* s = bk_alloc(sizeof *s);
+  s->slicer = slicer;
+  s->simplifier = bk_face_simplifier_create();
+  return s;
+}
+
+void bk_plane_splitter_destroy(bk_plane_splitter* s) {
+  if (!s) return;
+  bk_slicer_destroy(s->slicer);
+  bk_face_simplifier_destroy(s->simplifier);
+  free(s);
+}
+
+static void free_pieces(bk_mesh* pieces, uint32_t count) {
+  for (uint32_t i = 0; i < count; ++i)
+    bk_mesh_free(&pieces[i]);
+  free(pieces);
+}
+
+void bk_plane_split_free(bk_plane_split* split) {
+  free_pieces(split->pieces, split->count);
+  free(split->moments);
+  split->pieces = NULL;
+  split->moments = NULL;
+  split->count = 0;
+}
+
+// A cut holds when every piece is a closed solid and the pieces' volumes add
+// up to the whole's within 1e-11 of it. Rounding in cut points and
+// re-triangulated faces stays far below that (about 1e-15 on ordinary
+// pieces), while a cap that overlaps itself or a sliver whose sides crossed
+// after snapping to the plane is far above it. A tree is at most a few dozen
+// levels deep, so its leaves add up to the source within 1e-9.
+bool bk_plane_pieces_hold(const bk_mesh_tree_node* node, const bk_mesh* pieces, uint32_t count,
+                          bk_moments* moments, bk_split_failure* why) {
+  double sum = 0.0;
+  for (uint32_t i = 0; i < count; ++i) {
+    if (!bk_mesh_is_closed(&pieces[i])) {
+      *why = BK_SPLIT_NOT_CLOSED;
+      return false;
+    }
+    moments[i] = bk_mesh_moments(&pieces[i]);
+    double v = moments[i].v;
+    if (!(v > 0.0)) {
+      *why = BK_SPLIT_VOLUME_CHANGED;
+      return false;
+    }
+    sum += v;
+  }
+  if (!(fabs(sum - node->moments.v) <= BK_FRACTURE_SPLIT_VOLUME_TOLERANCE * node->moments.v)) {
+    *why = BK_SPLIT_VOLUME_CHANGED;
+    return false;
+  }
+  return true;
+}
+
+// Cuts a node by one plane (local frame) into the solid shells on each side,
+// their faces re-triangulated; returns how many, *below_count of them below
+// the plane, or 0 (nothing allocated) with *why set when the plane misses
+// the node or the pieces do not hold.
+static uint32_t cut_node(bk_plane_splitter* s, const bk_plane_split_context* ctx,
+                         const bk_mesh_tree_node* node, uint32_t node_index, bk_plane plane, bk_mesh** pieces,
+                         bk_moments** moments, uint32_t* below_count, bk_split_failure* why) {
+  const bk_fracture_def* d = ctx->def;
+  const bk_tree_frame* frame = ctx->frame;
+  bk_vec3 size = bk_v3_sub(node->bounds.max, node->bounds.min);
+  // Cap uvs are world plane coordinates over the tile size; the local
+  // origin's own uv (whole tiles dropped) keeps them so.
+  bk_vec3 u = {0}, v = {0};
+  bk_plane_basis(plane.normal, &u, &v);
+  double origin_u = bk_v3_dot(frame->origin, u) / d->texture_scale;
+  double origin_v = bk_v3_dot(frame->origin, v) / d->texture_scale;
+  bk_slice_def slice = {.plane = plane,
+                        .tolerance = 1e-9 * bk_v3_length(size),
+                        .texture_scale = ldexp(d->texture_scale, -frame->exponent),
+                        .uv_origin = {origin_u - floor(origin_u), origin_v - floor(origin_v)},
+                        .cap_tag = node_index + 1};
+  bk_mesh below = {0}, above = {0};
+  if (!bk_slicer_slice(s->slicer, &node->mesh, &slice, &below, &above, NULL)) {
+    *why = BK_SPLIT_CAP_FAILED;
+    return 0;
+  }
+  if (below.triangle_count == 0 || above.triangle_count == 0) {
+    bk_mesh_free(&below);
+    bk_mesh_free(&above);
+    *why = BK_SPLIT_MISSED;
+    return 0;
+  }
+  bk_mesh *below_hulls = NULL, *above_hulls = NULL;
+  *below_count = bk_mesh_split_hulls(&below, &below_hulls);
+  uint32_t above_count = bk_mesh_split_hulls(&above, &above_hulls);
+  uint32_t count = *below_count + above_count;
+  *pieces = bk_realloc(below_hulls, sizeof(bk_mesh) * count);
+  memcpy(*pieces + *below_count, above_hulls, sizeof(bk_mesh) * above_count);
+  free(above_hulls);
+  for (uint32_t i = 0; i < count; ++i)
+    bk_face_simplifier_run(s->simplifier, &(*pieces)[i]);
+  *moments = bk_realloc(*moments, sizeof(bk_moments) * count);
+  if (bk_plane_pieces_hold(node, *pieces, count, *moments, why)) return count;
+  free_pieces(*pieces, count);
+  *pieces = NULL;
+  return 0;
+}
+
+// Random planes through the centroid until one splits the node into pieces
+// that hold and are at most `allowed` (what the tree may still take without
+// passing the pieces asked for). When every cut that holds makes more (a
+// concave piece, or one of separate shells), the one with fewest is taken and
+// merged down to `allowed`. The first cut that holds and fits is taken at
+// once, so a result computed with a larger `allowed` is the same whenever it
+// fits the smaller one (the build relies on this to split ahead).
+static void split_random(bk_plane_splitter* s, const bk_plane_split_context* ctx,
+                         const bk_mesh_tree_node* node, uint32_t node_index, uint32_t allowed,
+                         bk_plane_split* out) {
+  const bk_fracture_def* d = ctx->def;
+  bk_rng rng = bk_rng_seed(d->seed, ((uint64_t)0x62726b62u << 32) | node_index);
+  bk_mass_properties mass = bk_moments_to_mass(node->moments);
+  bk_vec3 size = bk_v3_sub(node->bounds.max, node->bounds.min);
+  bk_vec3 longest = {0};
+  if (d->aspect_bias > 0.0) {
+    // The longest direction of the piece has the smallest moment of inertia.
+    double values[3], axes[3][3];
+    bk_sym3_eigen(mass.inertia, values, axes);
+    int k = values[0] <= values[1] && values[0] <= values[2] ? 0 : (values[1] <= values[2] ? 1 : 2);
+    longest = bk_v3(axes[0][k], axes[1][k], axes[2][k]);
+  }
+  // The cut that held with the fewest pieces, all more than allowed.
+  bk_plane_split fewest = {0};
+  uint32_t fewest_below = 0;
+  out->why = BK_SPLIT_MISSED;
+  for (int attempt = 0; attempt < BK_FRACTURE_SPLIT_ATTEMPTS; ++attempt) {
+    bk_vec3 n = bk_rng_direction(&rng);
+    if (d->aspect_bias > 0.0) {
+      bk_vec3 tilt = bk_v3_scale(longest, bk_v3_dot(n, longest) < 0.0 ? -d->aspect_bias : d->aspect_bias);
+      n = bk_v3_normalize(bk_v3_add(n, tilt));
+    }
+    // Extent of the piece along n, for the jitter.
+    double extent = fabs(n.x) * size.x + fabs(n.y) * size.y + fabs(n.z) * size.z;
+    double shift = d->jitter * extent * (bk_rng_unit(&rng) - 0.5);
+    bk_plane plane = {n, bk_v3_dot(n, mass.centroid) + shift};
+    bk_mesh* pieces = NULL;
+    bk_moments* moments = NULL;
+    uint32_t below_count = 0;
+    uint32_t count = cut_node(s, ctx, node, node_index, plane, &pieces, &moments, &below_count, &out->why);
+    if (count == 0) {
+      free(moments);
+      continue;
+    }
+    if (count <= allowed) {
+      bk_plane_split_free(&fewest);
+      *out = (bk_plane_split){pieces, moments, count, plane, out->why, out->bond_fallbacks};
+      return;
+    }
+    if (fewest.count == 0 || count < fewest.count) {
+      bk_plane_split_free(&fewest);
+      fewest = (bk_plane_split){pieces, moments, count, plane, BK_SPLIT_MISSED, 0};
+      fewest_below = below_count;
+    } else {
+      free_pieces(pieces, count);
+      free(moments);
+    }
+  }
+  if (fewest.count == 0) return;
+  out->pieces = fewest.pieces;
+  out->moments = fewest.moments;
+  out->plane = fewest.plane;
+  out->count =
+      bk_merge_pieces(fewest.pieces, fewest.moments, fewest.count, fewest_below, node_index + 1, allowed);
+}
+
+void bk_plane_split_node(bk_plane_splitter* s, const bk_plane_split_context* ctx,
+                         const bk_mesh_tree_node* node, uint32_t node_index, uint32_t allowed,
+                         bk_plane_split* out) {
+  *out = (bk_plane_split){.why = BK_SPLIT_MISSED};
+  // A piece spanning several bricks is cut along the bond (an exact plane,
+  // no random draw), its pieces merged down to `allowed` when there are
+  // more (a concave source; merged pieces are still whole bricks). When the
+  // bond's cut does not hold (a tolerance failing on some odd source), the
+  // piece is cut by random planes like a single brick, so the build never
+  // sticks, and the fallback is counted.
+  if (ctx->bond &&
+      bk_brick_bond_plane(ctx->bond, node->bounds, bk_moments_to_mass(node->moments).centroid, &out->plane)) {
+    uint32_t below_count = 0;
+    uint32_t count =
+        cut_node(s, ctx, node, node_index, out->plane, &out->pieces, &out->moments, &below_count, &out->why);
+    if (count) {
+      out->count = count <= allowed ? count
+                                    : bk_merge_pieces(out->pieces, out->moments, count, below_count,
+                                                      node_index + 1, allowed);
+      return;
+    }
+    free(out->moments);
+    out->moments = NULL;
+    out->bond_fallbacks = 1;
+  }
+  split_random(s, ctx, node, node_index, allowed, out);
+}
