@@ -9,7 +9,8 @@
 #   scripts/manifold_compare.sh [BREAKABLES [PIECES]]   (default build-r/breakables 4096)
 #
 # Needs node and tests/js/node_modules (npm ci --prefix tests/js, which this
-# runs when manifold-3d is missing). Both sides run on one core; the load
+# runs when manifold-3d is missing). Ours runs on every core (its default,
+# the same tree for any count), Manifold's WASM build on one; the load
 # average is printed, since other jobs on the machine move both times.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
