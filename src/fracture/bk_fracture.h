@@ -4,6 +4,8 @@
 
 #include <breakables/authoring.h>
 
+#include <unistd.h>
+
 #include "bk_geom.h"
 
 /// The .mtree file's bytes in memory (what bk_mesh_tree_save writes): *data
@@ -64,6 +66,17 @@ void bk_cell_tree_compute_bonds(bk_mesh_tree* tree);
 static inline bool bk_fracture_pattern_is_cellular(bk_fracture_pattern p) {
   return p == BK_PATTERN_VORONOI || p == BK_PATTERN_CLUSTERED || p == BK_PATTERN_RADIAL ||
          p == BK_PATTERN_CUTOUT;
+}
+/// Threads for `jobs` units of work: def->threads (0: every core), at most
+/// one per `jobs_per_thread` units (small jobs are not worth a thread) and
+/// at most 64; at least 1.
+static inline uint32_t bk_fracture_thread_count(const bk_fracture_def* d, uint64_t jobs,
+                                                uint64_t jobs_per_thread) {
+  long cores = sysconf(_SC_NPROCESSORS_ONLN);
+  uint64_t n = d->threads ? d->threads : (cores > 0 ? (uint64_t)cores : 1u);
+  uint64_t most = jobs / jobs_per_thread > 1 ? jobs / jobs_per_thread : 1;
+  n = n < most ? n : most;
+  return (uint32_t)(n < 64 ? n : 64);
 }
 /// Clears what a tree's desc must not keep (callbacks, borrowed arrays).
 static inline void bk_fracture_def_clear_borrowed(bk_fracture_def* d) {

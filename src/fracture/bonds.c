@@ -8,7 +8,6 @@
 #include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
 #include "bk_fracture.h"
 
@@ -387,11 +386,7 @@ static void* bond_work(void* arg) {
 // on one thread and the bonds are the same bit for bit.
 static void bond_all_cuts(const bk_mesh_tree* tree, const cap_entry* entries, uint32_t entry_count,
                           bond_list* list) {
-  long cores = sysconf(_SC_NPROCESSORS_ONLN);
-  uint32_t threads = tree->desc.threads ? tree->desc.threads : (cores > 0 ? (uint32_t)cores : 1u);
-  uint32_t most = entry_count / 4096 > 1 ? entry_count / 4096 : 1; // small trees are not worth a thread
-  threads = threads < most ? threads : most;
-  threads = threads < 64 ? threads : 64;
+  uint32_t threads = bk_fracture_thread_count(&tree->desc, entry_count, 4096);
   if (threads <= 1) {
     bond_cuts(tree, entries, 0, entry_count, list);
     return;

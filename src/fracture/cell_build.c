@@ -6,7 +6,6 @@
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
 #include "cell_tree.h"
 
@@ -186,14 +185,6 @@ static void* cell_work(void* arg) {
   return NULL;
 }
 
-static uint32_t thread_count(const bk_fracture_def* d, uint32_t cells) {
-  long cores = sysconf(_SC_NPROCESSORS_ONLN);
-  uint32_t n = d->threads ? d->threads : (cores > 0 ? (uint32_t)cores : 1u);
-  uint32_t most = cells / 16 > 1 ? cells / 16 : 1; // small jobs are not worth a thread
-  n = n < most ? n : most;
-  return n < 64 ? n : 64;
-}
-
 // Renumbers one worker's vertex into the shared table.
 static uint32_t merged(bk_cell_complex* cx, cell_worker* w, uint32_t* remap, uint32_t v) {
   if (remap[v] == UINT32_MAX) remap[v] = bk_cell_vertex_at(cx, &w->cx.keys[v], w->cx.points[v]);
@@ -207,7 +198,7 @@ static bool run_cells(const bk_mesh* m, const bk_fracture_def* d, bk_cell_build*
   bk_vec3 size = bk_v3_sub(b->cx.box.max, b->cx.box.min);
   b->polytopes = bk_calloc(b->cells, sizeof(bk_cell_polytope));
   b->surfaces = bk_calloc(b->cells, sizeof(bk_cell_surface));
-  uint32_t threads = thread_count(d, b->cells);
+  uint32_t threads = bk_fracture_thread_count(d, b->cells, 16);
   cell_worker* workers = bk_calloc(threads, sizeof(cell_worker));
   uint32_t* owner = bk_alloc(sizeof(uint32_t) * b->cells);
   atomic_uint next = 0;

@@ -14,7 +14,6 @@
 #include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
 #include "plane_split.h"
 
@@ -182,14 +181,6 @@ static void take_split(tree_builder* b, uint32_t index, bk_plane_split* split) {
   pthread_cond_broadcast(&b->changed); // idle workers: new leaves wait
 }
 
-static uint32_t thread_count(const bk_fracture_def* d) {
-  long cores = sysconf(_SC_NPROCESSORS_ONLN);
-  uint32_t n = d->threads ? d->threads : (cores > 0 ? (uint32_t)cores : 1u);
-  uint32_t most = d->pieces / 32 > 1 ? d->pieces / 32 : 1; // small trees are not worth a thread
-  n = n < most ? n : most;
-  return n < 64 ? n : 64;
-}
-
 // Splits leaves, largest first, until the tree has d.pieces leaves or none
 // can be split. False when the progress callback cancelled.
 static bool grow_tree(tree_builder* b, bk_plane_splitter** splitters, uint32_t threads) {
@@ -321,7 +312,7 @@ bool bk_plane_tree_build(const bk_mesh* source, const bk_fracture_def* d, bk_mes
                         "surface closed against its own back?",
                         ldexp(volume, 3 * frame.exponent), ldexp(area, 2 * frame.exponent));
   }
-  uint32_t threads = thread_count(d);
+  uint32_t threads = bk_fracture_thread_count(d, d->pieces, 32);
   bk_plane_splitter** splitters = bk_calloc(threads, sizeof(bk_plane_splitter*));
   for (uint32_t t = 0; t < threads; ++t)
     if (!(splitters[t] = bk_plane_splitter_create())) {
