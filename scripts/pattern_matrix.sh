@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Every fracture pattern on every built-in test mesh at 64, 1024 and 4096
-# pieces: pieces made, watertight, leaf volume error, time, sliver fraction.
+# pieces (planes~: planes with --noise 0.02 --noise-frequency 6): pieces made,
+# watertight, leaf volume error, time, sliver fraction.
 # The numbers of the patterns section of the README come from this script.
 #   scripts/pattern_matrix.sh [BREAKABLES] [COUNTS...]   (default build-r/breakables 64 1024 4096)
 set -euo pipefail
@@ -14,11 +15,13 @@ field() { grep -o "\"$1\": [^,}]*" <<<"$2" | head -n 1 | sed 's/.*: //'; }
 printf '%-9s %-8s %6s %6s %10s %10s %9s %8s\n' pattern mesh asked made watertight vol_error ms slivers
 fail=0
 for mesh in cube bunny eggshell torus wall; do
-  for pattern in planes voronoi clustered radial brick cutout; do
+  for pattern in planes planes~ voronoi clustered radial brick cutout; do
     for pieces in "${counts[@]}"; do
       extra=()
       [[ $pattern == cutout ]] && extra=(--cutout "$map")
-      out="$("$bin" fracture --mesh "$mesh" --pattern "$pattern" --pieces "$pieces" "${extra[@]}" --json 2>/dev/null)" ||
+      # planes~: noisy planes (every built-in mesh is about a metre across)
+      [[ $pattern == planes~ ]] && extra=(--noise 0.02 --noise-frequency 6)
+      out="$("$bin" fracture --mesh "$mesh" --pattern "${pattern%\~}" --pieces "$pieces" "${extra[@]}" --json 2>/dev/null)" ||
         { printf '%-9s %-8s %6s  FAILED\n' "$pattern" "$mesh" "$pieces"; fail=1; continue; }
       made="$(field pieces_made "$out")"
       tight="$(field watertight "$out")"

@@ -73,6 +73,7 @@ static void test_help_ranges_hold(void) {
       {"--clusters", "clustered", true},     {"--cluster-border", "clustered", false},
       {"--radial-falloff", "radial", false}, {"--brick-offset", "brick", false},
       {"--noise", "voronoi", false},         {"--noise-frequency", "voronoi", false},
+      {"--noise", "planes", false},          {"--noise-frequency", "planes", false},
       {"--threads", "planes", true},
   };
   static char help[sizeof run_result_storage.out];
@@ -124,8 +125,10 @@ static void test_json_quality(void) {
   ENSURE_MSG(fraction >= 0.0 && fraction < 0.5 && fraction == slivers / 64.0, "%s", r->out);
   ENSURE_MSG(ratio >= 1.0 && ratio < 10.0, "%s", r->out);
   ENSURE(min_aspect > 0.0 && min_aspect <= median && median <= 1.0);
-  // The planes pattern has no pattern parameters to report.
-  ENSURE(!strstr(r->out, "\"clusters\"") && !strstr(r->out, "\"impact\"") && !strstr(r->out, "\"noise"));
+  // The planes pattern reports its noise (none here), no other pattern's parameters.
+  ENSURE(!strstr(r->out, "\"clusters\"") && !strstr(r->out, "\"impact\""));
+  ENSURE_MSG(strstr(r->out, "\"noise_amplitude\": 0") && json_number(r->out, "noise_frequency") > 0.0, "%s",
+             r->out);
   bk_mesh_tree tree = {0};
   bk_error err = {0};
   ENSURE_MSG(bk_mesh_tree_load(BK_TEST_TMP "/planes64.mtree", &tree, &err), "%s", err.message);
@@ -156,7 +159,7 @@ static void test_pattern_errors(void) {
   expect_error("fracture --pattern radial --clusters 3", 2, "--clusters needs --pattern clustered");
   expect_error("fracture --brick-offset 0.25", 2, "--brick-offset needs --pattern brick");
   expect_error("fracture --pattern brick --noise 0.1", 2,
-               "--noise needs --pattern voronoi, clustered, radial or cutout (the pattern is brick)");
+               "--noise needs --pattern planes, voronoi, clustered, radial or cutout (the pattern is brick)");
   expect_error("fracture --cutout-axis x", 2, "--cutout-axis needs --pattern cutout");
   expect_error("fracture --pattern cutout", 2, "--pattern cutout needs --cutout FILE.png");
   // Values are read strictly and within the ranges --help states.

@@ -146,6 +146,42 @@ static void test_override(void) {
   }
 }
 
+// The panel's noise is a fraction of each object's size: it reaches every
+// pattern that takes noise (planes too), scaled by the object's mesh, and
+// leaves brick flat; without the mesh there is no size and no noise.
+static void test_noise_option(void) {
+  bk_scene_options options = bk_default_scene_options();
+  ENSURE(options.noise == 0.0);
+  options.noise = 0.02;
+  const bk_scene* showcase = bk_scene_find("showcase");
+  uint32_t noisy = 0, brick = 0;
+  for (uint32_t i = 0; i < showcase->object_count; ++i) {
+    bk_mesh source = {0};
+    ENSURE(bk_scene_object_source(&showcase->objects[i], &source));
+    bk_aabb box = bk_mesh_bounds(&source);
+    double size = bk_v3_length(bk_v3_sub(box.max, box.min));
+    bk_fracture_def d = bk_scene_fracture_def(showcase, i, &options, &source);
+    bk_error err = {0};
+    ENSURE_MSG(bk_fracture_def_validate(&d, &err), "%s", err.message);
+    if (d.pattern == BK_PATTERN_BRICK) {
+      ENSURE(d.noise_amplitude == 0.0);
+      brick++;
+    } else {
+      ENSURE_REL(d.noise_amplitude, 0.02 * size, 1e-12);
+      ENSURE_REL(d.noise_frequency, 4.0 / size, 1e-12);
+      noisy++;
+    }
+    ENSURE(bk_scene_fracture_def(showcase, i, &options, NULL).noise_amplitude == 0.0);
+    bk_mesh_free(&source);
+  }
+  ENSURE(noisy > 0 && brick > 0);
+  options.pattern = BK_PATTERN_PLANES;
+  bk_mesh source = {0};
+  ENSURE(bk_scene_object_source(&showcase->objects[0], &source));
+  ENSURE(bk_scene_fracture_def(showcase, 0, &options, &source).noise_amplitude > 0.0);
+  bk_mesh_free(&source);
+}
+
 // Every parameter that shapes a tree changes the key; the progress
 // callback and the thread count do not (the tree is the same for any).
 static void test_fracture_key(void) {
@@ -325,6 +361,7 @@ int main(void) {
   RUN(test_brick_follows_texture);
   RUN(test_radial_impact);
   RUN(test_override);
+  RUN(test_noise_option);
   RUN(test_fracture_key);
   RUN(test_cache_switches_pattern);
   RUN(test_sim_pattern);

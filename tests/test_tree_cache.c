@@ -376,8 +376,8 @@ static void set_pattern_fields(bk_fracture_def* d, bk_fracture_pattern pattern) 
   d->cutout_width = 640;
   d->cutout_height = 480;
   d->cutout_axis = 1;
-  // Noisy faces only exist for the cell patterns (planes and brick cut flat).
-  d->noise_amplitude = bk_fracture_pattern_is_cellular(pattern) ? 0.015 : 0.0;
+  // Noisy faces exist for every pattern but brick (it cuts along its mortar).
+  d->noise_amplitude = pattern != BK_PATTERN_BRICK ? 0.015 : 0.0;
   d->noise_frequency = 4.0 / 3.0;
   d->jitter = 0.05 / 3.0;
   d->aspect_bias = 2.0 / 3.0;

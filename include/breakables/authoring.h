@@ -297,6 +297,14 @@ typedef struct bk_slice_def {
   double uv_origin[2];  ///< added to every cap uv (the uv of the plane basis's origin when slicing a shifted
                         ///< mesh)
   uint32_t cap_tag;     ///< tag written on the cap triangles (identifies the cut)
+  /// > 0: the cap gets points inside it, about a third of a noise wave
+  /// apart, pushed along the normal by coherent noise of this amplitude
+  /// (mesh units), tapered to zero at its border and never more than a
+  /// quarter of the thinner side's depth, so both sides stay closed and fit
+  /// each other. 0 (the default): a flat cap.
+  double noise_amplitude;
+  double noise_frequency; ///< noise waves per mesh unit (> 0 when noise_amplitude is)
+  uint64_t noise_seed;    ///< picks the noise pattern
 } bk_slice_def;
 
 /// Splits a closed mesh by a plane into the part below (signed distance < 0)
@@ -437,10 +445,11 @@ typedef struct bk_fracture_def {
   /// -z, its top +y), 1 = y (right +x, top -z), 2 = z (right +x, top +y);
   /// default 2.
   uint32_t cutout_axis;
-  /// Voronoi, clustered and radial: cut faces are displaced along their
-  /// normal by coherent noise of this amplitude (source units, >= 0; 0, the
-  /// default, keeps them flat), tapered to zero at their borders so every
-  /// node stays closed.
+  /// Planes, voronoi, clustered, radial and cut-out: cut faces are displaced
+  /// along their normal by coherent noise of this amplitude (source units,
+  /// >= 0; 0, the default, keeps them flat), tapered to zero at their borders
+  /// so every node stays closed. Brick cuts flat (along its mortar) and
+  /// refuses it.
   double noise_amplitude;
   /// Noise frequency, in waves per source unit, > 0; default 8.
   double noise_frequency;

@@ -98,6 +98,9 @@ typedef struct bk_scene_options {
   uint32_t clusters;     ///< clustered: large chunks (0 = the library's default)
   double cluster_border; ///< clustered: border width, a fraction of the size (0 = the library's default)
   double radial_falloff; ///< radial: how fast pieces grow with distance (< 0, the default: the library's)
+  /// Rough cut faces: the noise amplitude as a fraction of each object's
+  /// size, at four waves per size (0, the default: flat; brick stays flat).
+  double noise;
   double frailty, density, bond_strength;
   int accumulate; ///< -1 = material's choice, 0 = discrete, 1 = accumulating
   bool naive, convex_colliders;

@@ -11,7 +11,8 @@
 
 static const char* const editor_usage =
     "usage: breakables editor [--mesh NAME|PATH] [--pattern NAME] [--pieces N] [--seed S]\n"
-    "                         [--texture-scale X] [--explode X] [--colors] [--export PATH]\n"
+    "                         [--texture-scale X] [--noise X] [--explode X] [--colors]\n"
+    "                         [--export PATH]\n"
     "                         [--frames N] [--screenshot FILE.png]\n"
     "                         [--width W] [--height H] [--max-memory MIB]\n"
     "\n"
@@ -26,6 +27,9 @@ static const char* const editor_usage =
     "  --pieces N            fragments, 1..65536 (default: 64)\n"
     "  --seed S              fracture seed, 0..2147483647 (default: 3000)\n"
     "  --texture-scale X     world size of one interior texture tile, 1e-6..1e6 (default: 0.1)\n"
+    "  --noise X             rough cut faces: how far they bend, a fraction of the mesh's size,\n"
+    "                        0..0.1, at four noise waves per size (default: 0, flat; brick\n"
+    "                        stays flat along its mortar)\n"
     "  --explode X           pull fragments apart, 0..3 (default: 0)\n"
     "  --colors              tint each fragment its own colour (the panel's 'colors' box)\n"
     "  --export PATH         where the panel's export writes: PATH.obj, PATH.mtree and PATH.glb\n"
@@ -53,7 +57,8 @@ typedef struct editor {
   int pattern; // a bk_fracture_pattern
   int pieces, seed;
   double texture_scale, explode;
-  bool colors; // each fragment tinted its own colour: a pattern reads at a glance
+  double noise; // cut faces' noise amplitude, a fraction of the mesh's size
+  bool colors;  // each fragment tinted its own colour: a pattern reads at a glance
   bk_mesh_tree tree;
   bk_render_tree render_tree;
   bk_vec3* leaf_offsets; // leaf centroid - source centroid
@@ -68,6 +73,19 @@ typedef struct editor {
 #define START_PITCH 0.35
 
 static const char* const mesh_names[] = {"bunny", "cube", "torus", "eggshell", "wall", "slab", "pillar"};
+
+// The size of the mesh (its bounds' diagonal), 0 when it cannot be read
+// here (a tree file: it is not fractured anyway).
+static double mesh_size(const char* spec) {
+  bk_mesh mesh = {0};
+  bk_error err = {{0}};
+  size_t length = strlen(spec);
+  if ((length > 6 && strcmp(spec + length - 6, ".mtree") == 0) || !bk_app_load_mesh(spec, &mesh, &err))
+    return 0.0;
+  bk_aabb box = bk_mesh_bounds(&mesh);
+  bk_mesh_free(&mesh);
+  return bk_v3_length(bk_v3_sub(box.max, box.min));
+}
 
 // The radial pattern's impact: the point of the mesh's surface that faces
 // the editor's first view most (a fixed direction, so turning the view does
@@ -98,6 +116,8 @@ static bool rebuild(editor* e, bk_error* err) {
   desc.texture_scale = e->texture_scale;
   desc.pattern = (bk_fracture_pattern)e->pattern;
   if (desc.pattern == BK_PATTERN_RADIAL) desc.impact = facing_point(e->mesh);
+  double extent = e->noise > 0.0 && desc.pattern != BK_PATTERN_BRICK ? mesh_size(e->mesh) : 0.0;
+  if (extent > 0.0) desc.noise_amplitude = e->noise * extent, desc.noise_frequency = 4.0 / extent;
   if (desc.pattern == BK_PATTERN_CUTOUT) {
     uint32_t size = 0;
     desc.cutout_pixels = bk_app_cutout_map(&size);
@@ -229,6 +249,9 @@ static void panel(editor* e) {
   bk_ui_slider_int_log("pieces", &e->pieces, 1, 65536);
   bk_ui_slider_int("seed", &e->seed, 0, 100000);
   bk_ui_slider_double("texture scale", &e->texture_scale, 0.01, 2.0, "%.2f", true);
+  bk_ui_slider_double("noise", &e->noise, 0.0, 0.1, "%.3f", false);
+  bk_ui_tooltip("rough cut faces: how far they bend, a fraction of the mesh's size (0 = flat; brick stays "
+                "flat)");
   if (bk_ui_button("fracture")) rebuild_now = true;
   bk_ui_slider_double("explode", &e->explode, 0.0, 3.0, "%.2f", false);
   bk_ui_tooltip("or Shift + drag");
@@ -290,6 +313,8 @@ int bk_cmd_editor(int argc, char** argv) {
     else if (ok && strcmp(arg, "--export") == 0)
       ok = snprintf(e->export_path, sizeof e->export_path, "%s", value) < (int)sizeof e->export_path,
       export_given = true;
+    else if (ok && strcmp(arg, "--noise") == 0)
+      ok = bk_option_double("editor", arg, value, 0.0, 0.1, &e->noise);
     else if (ok && strcmp(arg, "--explode") == 0)
       ok = bk_option_double("editor", arg, value, 0.0, 3.0, &e->explode);
     else {

@@ -33,8 +33,8 @@ typedef enum option_kind {
 
 #define PATTERN(p) (1u << (p))
 #define NOISE_PATTERNS                                                                                       \
-  (PATTERN(BK_PATTERN_VORONOI) | PATTERN(BK_PATTERN_CLUSTERED) | PATTERN(BK_PATTERN_RADIAL) |                \
-   PATTERN(BK_PATTERN_CUTOUT))
+  (PATTERN(BK_PATTERN_PLANES) | PATTERN(BK_PATTERN_VORONOI) | PATTERN(BK_PATTERN_CLUSTERED) |                \
+   PATTERN(BK_PATTERN_RADIAL) | PATTERN(BK_PATTERN_CUTOUT))
 #define FIELD(f) offsetof(bk_fracture_def, f)
 
 typedef struct pattern_option {
@@ -99,13 +99,12 @@ static const pattern_option options_table[] = {
     {"--cutout-axis", "x|y|z", KIND_AXIS, PATTERN(BK_PATTERN_CUTOUT), FIELD(cutout_axis), 0, 2,
      "cutout: the axis the map is projected along (default: {default})"},
     {"--noise", "AMPLITUDE", KIND_NUMBER, NOISE_PATTERNS, FIELD(noise_amplitude), 0, BK_FRACTURE_MAX_SIZE,
-     "voronoi, clustered, radial, cutout: cut faces are displaced by\n"
+     "planes, voronoi, clustered, radial, cutout: cut faces are displaced by\n"
      "coherent noise of this amplitude, in source units, {range}\n"
      "(0 = flat; default: {default})"},
     {"--noise-frequency", "F", KIND_NUMBER, NOISE_PATTERNS, FIELD(noise_frequency), 0, BK_FRACTURE_MAX_SIZE,
-     "voronoi, clustered, radial, cutout: noise waves per source\n"
-     "unit, "
-     "{range}, not 0 (default: {default})"},
+     "planes, voronoi, clustered, radial, cutout: noise waves per\n"
+     "source unit, {range}, not 0 (default: {default})"},
     {"--threads", "N", KIND_COUNT, 0, FIELD(threads), 0, 1024,
      "threads the fracture may use, {range} (0 = every core; the\n"
      "tree is the same for any count: planes and brick split\n"

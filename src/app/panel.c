@@ -112,7 +112,7 @@ static double texture_scale_setting = 0.1;
 // otherwise; -1 until it is read from the game's options. The parameters of
 // the clustered and radial patterns start at the library's defaults.
 static int pattern_setting = -1, clusters_setting = 0;
-static double cluster_border_setting = 0.0, radial_falloff_setting = -1.0;
+static double cluster_border_setting = 0.0, radial_falloff_setting = -1.0, noise_setting = 0.0;
 static char status_line[600];
 
 static bool report_progress(void* user, uint32_t leaves, uint32_t target) {
@@ -140,6 +140,7 @@ static void start_refracture(bk_game* g) {
   job.options.clusters = (uint32_t)clusters_setting;
   job.options.cluster_border = cluster_border_setting;
   job.options.radial_falloff = radial_falloff_setting;
+  job.options.noise = noise_setting;
   job.options.progress = report_progress;
   job.scene = g->scene.scene;
   atomic_store(&job.done, false);
@@ -166,6 +167,7 @@ static void finish_refracture(bk_game* g) {
   g->options.clusters = job.options.clusters;
   g->options.cluster_border = job.options.cluster_border;
   g->options.radial_falloff = job.options.radial_falloff;
+  g->options.noise = job.options.noise;
   bk_vec3 eye = g->eye;
   double yaw = g->yaw, pitch = g->pitch;
   bk_game_unload_scene(g);
@@ -279,6 +281,9 @@ static void pattern_selector(bk_game* g) {
     bk_ui_slider_double("radial falloff", &radial_falloff_setting, 0.0, 1.4, "%.2f", false);
     bk_ui_tooltip("how fast pieces grow away from the aim point (0 = evenly)");
   }
+  bk_ui_slider_double("noise", &noise_setting, 0.0, 0.05, "%.3f", false);
+  bk_ui_tooltip("rough cut faces: how far they bend, a fraction of each object's size (0 = flat; brick "
+                "stays flat along its mortar; applies on re-fracture)");
 }
 
 static void fracture_section(bk_game* g) {

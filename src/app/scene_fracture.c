@@ -42,6 +42,11 @@ bk_fracture_def bk_scene_fracture_def(const bk_scene* scene, uint32_t object, co
   if (options->clusters) fd.clusters = options->clusters;
   if (options->cluster_border > 0.0) fd.cluster_border = options->cluster_border;
   if (options->radial_falloff >= 0.0) fd.radial_falloff = options->radial_falloff;
+  if (options->noise > 0.0 && fd.pattern != BK_PATTERN_BRICK && source) {
+    bk_aabb box = bk_mesh_bounds(source);
+    double size = bk_v3_length(bk_v3_sub(box.max, box.min));
+    if (size > 0.0) fd.noise_amplitude = options->noise * size, fd.noise_frequency = 4.0 / size;
+  }
   // The tree is cut from the mesh scaled by the object's scale, while its
   // uvs stay those of the unscaled mesh: a scaled wall's texture bricks are
   // scaled too, and so must the bond's be to stay on them. Where the object

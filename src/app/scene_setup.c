@@ -57,8 +57,10 @@ bool bk_loaded_scene_create(const bk_scene* scene, const bk_scene_options* optio
     const bk_scene_object* object = &scene->objects[i];
     bk_fracture_def fd = bk_scene_fracture_def(scene, i, options, NULL);
     bk_mesh source = {0};
-    // A radial pattern centres where the shot meets the object: that takes its mesh.
-    if (fd.pattern == BK_PATTERN_RADIAL && bk_scene_object_source(object, &source))
+    // A radial pattern centres where the shot meets the object, and noise
+    // is sized by the object: those take its mesh.
+    if ((fd.pattern == BK_PATTERN_RADIAL || (options->noise > 0.0 && fd.pattern != BK_PATTERN_BRICK)) &&
+        bk_scene_object_source(object, &source))
       fd = bk_scene_fracture_def(scene, i, options, &source);
     bk_mesh_free(&source);
     bool cached = false;

@@ -4,7 +4,12 @@
 // exactly by clipping the caps against each other in the cut plane, which
 // gives the contact's area and centroid (not bounding-box overlap). A leaf's
 // cap on one cut is usually a single convex polygon, so it is clipped as one
-// piece; other caps are clipped triangle by triangle.
+// piece; other caps are clipped triangle by triangle. A noisy cap (pushed
+// along the cut's normal) is a flat triangulation seen along the normal, and
+// both sides' triangles are pieces of the same tilted triangles: each
+// overlap is measured in the plane, then lifted onto its triangle (area
+// over the cosine of its tilt, centroid onto its plane), so the contact is
+// the rough surface the leaves share.
 #include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
@@ -22,6 +27,8 @@ typedef struct cap_entry {
 typedef struct piece {
   uint32_t first, count; // range in the point array
   double min[2], max[2];
+  bk_vec3 normal; // of the plane the piece lies in (the cut's, or a noisy cap triangle's), facing +n
+  double level;   // that plane: normal . (p - origin) = level
 } piece;
 
 // One leaf's caps on one cut.
@@ -88,9 +95,9 @@ static uint32_t clip_half_plane(const double (*in)[2], uint32_t n, const double 
   return m;
 }
 
-// Area of the intersection of two convex pieces; adds its area-weighted
-// centroid to (cx, cy).
-static double overlap(scratch* s, const piece* a, const piece* b, double* cx, double* cy) {
+// Area of the intersection of two convex pieces in the plane; its first
+// moments (area times centroid) go to (mx, my).
+static double overlap(scratch* s, const piece* a, const piece* b, double* mx, double* my) {
   uint32_t need = 2u * (a->count + b->count) + 2u;
   if (need > s->clip_capacity) {
     s->clip_capacity = bk_grow_capacity(s->clip_capacity, need);
@@ -116,8 +123,8 @@ static double overlap(scratch* s, const piece* a, const piece* b, double* cx, do
     sy += (p[1] + q[1]) * cross;
   }
   if (area2 <= 0.0) return 0.0;
-  *cx += sx / 6.0;
-  *cy += sy / 6.0;
+  *mx = sx / 6.0;
+  *my = sy / 6.0;
   return area2 / 2.0;
 }
 
@@ -131,13 +138,13 @@ static void add_point(scratch* s, double x, double y) {
   s->point_count++;
 }
 
-static void close_piece(scratch* s, uint32_t first) {
+static void close_piece(scratch* s, uint32_t first, bk_vec3 normal, double level) {
   if (s->piece_count == s->piece_capacity) {
     s->piece_capacity = bk_grow_capacity(s->piece_capacity, s->piece_count + 1);
     s->pieces = bk_realloc(s->pieces, sizeof(piece) * s->piece_capacity);
   }
   piece* p = &s->pieces[s->piece_count++];
-  *p = (piece){first, s->point_count - first, {INFINITY, INFINITY}, {-INFINITY, -INFINITY}};
+  *p = (piece){first, s->point_count - first, {INFINITY, INFINITY}, {-INFINITY, -INFINITY}, normal, level};
   for (uint32_t i = first; i < s->point_count; ++i)
     for (int a = 0; a < 2; ++a)
       p->min[a] = fmin(p->min[a], s->points[i][a]), p->max[a] = fmax(p->max[a], s->points[i][a]);
@@ -146,9 +153,15 @@ static void close_piece(scratch* s, uint32_t first) {
 // The outline of a group's triangles as one convex loop, if it is one.
 // Above-side caps face -n, so their loops are reversed to run CCW.
 static bool add_convex_outline(scratch* s, const bk_mesh* mesh, const cap_entry* entries, uint32_t count,
-                               bool flip, bk_vec3 origin, bk_vec3 u, bk_vec3 v) {
+                               bool flip, bk_vec3 origin, bk_vec3 u, bk_vec3 v, bk_vec3 cut_normal,
+                               double height, double flat) {
   enum { MAX_TRIANGLES = 32 };
   if (count > MAX_TRIANGLES) return false;
+  for (uint32_t i = 0; i < count; ++i) // a noisy cap goes triangle by triangle
+    for (uint32_t k = 0; k < 3; ++k) {
+      bk_vec3 p = bk_v3_sub(mesh->positions[bk_mesh_tri_position(mesh, entries[i].triangle, k)], origin);
+      if (!(fabs(bk_v3_dot(p, cut_normal) - height) <= flat)) return false;
+    }
   uint32_t edge_count = 0;
   if (12u * count > s->edge_capacity) { // all edges, then the outline after them
     s->edge_capacity = bk_grow_capacity(s->edge_capacity, 12u * count);
@@ -209,20 +222,27 @@ static bool add_convex_outline(scratch* s, const bk_mesh* mesh, const cap_entry*
       return false;
     }
   }
-  close_piece(s, first_point);
+  close_piece(s, first_point, cut_normal, height);
   return true;
 }
 
 static void add_triangles(scratch* s, const bk_mesh* mesh, const cap_entry* entries, uint32_t count,
-                          bool flip, bk_vec3 origin, bk_vec3 u, bk_vec3 v) {
+                          bool flip, bk_vec3 origin, bk_vec3 u, bk_vec3 v, bk_vec3 n, double height) {
   for (uint32_t i = 0; i < count; ++i) {
     uint32_t first = s->point_count;
+    bk_vec3 p[3];
     for (uint32_t k = 0; k < 3; ++k) {
-      bk_vec3 p = bk_v3_sub(
-          mesh->positions[bk_mesh_tri_position(mesh, entries[i].triangle, flip ? 2 - k : k)], origin);
-      add_point(s, bk_v3_dot(p, u), bk_v3_dot(p, v));
+      p[k] = bk_v3_sub(mesh->positions[bk_mesh_tri_position(mesh, entries[i].triangle, flip ? 2 - k : k)],
+                       origin);
+      add_point(s, bk_v3_dot(p[k], u), bk_v3_dot(p[k], v));
     }
-    close_piece(s, first);
+    // The triangle's own plane (the cut's when it is flat or degenerate).
+    bk_vec3 e = bk_v3_cross(bk_v3_sub(p[1], p[0]), bk_v3_sub(p[2], p[0]));
+    double length = bk_v3_length(e);
+    bk_vec3 normal = length > 0.0 ? bk_v3_scale(e, 1.0 / length) : n;
+    if (!(bk_v3_dot(normal, n) > 0.5)) normal = n; // pushes tilt a cap by far less
+    double level = bk_v3_dot(normal, n) < 1.0 ? bk_v3_dot(normal, p[0]) : height;
+    close_piece(s, first, normal, level);
   }
 }
 
@@ -274,6 +294,7 @@ static void bond_cuts(const bk_mesh_tree* tree, const cap_entry* entries, uint32
   bk_aabb root_box = tree->nodes[0].bounds;
   bk_vec3 diag = bk_v3_sub(root_box.max, root_box.min);
   double min_area = 1e-12 * bk_v3_dot(diag, diag); // below this an overlap is rounding noise
+  double flat = 1e-9 * bk_v3_length(diag);         // a cap this close to its cut's plane is flat
   scratch s = {0};
   uint32_t most = 1; // entries of one cut at most
   for (uint32_t begin = first, end = first; begin < last; begin = end) {
@@ -290,6 +311,7 @@ static void bond_cuts(const bk_mesh_tree* tree, const cap_entry* entries, uint32
       end++;
     bk_vec3 n = tree->nodes[cut].plane.normal, u, v;
     bk_plane_basis(n, &u, &v);
+    double height = tree->nodes[cut].plane.offset - bk_v3_dot(n, origin);
     // One group of convex pieces per (side, leaf).
     s.point_count = s.piece_count = 0;
     uint32_t group_count = 0, below_groups = 0;
@@ -300,8 +322,8 @@ static void bond_cuts(const bk_mesh_tree* tree, const cap_entry* entries, uint32
       const bk_mesh* mesh = &bk_mesh_tree_leaf(tree, entries[i].leaf)->mesh;
       bool flip = entries[i].side == 1;
       uint32_t first_piece = s.piece_count;
-      if (!add_convex_outline(&s, mesh, &entries[i], j - i, flip, origin, u, v))
-        add_triangles(&s, mesh, &entries[i], j - i, flip, origin, u, v);
+      if (!add_convex_outline(&s, mesh, &entries[i], j - i, flip, origin, u, v, n, height, flat))
+        add_triangles(&s, mesh, &entries[i], j - i, flip, origin, u, v, n, height);
       leaf_group* g = &groups[group_count++];
       *g = (leaf_group){entries[i].leaf,
                         first_piece,
@@ -340,16 +362,28 @@ static void bond_cuts(const bk_mesh_tree* tree, const cap_entry* entries, uint32
         if (o->leaf == g->leaf) continue;
         const leaf_group* gb = side == 0 ? g : o;
         const leaf_group* ga = side == 0 ? o : g;
-        double area = 0.0, cx = 0.0, cy = 0.0;
+        double area = 0.0;
+        bk_vec3 moment = {0}, normal = {0};
         for (uint32_t a = gb->first; a < gb->first + gb->count; ++a)
-          for (uint32_t b = ga->first; b < ga->first + ga->count; ++b)
-            if (boxes_overlap(s.pieces[a].min, s.pieces[a].max, s.pieces[b].min, s.pieces[b].max))
-              area += overlap(&s, &s.pieces[a], &s.pieces[b], &cx, &cy);
+          for (uint32_t b = ga->first; b < ga->first + ga->count; ++b) {
+            if (!boxes_overlap(s.pieces[a].min, s.pieces[a].max, s.pieces[b].min, s.pieces[b].max)) continue;
+            double mx = 0.0, my = 0.0, flat_area = overlap(&s, &s.pieces[a], &s.pieces[b], &mx, &my);
+            if (!(flat_area > 0.0)) continue;
+            // Lifted onto the plane the piece lies in (the cut's: no change).
+            const piece* p = &s.pieces[a];
+            double cosine = bk_v3_dot(p->normal, n);
+            bk_vec3 at = bk_v3_add(bk_v3_scale(n, height),
+                                   bk_v3_add(bk_v3_scale(u, mx / flat_area), bk_v3_scale(v, my / flat_area)));
+            at = bk_v3_add(at, bk_v3_scale(n, (p->level - bk_v3_dot(p->normal, at)) / cosine));
+            double true_area = flat_area / cosine;
+            area += true_area;
+            moment = bk_v3_add(moment, bk_v3_scale(at, true_area));
+            normal = bk_v3_add(normal, bk_v3_scale(p->normal, true_area));
+          }
         if (area <= min_area) continue;
-        double height = tree->nodes[cut].plane.offset - bk_v3_dot(n, origin);
-        bk_vec3 centroid = bk_v3_add(bk_v3_add(origin, bk_v3_scale(n, height)),
-                                     bk_v3_add(bk_v3_scale(u, cx / area), bk_v3_scale(v, cy / area)));
-        add_contact(list, gb->leaf, ga->leaf, area, centroid, n);
+        double normal_length = bk_v3_length(normal);
+        add_contact(list, gb->leaf, ga->leaf, area, bk_v3_add(origin, bk_v3_scale(moment, 1.0 / area)),
+                    normal_length > 0.0 ? bk_v3_scale(normal, 1.0 / normal_length) : n);
       }
       active_count[1 - side] = kept;
       active[side][active_count[side]++] = (uint32_t)(g - groups);

@@ -20,11 +20,43 @@ bool bk_cap_triangulate(bk_cap* cap, const uint32_t* edges, uint32_t edge_count,
                         uint32_t vertex_count, const uint32_t** triangles, uint32_t* triangle_count,
                         bk_error* err);
 
+/// How a cap is made noisy (see cap_noise.c); all in the cap's units.
+typedef struct bk_cap_noise_def {
+  bk_vec3 normal;   ///< the cap's plane normal: points move along it
+  double amplitude; ///< > 0; 0 leaves the cap as it is
+  double frequency; ///< waves per unit
+  double limit;     ///< no point moves further (the pieces' depth behind the cap)
+  uint64_t seed;
+} bk_cap_noise_def;
+
+/// A noisy cap: the input points first (unchanged), then the new ones.
+typedef struct bk_cap_noise {
+  bk_vec3* points;
+  uint32_t point_count, point_capacity;
+  uint32_t* triangles; ///< 3 per triangle, indices into points
+  uint32_t* parents;   ///< per triangle: the input triangle it came from (gives its material)
+  uint32_t triangle_count, triangle_capacity;
+} bk_cap_noise;
+
+/// Meshes a cap triangulation (`triangles` over `points`, all in the plane)
+/// at the noise's resolution, keeping its border, and pushes the new points
+/// along the normal by coherent noise, tapered to zero at the border; `out`
+/// keeps its storage between calls.
+void bk_cap_noise_make(const bk_cap_noise_def* def, const uint32_t* triangles, uint32_t triangle_count,
+                       const bk_vec3* points, uint32_t point_count, bk_cap_noise* out);
+void bk_cap_noise_free(bk_cap_noise* noise);
+
+/// Coherent noise in [-1, 1] (stb_perlin, under our own name).
+double bk_noise3(bk_vec3 p, int seed);
+
 /// Re-triangulates planar faces over their true corners (see simplify.c).
 typedef struct bk_face_simplifier bk_face_simplifier;
 
 bk_face_simplifier* bk_face_simplifier_create(void);
 void bk_face_simplifier_destroy(bk_face_simplifier* fs);
+/// Leaves the faces of cuts (tags below BK_SOURCE_FACE_TAG) as they are:
+/// noisy cut faces are not planar (default: false, every face is redone).
+void bk_face_simplifier_keep_cuts(bk_face_simplifier* fs, bool keep);
 /// Replaces the triangles of each planar face of a closed mesh by a
 /// triangulation of its outline, dropping vertices inside faces and on straight
 /// edges between two faces. Returns false, leaving the mesh untouched, when a

@@ -20,7 +20,12 @@
 #define STB_PERLIN_IMPLEMENTATION
 #include <stb/stb_perlin.h>
 
+#include "cap.h"
 #include "cell_complex.h"
+
+double bk_noise3(bk_vec3 p, int seed) {
+  return stb_perlin_noise3_seed((float)p.x, (float)p.y, (float)p.z, 0, 0, 0, seed);
+}
 
 /// Refinement levels at most (each splits a face triangle's inner edges).
 #define NOISE_MAX_LEVELS 3

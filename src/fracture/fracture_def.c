@@ -80,12 +80,10 @@ static bool validate_pattern(const bk_fracture_def* d, bk_error* err) {
   if (!isfinite(d->noise_amplitude) || d->noise_amplitude < 0.0)
     return bk_error_set(err, "fracture: noise_amplitude must be a finite number >= 0 (got %g)",
                         d->noise_amplitude);
-  if (d->noise_amplitude > 0.0 && (d->pattern == BK_PATTERN_PLANES || d->pattern == BK_PATTERN_BRICK))
-    return bk_error_set(
-        err,
-        "fracture: noise_amplitude needs the voronoi, clustered, radial or cutout pattern (the "
-        "%s pattern cuts flat)",
-        bk_fracture_pattern_name(d->pattern));
+  if (d->noise_amplitude > 0.0 && d->pattern == BK_PATTERN_BRICK)
+    return bk_error_set(err,
+                        "fracture: noise_amplitude needs the planes, voronoi, clustered, radial or cutout "
+                        "pattern (the brick pattern cuts flat along its mortar)");
   if (!isfinite(d->noise_frequency) || !(d->noise_frequency > 0.0))
     return bk_error_set(err, "fracture: noise_frequency must be a positive finite number (got %g)",
                         d->noise_frequency);

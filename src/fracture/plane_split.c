@@ -92,7 +92,10 @@ static uint32_t cut_node(bk_plane_splitter* s, const bk_plane_split_context* ctx
                         .tolerance = 1e-9 * bk_v3_length(size),
                         .texture_scale = ldexp(d->texture_scale, -frame->exponent),
                         .uv_origin = {origin_u - floor(origin_u), origin_v - floor(origin_v)},
-                        .cap_tag = node_index + 1};
+                        .cap_tag = node_index + 1,
+                        .noise_amplitude = ldexp(d->noise_amplitude, -frame->exponent),
+                        .noise_frequency = ldexp(d->noise_frequency, frame->exponent),
+                        .noise_seed = d->seed * 0x9e3779b97f4a7c15ull + node_index};
   bk_mesh below = {0}, above = {0};
   if (!bk_slicer_slice(s->slicer, &node->mesh, &slice, &below, &above, NULL)) {
     *why = BK_SPLIT_CAP_FAILED;
@@ -111,6 +114,8 @@ static uint32_t cut_node(bk_plane_splitter* s, const bk_plane_split_context* ctx
   *pieces = bk_realloc(below_hulls, sizeof(bk_mesh) * count);
   memcpy(*pieces + *below_count, above_hulls, sizeof(bk_mesh) * above_count);
   free(above_hulls);
+  // Noisy cut faces are not planar: only the source's planar faces are redone.
+  bk_face_simplifier_keep_cuts(s->simplifier, d->noise_amplitude > 0.0);
   for (uint32_t i = 0; i < count; ++i)
     bk_face_simplifier_run(s->simplifier, &(*pieces)[i]);
   *moments = bk_realloc(*moments, sizeof(bk_moments) * count);

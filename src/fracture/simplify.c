@@ -39,6 +39,7 @@ struct bk_face_simplifier {
   uint32_t* face_outline_start; // per face + 1: start in outline_sorted
   uint32_t outline_capacity;
   bk_cap* cap;
+  bool keep_cuts;
 };
 
 #define MANY (UINT32_MAX - 1)
@@ -136,6 +137,8 @@ static bool removable(const bk_face_simplifier* fs, const bk_mesh* m, uint32_t p
   return fabs(bk_v3_dot(fs->face_normal[a], fs->face_normal[b])) < 1.0 - 1e-6;
 }
 
+void bk_face_simplifier_keep_cuts(bk_face_simplifier* fs, bool keep) { fs->keep_cuts = keep; }
+
 bool bk_face_simplifier_run(bk_face_simplifier* fs, bk_mesh* m) {
   uint32_t tri_count = m->triangle_count;
   if (tri_count < 4) return true;
@@ -168,6 +171,7 @@ bool bk_face_simplifier_run(bk_face_simplifier* fs, bk_mesh* m) {
       if (!other || *other <= t) continue;
       uint32_t o = *other;
       if (m->materials[o] != m->materials[t] || m->tags[o] != m->tags[t] || m->tags[t] == 0) continue;
+      if (fs->keep_cuts && m->tags[t] < BK_SOURCE_FACE_TAG) continue;
       uint32_t ra = find(fs->group, t), rb = find(fs->group, o);
       if (ra != rb) fs->group[ra > rb ? ra : rb] = ra < rb ? ra : rb;
     }

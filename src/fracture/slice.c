@@ -11,6 +11,9 @@ enum { BELOW = 0, ABOVE = 1 };
 
 struct bk_slicer {
   bk_cap* cap;
+  bk_cap_noise noise;     // a noisy cap (meshed at the noise resolution, pushed)
+  bk_vec3* noise_normals; // per noisy cap point
+  uint32_t noise_normal_capacity;
   // Per source position / corner (grown on demand).
   double* dist;
   int8_t* cls; // -1 below, 0 on the plane, +1 above
@@ -59,6 +62,8 @@ bk_slicer* bk_slicer_create(void) {
 void bk_slicer_destroy(bk_slicer* s) {
   if (!s) return;
   bk_cap_destroy(s->cap);
+  bk_cap_noise_free(&s->noise);
+  free(s->noise_normals);
   free(s->dist);
   free(s->cls);
   for (int k = 0; k < 2; ++k) {
@@ -385,6 +390,74 @@ static void add_cap(bk_slicer* s, const bk_mesh* m, bk_mesh* out, int side, cons
   }
 }
 
+// The noisy cap (s->noise over the cap's local points, the new points after
+// them) on one side. Corner normals follow the pushed surface; uvs stay the
+// plane coordinates, so the texture lies as on a flat cap.
+static void add_noisy_cap(bk_slicer* s, const bk_mesh* m, bk_mesh* out, int side, uint32_t local_count,
+                          bool reversed, bk_vec3 u, bk_vec3 v, const bk_slice_def* desc, double texture_scale,
+                          const uint32_t* coarse) {
+  const bk_cap_noise* cap = &s->noise;
+  // The cap faces +n below and -n above (s->noise_normals face +n).
+  float sign = side == BELOW ? 1.0f : -1.0f;
+  uint32_t first = out->corner_count;
+  bk_mesh_reserve(out, out->position_count + cap->point_count, out->corner_count + cap->point_count,
+                  out->triangle_count + cap->triangle_count);
+  for (uint32_t i = 0; i < cap->point_count; ++i) {
+    bk_corner c = {0};
+    c.position = i < local_count ? side_position(s, m, out, side, s->global_of_local[i])
+                                 : bk_mesh_add_position(out, cap->points[i]);
+    bk_vec3 normal = s->noise_normals[i];
+    c.normal[0] = sign * (float)normal.x, c.normal[1] = sign * (float)normal.y,
+    c.normal[2] = sign * (float)normal.z;
+    c.uv[0] = (float)(bk_v3_dot(cap->points[i], u) / texture_scale + desc->uv_origin[0]);
+    c.uv[1] = (float)(bk_v3_dot(cap->points[i], v) / texture_scale + desc->uv_origin[1]);
+    c.tangent[0] = (float)u.x, c.tangent[1] = (float)u.y, c.tangent[2] = (float)u.z;
+    c.tangent[3] = sign;
+    bk_mesh_add_corner(out, &c);
+  }
+  for (uint32_t t = 0; t < cap->triangle_count; ++t) {
+    const uint32_t* tri = &cap->triangles[3 * t];
+    uint8_t material = cap_material(s, &coarse[3 * cap->parents[t]]);
+    if (reversed)
+      bk_mesh_add_triangle(out, first + tri[0], first + tri[2], first + tri[1], material, desc->cap_tag);
+    else
+      bk_mesh_add_triangle(out, first + tri[0], first + tri[1], first + tri[2], material, desc->cap_tag);
+  }
+}
+
+// Meshes and pushes the cap `tris` (local ids; they face `facing` x n) into
+// s->noise, with unit normals facing +n per point.
+static void make_noisy_cap(bk_slicer* s, const bk_mesh* m, const uint32_t* tris, uint32_t tri_count,
+                           uint32_t local_count, const bk_slice_def* desc, double limit, double facing) {
+  bk_vec3* points = bk_alloc(sizeof(bk_vec3) * (local_count + 1u));
+  for (uint32_t i = 0; i < local_count; ++i)
+    points[i] = global_point(s, m, s->global_of_local[i]);
+  bk_cap_noise_def def = {.normal = desc->plane.normal,
+                          .amplitude = desc->noise_amplitude,
+                          .frequency = desc->noise_frequency,
+                          .limit = limit,
+                          .seed = desc->noise_seed};
+  bk_cap_noise_make(&def, tris, tri_count, points, local_count, &s->noise);
+  free(points);
+  const bk_cap_noise* cap = &s->noise;
+  if (cap->point_count > s->noise_normal_capacity) {
+    s->noise_normal_capacity = bk_grow_capacity(s->noise_normal_capacity, cap->point_count);
+    s->noise_normals = bk_realloc(s->noise_normals, sizeof(bk_vec3) * s->noise_normal_capacity);
+  }
+  memset(s->noise_normals, 0, sizeof(bk_vec3) * cap->point_count);
+  for (uint32_t t = 0; t < cap->triangle_count; ++t) {
+    const uint32_t* v = &cap->triangles[3 * t];
+    bk_vec3 e = bk_v3_cross(bk_v3_sub(cap->points[v[1]], cap->points[v[0]]),
+                            bk_v3_sub(cap->points[v[2]], cap->points[v[0]]));
+    for (int k = 0; k < 3; ++k)
+      s->noise_normals[v[k]] = bk_v3_add(s->noise_normals[v[k]], bk_v3_scale(e, facing));
+  }
+  for (uint32_t i = 0; i < cap->point_count; ++i) {
+    double length = bk_v3_length(s->noise_normals[i]);
+    s->noise_normals[i] = length > 0.0 ? bk_v3_scale(s->noise_normals[i], 1.0 / length) : desc->plane.normal;
+  }
+}
+
 bool bk_slicer_slice(bk_slicer* s, const bk_mesh* m, const bk_slice_def* desc, bk_mesh* below, bk_mesh* above,
                      bk_error* err) {
   memset(below, 0, sizeof *below);
@@ -398,8 +471,11 @@ bool bk_slicer_slice(bk_slicer* s, const bk_mesh* m, const bk_slice_def* desc, b
   double texture_scale = desc->texture_scale > 0.0 ? desc->texture_scale : 0.1;
   reserve_source(s, m);
   uint32_t counts[2] = {0, 0};
+  double deepest[2] = {0.0, 0.0}; // how far each side reaches from the plane
   for (uint32_t i = 0; i < m->position_count; ++i) {
     double d = bk_plane_distance(desc->plane, m->positions[i]);
+    deepest[BELOW] = fmax(deepest[BELOW], -d);
+    deepest[ABOVE] = fmax(deepest[ABOVE], d);
     s->dist[i] = d;
     s->cls[i] = d > tolerance ? 1 : (d < -tolerance ? -1 : 0);
     counts[0] += s->cls[i] < 0;
@@ -431,6 +507,17 @@ bool bk_slicer_slice(bk_slicer* s, const bk_mesh* m, const bk_slice_def* desc, b
       bk_mesh_free(below);
       bk_mesh_free(above);
       return false;
+    }
+    if (mirror && desc->noise_amplitude > 0.0 && desc->noise_frequency > 0.0) {
+      // A noisy cap needs one triangulation for both sides (a cap with
+      // faces lying in the plane stays flat). The triangles face +n on the
+      // side below, -n above.
+      double facing = side == BELOW ? 1.0 : -1.0;
+      make_noisy_cap(s, m, tris, tri_count, local_count, desc, 0.25 * fmin(deepest[BELOW], deepest[ABOVE]),
+                     facing);
+      add_noisy_cap(s, m, out[side], side, local_count, false, u, v, desc, texture_scale, tris);
+      add_noisy_cap(s, m, out[1 - side], 1 - side, local_count, true, u, v, desc, texture_scale, tris);
+      break;
     }
     add_cap(s, m, out[side], side, tris, tri_count, local_count, false, n, u, desc, texture_scale);
     if (mirror) {

@@ -8,6 +8,8 @@
 //   tail -c +2 INPUT > x.obj && breakables fracture --mesh x.obj --pieces N
 // (the seed is the CLI's default).
 //
+// The planes cut has noisy faces when bit 4 of the last byte is set:
+//   ... breakables fracture --mesh x.obj --pieces N --noise A
 // Every input is also cut by one cell pattern (Voronoi, clustered or radial,
 // by the last byte; with noisy faces when its bit 3 is set), which must
 // meet the same checks and make exactly the pieces asked for when it builds:
@@ -70,19 +72,21 @@ int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     bk_mesh_free(&mesh);
     return 0;
   }
+  // Noise as the editor sets it: 2% of the size, four waves per size.
+  bk_aabb box = bk_mesh_bounds(&mesh);
+  double size_of = bk_v3_length(bk_v3_sub(box.max, box.min));
+  double amplitude = isfinite(0.02 * size_of) ? 0.02 * size_of : 0.0;
+  double frequency = isfinite(4.0 / size_of) && 4.0 / size_of > 0.0 ? 4.0 / size_of : 1.0;
+  uint8_t last = data[size - 1];
+  if (last & 16) desc.noise_amplitude = amplitude, desc.noise_frequency = frequency;
   bk_mesh_tree tree = {0};
   if (bk_mesh_tree_build(&mesh, &desc, &tree, &err)) {
     check_tree(&tree, desc.pieces, desc.seed);
     bk_mesh_tree_free(&tree);
   }
-  uint8_t last = data[size - 1];
   desc.pattern = (bk_fracture_pattern)(BK_PATTERN_VORONOI + last % 3);
-  if (last & 8) {
-    bk_aabb box = bk_mesh_bounds(&mesh);
-    double size_of = bk_v3_length(bk_v3_sub(box.max, box.min));
-    desc.noise_amplitude = 0.02 * size_of;
-    desc.noise_frequency = isfinite(4.0 / size_of) && 4.0 / size_of > 0.0 ? 4.0 / size_of : 1.0;
-  }
+  desc.noise_amplitude = 0.0;
+  if (last & 8) desc.noise_amplitude = amplitude, desc.noise_frequency = frequency;
   desc.impact = mesh.position_count ? mesh.positions[0] : bk_v3(0, 0, 0);
   if (bk_mesh_tree_build(&mesh, &desc, &tree, &err)) {
     check_tree(&tree, desc.pieces, desc.seed);
