@@ -304,9 +304,36 @@ static bool precheck_3ds(const char* name, const unsigned char* data, size_t siz
 // parser that, on a character that is neither a digit nor a space (a "*" or
 // a "[" in a damaged file), keeps allocating until it asks for gigabytes.
 // Those lists may hold only unsigned integers and whitespace.
+//
+// It also dereferences a null pointer on an array element (<float_array>,
+// <int_array>, ...) without a count attribute: every one must have it.
+static bool dae_arrays_counted(const char* name, const char* text, const char* end, bk_error* err) {
+  static const char* const arrays[] = {"<float_array", "<int_array", "<bool_array", "<Name_array",
+                                       "<IDREF_array"};
+  for (const char* at = text; at < end; ++at) {
+    if (*at != '<') continue;
+    for (size_t a = 0; a < sizeof arrays / sizeof *arrays; ++a) {
+      size_t length = strlen(arrays[a]);
+      if ((size_t)(end - at) < length || memcmp(at, arrays[a], length) != 0) continue;
+      const char* open_end = memchr(at, '>', (size_t)(end - at));
+      if (!open_end)
+        return bk_error_set(err, "%s: Collada element at byte %zu is not closed", name, (size_t)(at - text));
+      bool counted = false;
+      for (const char* c = at + length; c + 7 <= open_end && !counted; ++c)
+        counted = (c[0] == ' ' || c[0] == '\t' || c[0] == '\n' || c[0] == '\r') &&
+                  memcmp(c + 1, "count", 5) == 0 && (c[6] == '=' || c[6] == ' ');
+      if (!counted)
+        return bk_error_set(err, "%s: Collada %s> at byte %zu has no count attribute", name, arrays[a],
+                            (size_t)(at - text));
+    }
+  }
+  return true;
+}
+
 static bool precheck_dae(const char* name, const void* data, size_t size, bk_error* err) {
   const char* text = data;
   const char* end = text + size;
+  if (!dae_arrays_counted(name, text, end, err)) return false;
   static const char* const tags[] = {"<p>", "<p ", "<vcount>", "<vcount ", "<v>", "<v "};
   for (const char* at = text; at < end; ++at) {
     if (*at != '<') continue;
