@@ -74,38 +74,26 @@ typedef struct editor {
 
 static const char* const mesh_names[] = {"bunny", "cube", "torus", "eggshell", "wall", "slab", "pillar"};
 
-// The size of the mesh (its bounds' diagonal), 0 when it cannot be read
-// here (a tree file: it is not fractured anyway).
-static double mesh_size(const char* spec) {
-  bk_mesh mesh = {0};
+// The mesh to fracture, when it can be read here (a tree file cannot: it
+// is not fractured anyway, and the patterns' aims fall back to defaults).
+static bool load_source(const char* spec, bk_mesh* out) {
   bk_error err = {{0}};
   size_t length = strlen(spec);
-  if ((length > 6 && strcmp(spec + length - 6, ".mtree") == 0) || !bk_app_load_mesh(spec, &mesh, &err))
-    return 0.0;
-  bk_aabb box = bk_mesh_bounds(&mesh);
-  bk_mesh_free(&mesh);
-  return bk_v3_length(bk_v3_sub(box.max, box.min));
+  return !(length > 6 && strcmp(spec + length - 6, ".mtree") == 0) && bk_app_load_mesh(spec, out, &err);
 }
 
 // The radial pattern's impact: the point of the mesh's surface that faces
 // the editor's first view most (a fixed direction, so turning the view does
-// not make a new tree), where a shot from there would land. The origin when
-// the mesh cannot be read here (a tree file: it is not fractured anyway).
-static bk_vec3 facing_point(const char* spec) {
+// not make a new tree), where a shot from there would land.
+static bk_vec3 facing_point(const bk_mesh* mesh) {
   bk_vec3 towards =
       bk_v3(cos(START_PITCH) * sin(START_YAW), sin(START_PITCH), cos(START_PITCH) * cos(START_YAW));
-  bk_mesh mesh = {0};
-  bk_error err = {{0}};
   bk_vec3 best = bk_v3(0, 0, 0);
-  size_t length = strlen(spec);
-  if ((length > 6 && strcmp(spec + length - 6, ".mtree") == 0) || !bk_app_load_mesh(spec, &mesh, &err))
-    return best;
   double most = -INFINITY;
-  for (uint32_t i = 0; i < mesh.position_count; ++i) {
-    double along = bk_v3_dot(mesh.positions[i], towards);
-    if (along > most) most = along, best = mesh.positions[i];
+  for (uint32_t i = 0; i < mesh->position_count; ++i) {
+    double along = bk_v3_dot(mesh->positions[i], towards);
+    if (along > most) most = along, best = mesh->positions[i];
   }
-  bk_mesh_free(&mesh);
   return best;
 }
 
@@ -115,9 +103,16 @@ static bool rebuild(editor* e, bk_error* err) {
   desc.seed = (uint64_t)e->seed;
   desc.texture_scale = e->texture_scale;
   desc.pattern = (bk_fracture_pattern)e->pattern;
-  if (desc.pattern == BK_PATTERN_RADIAL) desc.impact = facing_point(e->mesh);
-  double extent = e->noise > 0.0 && desc.pattern != BK_PATTERN_BRICK ? mesh_size(e->mesh) : 0.0;
-  if (extent > 0.0) desc.noise_amplitude = e->noise * extent, desc.noise_frequency = 4.0 / extent;
+  bool noisy = e->noise > 0.0 && desc.pattern != BK_PATTERN_BRICK;
+  bk_mesh source = {0};
+  if ((desc.pattern == BK_PATTERN_RADIAL || noisy) && load_source(e->mesh, &source)) {
+    if (desc.pattern == BK_PATTERN_RADIAL) desc.impact = facing_point(&source);
+    // Noise as a fraction of the mesh's size (its bounds' diagonal), four waves across it.
+    bk_aabb box = bk_mesh_bounds(&source);
+    double extent = bk_v3_length(bk_v3_sub(box.max, box.min));
+    if (noisy && extent > 0.0) desc.noise_amplitude = e->noise * extent, desc.noise_frequency = 4.0 / extent;
+    bk_mesh_free(&source);
+  }
   if (desc.pattern == BK_PATTERN_CUTOUT) {
     uint32_t size = 0;
     desc.cutout_pixels = bk_app_cutout_map(&size);
