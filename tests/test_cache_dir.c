@@ -42,7 +42,7 @@ static void test_overlong_cache_dir(void) {
   long_dir(dir, sizeof dir, 4100); // longer than PATH_MAX: the path cannot even be formed
   setenv("BREAKABLES_CACHE_DIR", dir, 1);
   expect_one_warning(run(SIM_ARGS), "$BREAKABLES_CACHE_DIR");
-  // The showcase fractures five objects: still one line.
+  // The showcase fractures six objects: still one line.
   expect_one_warning(run("sim --scene showcase --pieces 8 --steps 1 --shots 0 --json"),
                      "$BREAKABLES_CACHE_DIR");
 

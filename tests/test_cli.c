@@ -561,8 +561,9 @@ static void test_bench_quick(void) {
   setenv("BREAKABLES_CACHE_DIR", BK_TEST_TMP "/cache", 1);
   run_result* r = run("bench --quick --out '" BK_TEST_TMP "/bench'");
   ENSURE_MSG(r->status == 0, "%s", r->err);
-  const char* sections[] = {"1. Fracture speed", "2. Meshes",         "3. Maximum fragments", "4. Runtime",
-                            "5. Scaling",        "6. Asset pipeline", "7. Fracture patterns"};
+  const char* sections[] = {"1. Fracture speed",    "2. Meshes",           "3. Maximum fragments",
+                            "4. Runtime",           "5. Scaling",          "6. Asset pipeline",
+                            "7. Fracture patterns", "8. Structural stress"};
   for (size_t i = 0; i < sizeof sections / sizeof *sections; ++i)
     ENSURE_MSG(strstr(r->out, sections[i]) != NULL, "stdout lacks %s", sections[i]);
 

@@ -99,7 +99,8 @@ static void test_scene(const char* scene) {
 }
 
 static void test_scenes(void) {
-  const char* scenes[] = {"wall", "eggshell", "pillar", "slab", "bunny", "torus", "showcase"};
+  const char* scenes[] = {"wall",  "eggshell", "pillar", "slab",   "bunny",
+                          "torus", "showcase", "tower",  "bridge", "balcony"};
   for (size_t i = 0; i < sizeof scenes / sizeof *scenes; ++i)
     test_scene(scenes[i]);
 }

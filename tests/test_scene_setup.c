@@ -21,10 +21,11 @@ int main(void) {
   options.pieces = 16;
   bk_loaded_scene scene = {0};
   load(&scene, &options);
-  ENSURE(scene.tree_count == 5);
+  ENSURE(scene.tree_count == 6);
   // The showcase's objects start with their own presets.
   ENSURE(strcmp(bk_world_material(scene.world, scene.ids[0]).name, "stone") == 0);
   ENSURE(strcmp(bk_world_material(scene.world, scene.ids[3]).name, "glass") == 0);
+  ENSURE(strcmp(bk_world_material(scene.world, scene.ids[5]).name, "stone") == 0); // the tower
 
   // The panel's preset: every object, now.
   const bk_material* wood = bk_material_find("wood");

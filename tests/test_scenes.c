@@ -1,14 +1,14 @@
 // The demo's scene table.
 #include <string.h>
 
+#include "app.h"
 #include "ensure.h"
-#include "scenes.h"
 
 // Scene data: every scene is findable by name, and a scene's extra aim
 // points each lie by a different one of its objects (so a volley in the
 // showcase goes round all of them).
 static void test_scene_targets(void) {
-  ENSURE(bk_scene_count() >= 7);
+  ENSURE(bk_scene_count() >= 10);
   for (uint32_t i = 0; i < bk_scene_count(); ++i) {
     const bk_scene* scene = bk_scene_at(i);
     ENSURE(bk_scene_find(scene->name) == scene);
@@ -33,7 +33,128 @@ static void test_scene_targets(void) {
   ENSURE(showcase && showcase->extra_target_count + 1 == showcase->object_count);
 }
 
+// ---------------------------------------------------------------- structures
+
+/// An object's mesh where it stands in the world (the scenes' structures are not turned).
+static bk_mesh placed_source(const bk_scene_object* object) {
+  bk_mesh m = {0};
+  ENSURE_MSG(bk_scene_object_source(object, &m), "cannot load %s", object->mesh);
+  ENSURE(bk_v3_length(object->axis) == 0.0);
+  for (uint32_t i = 0; i < m.position_count; ++i)
+    m.positions[i] = bk_v3_add(m.positions[i], object->position);
+  return m;
+}
+
+/// Where the line from `origin` through `through` first meets the mesh
+/// (Moller-Trumbore on every triangle); false when it misses.
+static bool first_hit(const bk_mesh* m, bk_vec3 origin, bk_vec3 through, bk_vec3* hit) {
+  bk_vec3 direction = bk_v3_sub(through, origin);
+  double nearest = INFINITY;
+  for (uint32_t t = 0; t < m->triangle_count; ++t) {
+    bk_vec3 a = m->positions[bk_mesh_tri_position(m, t, 0)];
+    bk_vec3 e1 = bk_v3_sub(m->positions[bk_mesh_tri_position(m, t, 1)], a);
+    bk_vec3 e2 = bk_v3_sub(m->positions[bk_mesh_tri_position(m, t, 2)], a);
+    bk_vec3 p = bk_v3_cross(direction, e2);
+    double det = bk_v3_dot(e1, p);
+    if (fabs(det) < 1e-300) continue;
+    bk_vec3 s = bk_v3_sub(origin, a), q = bk_v3_cross(s, e1);
+    double u = bk_v3_dot(s, p) / det, v = bk_v3_dot(direction, q) / det, along = bk_v3_dot(e2, q) / det;
+    if (u >= 0.0 && v >= 0.0 && u + v <= 1.0 && along > 0.0 && along < nearest) nearest = along;
+  }
+  *hit = bk_v3_add(origin, bk_v3_scale(direction, nearest));
+  return isfinite(nearest);
+}
+
+/// Whether every corner of the mesh is in the picture the scene opens
+/// with, `margin` (a fraction of the half-size) inside its border: the
+/// renderer's default camera, 60 degrees high, in the default 1280x720 window.
+static bool in_view(const bk_scene* scene, const bk_mesh* m, double margin) {
+  bk_vec3 forward = bk_v3_normalize(bk_v3_sub(scene->target, scene->eye));
+  bk_vec3 right = bk_v3_normalize(bk_v3_cross(forward, bk_v3(0, 1, 0))), up = bk_v3_cross(right, forward);
+  double half_height = tan(30.0 * 3.14159265358979 / 180.0), half_width = half_height * 1280.0 / 720.0;
+  for (uint32_t i = 0; i < m->position_count; ++i) {
+    bk_vec3 d = bk_v3_sub(m->positions[i], scene->eye);
+    double depth = bk_v3_dot(d, forward);
+    if (!(depth > 0.0)) return false;
+    if (fabs(bk_v3_dot(d, right)) / depth > (1.0 - margin) * half_width) return false;
+    if (fabs(bk_v3_dot(d, up)) / depth > (1.0 - margin) * half_height) return false;
+  }
+  return true;
+}
+
+static bool box_contains(bk_aabb box, bk_vec3 p) {
+  return p.x >= box.min.x && p.x <= box.max.x && p.y >= box.min.y && p.y <= box.max.y && p.z >= box.min.z &&
+         p.z <= box.max.z;
+}
+
+/// One structure's scene: the structure alone, anchored, made of `material`,
+/// broken radially round its aim point into 128 to 256 pieces by shots as
+/// the wall's; the whole of it in the opening picture with room to spare;
+/// its aim point inside it and the first shot's line landing on it.
+static bk_vec3 check_structure(const char* name, const char* material) {
+  const bk_scene* scene = bk_scene_find(name);
+  ENSURE_MSG(scene != NULL, "no scene %s", name);
+  ENSURE(scene->object_count == 1 && scene->extra_target_count == 0 && !scene->fit_to_mesh);
+  const bk_scene_object* o = &scene->objects[0];
+  ENSURE(strcmp(o->mesh, name) == 0 && strcmp(o->material, material) == 0);
+  ENSURE(o->anchored && o->pattern == BK_PATTERN_RADIAL);
+  ENSURE(scene->pieces >= 128 && scene->pieces <= 256);
+  const bk_scene* wall = bk_scene_find("wall");
+  ENSURE(scene->projectile_speed == wall->projectile_speed &&
+         scene->projectile_radius == wall->projectile_radius &&
+         scene->projectile_mass == wall->projectile_mass);
+  bk_mesh m = placed_source(o);
+  bk_aabb box = bk_mesh_bounds(&m);
+  ENSURE_SMALL(box.min.y, 0.0, 1e-12); // stands on the ground, where it is anchored
+  ENSURE_MSG(in_view(scene, &m, 0.1), "%s: not all in view from (%g, %g, %g)", name, scene->eye.x,
+             scene->eye.y, scene->eye.z);
+  ENSURE(box_contains(box, scene->target) && !box_contains(box, scene->eye));
+  bk_vec3 hit = {0};
+  ENSURE_MSG(first_hit(&m, scene->eye, scene->target, &hit), "%s: the shots miss", name);
+  fprintf(stderr, "    %s: the first shot's line lands at (%.2f, %.2f, %.2f)\n", name, hit.x, hit.y, hit.z);
+  bk_mesh_free(&m);
+  return hit;
+}
+
+static void test_structures(void) {
+  // The tower is shot at its base.
+  bk_vec3 tower = check_structure("tower", "stone");
+  ENSURE(bk_scene_find("tower")->target.y <= 0.5 && tower.y < 0.6);
+  // The bridge on its deck (1.5 to 1.8 m up) half-way between its legs (inner faces at x = +-1.8).
+  bk_vec3 bridge = check_structure("bridge", "concrete");
+  ENSURE(bridge.y >= 1.5 - 1e-9 && fabs(bridge.x) < 0.5);
+  // The balcony on its slab (1.8 to 2 m up), near the wall's face (z = 0.15): its root.
+  bk_vec3 balcony = check_structure("balcony", "concrete");
+  ENSURE(balcony.y >= 1.8 - 1e-9 && balcony.y <= 2.0 + 1e-9 && balcony.z >= 0.15 && balcony.z < 0.6);
+}
+
+// The showcase's tower: anchored, aimed at by its base, overlapping no
+// other object (their bounds apart in plan view) and all in the picture.
+static void test_showcase_tower(void) {
+  const bk_scene* showcase = bk_scene_find("showcase");
+  uint32_t tower = UINT32_MAX;
+  for (uint32_t i = 0; i < showcase->object_count; ++i)
+    if (strcmp(showcase->objects[i].mesh, "tower") == 0) tower = i;
+  ENSURE(tower != UINT32_MAX && showcase->objects[tower].anchored);
+  ENSURE(bk_scene_object_aim(showcase, tower).y <= 0.5);
+  bk_aabb boxes[8] = {{{0}}};
+  for (uint32_t i = 0; i < showcase->object_count; ++i) {
+    bk_mesh m = placed_source(&showcase->objects[i]);
+    boxes[i] = bk_mesh_bounds(&m);
+    if (i == tower) ENSURE(in_view(showcase, &m, 0.1));
+    bk_mesh_free(&m);
+  }
+  for (uint32_t i = 0; i < showcase->object_count; ++i) {
+    if (i == tower) continue;
+    bool apart = boxes[i].max.x < boxes[tower].min.x || boxes[tower].max.x < boxes[i].min.x ||
+                 boxes[i].max.z < boxes[tower].min.z || boxes[tower].max.z < boxes[i].min.z;
+    ENSURE_MSG(apart, "the showcase's tower overlaps its %s", showcase->objects[i].mesh);
+  }
+}
+
 int main(void) {
-  test_scene_targets();
+  RUN(test_scene_targets);
+  RUN(test_structures);
+  RUN(test_showcase_tower);
   return 0;
 }

@@ -1,4 +1,6 @@
-// Procedural shapes: closure, counts, exact volumes and sane per-corner attributes.
+// Procedural shapes: closure, counts, exact volumes and sane per-corner
+// attributes; the structures (tower, bridge, balcony) also stand on the
+// ground only where they should and fracture into closed pieces.
 #include <string.h>
 
 #include "bk_geom.h"
@@ -258,6 +260,186 @@ static void test_pillar(void) {
   bk_mesh_free(&m);
 }
 
+// ---------------------------------------------------------------- structures
+
+/// uvs in metres and unmirrored, as the boxes have them: each triangle's uv
+/// image is congruent to the triangle (same edge lengths) with the same
+/// turning sense seen from outside; v is the height on vertical faces and u
+/// is x on horizontal ones.
+static void check_metre_uvs(const char* name, const bk_mesh* m) {
+  for (uint32_t t = 0; t < m->triangle_count; ++t) {
+    const bk_corner* c[3] = {&m->corners[m->indices[3 * t]], &m->corners[m->indices[3 * t + 1]],
+                             &m->corners[m->indices[3 * t + 2]]};
+    for (int k = 0; k < 3; ++k) {
+      const bk_corner *a = c[k], *b = c[(k + 1) % 3];
+      double world = bk_v3_length(bk_v3_sub(m->positions[b->position], m->positions[a->position]));
+      double flat = hypot(b->uv[0] - a->uv[0], b->uv[1] - a->uv[1]);
+      ENSURE_MSG(fabs(world - flat) < 1e-5, "%s: triangle %u edge %d is %g m but %g in uv", name, t, k, world,
+                 flat);
+    }
+    double turn = (c[1]->uv[0] - c[0]->uv[0]) * (c[2]->uv[1] - c[0]->uv[1]) -
+                  (c[1]->uv[1] - c[0]->uv[1]) * (c[2]->uv[0] - c[0]->uv[0]);
+    ENSURE_MSG(turn > 0.0, "%s: triangle %u has a mirrored texture", name, t);
+    for (int k = 0; k < 3; ++k) {
+      bk_vec3 p = m->positions[c[k]->position], n = corner_normal(c[k]);
+      if (fabs(n.y) < 1e-6) ENSURE_SMALL(c[k]->uv[1], p.y, 1e-6);
+      if (fabs(n.y) > 1.0 - 1e-6) ENSURE_SMALL(c[k]->uv[0], p.x, 1e-6);
+    }
+  }
+}
+
+/// Area of the downward faces on the ground (y = 0): where an anchored
+/// object is held. `inside` says which ground points may be held.
+static double ground_area(const char* name, const bk_mesh* m, bool (*inside)(bk_vec3 p)) {
+  for (uint32_t i = 0; i < m->position_count; ++i)
+    if (m->positions[i].y == 0.0)
+      ENSURE_MSG(inside(m->positions[i]), "%s: (%g, %g, %g) touches the ground", name, m->positions[i].x,
+                 m->positions[i].y, m->positions[i].z);
+  double area = 0.0;
+  for (uint32_t t = 0; t < m->triangle_count; ++t) {
+    bk_vec3 a = m->positions[bk_mesh_tri_position(m, t, 0)];
+    bk_vec3 b = m->positions[bk_mesh_tri_position(m, t, 1)];
+    bk_vec3 c = m->positions[bk_mesh_tri_position(m, t, 2)];
+    if (a.y == 0.0 && b.y == 0.0 && c.y == 0.0)
+      area += 0.5 * -bk_v3_cross(bk_v3_sub(b, a), bk_v3_sub(c, a)).y; // facing down: positive
+  }
+  return area;
+}
+
+/// Fractures the shape into 64 pieces by `pattern`: every node valid and
+/// closed, children's and leaves' volumes adding up to their parent's and
+/// the source's, the fragments bonded into one piece.
+static void check_fractures(bk_shape shape, bk_fracture_pattern pattern) {
+  const char* name = bk_shape_name(shape);
+  bk_mesh m = {0};
+  bk_shape_build(shape, &m);
+  bk_fracture_def def = bk_default_fracture_def();
+  def.pieces = 64;
+  def.pattern = pattern;
+  bk_mesh_tree tree = {0};
+  bk_error err = {{0}};
+  ENSURE_MSG(bk_mesh_tree_build(&m, &def, &tree, &err), "%s %s: %s", name, bk_fracture_pattern_name(pattern),
+             err.message);
+  // A planes cut through a concave piece may leave more parts than asked.
+  ENSURE_MSG(tree.leaf_count >= 64, "%s %s: %u leaves", name, bk_fracture_pattern_name(pattern),
+             tree.leaf_count);
+  bk_mesh_tree_stats st = bk_mesh_tree_measure(&tree);
+  ENSURE_MSG(st.open_nodes == 0, "%s %s: %u open nodes", name, bk_fracture_pattern_name(pattern),
+             st.open_nodes);
+  ENSURE_REL(st.source_volume, bk_mesh_volume(&m), 1e-15);
+  ENSURE_REL(st.leaf_volume_sum, st.source_volume, 1e-9);
+  ENSURE(st.max_child_rel_error <= 1e-9 && st.min_leaf_volume > 0.0);
+  for (uint32_t i = 0; i < tree.node_count; ++i) {
+    ENSURE_MSG(bk_mesh_validate(&tree.nodes[i].mesh, &err), "%s node %u: %s", name, i, err.message);
+    ENSURE_MSG(bk_mesh_is_closed(&tree.nodes[i].mesh), "%s node %u is open", name, i);
+  }
+  ENSURE(tree.bond_count >= tree.leaf_count - 1);
+  fprintf(stderr, "    %s %s: %u leaves, %u nodes, %u bonds\n", name, bk_fracture_pattern_name(pattern),
+          tree.leaf_count, tree.node_count, tree.bond_count);
+  bk_mesh_tree_free(&tree);
+  bk_mesh_free(&m);
+}
+
+static void check_bounds(const bk_mesh* m, bk_vec3 lo, bk_vec3 hi) {
+  bk_aabb box = bk_mesh_bounds(m);
+  ENSURE(box.min.y == 0.0);
+  ENSURE_SMALL(bk_v3_length(bk_v3_sub(box.min, lo)), 0.0, 1e-15);
+  ENSURE_SMALL(bk_v3_length(bk_v3_sub(box.max, hi)), 0.0, 1e-15);
+}
+
+static bool tower_footprint(bk_vec3 p) { return fabs(p.x) <= 0.4 && fabs(p.z) <= 0.4; }
+
+static void test_tower(void) {
+  bk_mesh m = {0};
+  bk_shape_build(BK_SHAPE_TOWER, &m);
+  check_counts(&m, 8, 24, 12);
+  ENSURE_SMALL(check_common(BK_SHAPE_TOWER, &m), 0.8 * 4.0 * 0.8, 1e-12);
+  check_convex_normals(&m);
+  check_bounds(&m, bk_v3(-0.4, 0.0, -0.4), bk_v3(0.4, 4.0, 0.4));
+  check_metre_uvs("tower", &m);
+  ENSURE_SMALL(ground_area("tower", &m, tower_footprint), 0.8 * 0.8, 1e-12);
+  bk_mesh_free(&m);
+  check_fractures(BK_SHAPE_TOWER, BK_PATTERN_PLANES);
+  check_fractures(BK_SHAPE_TOWER, BK_PATTERN_VORONOI);
+}
+
+/// Only the legs (0.5 m thick, 0.2 m in from the deck's ends) stand on the ground.
+static bool bridge_legs(bk_vec3 p) { return fabs(p.x) >= 1.8 && fabs(p.x) <= 2.3 && fabs(p.z) <= 0.6; }
+
+static void test_bridge(void) {
+  bk_mesh m = {0};
+  bk_shape_build(BK_SHAPE_BRIDGE, &m);
+  // A 12-corner Pi profile: 24 positions, a quad per edge and two caps of 10 ears.
+  check_counts(&m, 24, 72, 44);
+  const double deck = 5.0 * 0.3, legs = 2.0 * 0.5 * 1.5, width = 1.2;
+  ENSURE_SMALL(check_common(BK_SHAPE_BRIDGE, &m), (deck + legs) * width, 1e-12);
+  check_bounds(&m, bk_v3(-2.5, 0.0, -0.6), bk_v3(2.5, 1.8, 0.6));
+  check_metre_uvs("bridge", &m);
+  ENSURE_SMALL(ground_area("bridge", &m, bridge_legs), 2.0 * 0.5 * width, 1e-12);
+  // The span is open underneath: nothing between the legs below the deck's underside at 1.5 m.
+  for (uint32_t i = 0; i < m.position_count; ++i)
+    if (fabs(m.positions[i].x) < 1.8) ENSURE(m.positions[i].y >= 1.5);
+  bk_mesh_free(&m);
+  check_fractures(BK_SHAPE_BRIDGE, BK_PATTERN_PLANES);
+  check_fractures(BK_SHAPE_BRIDGE, BK_PATTERN_VORONOI);
+}
+
+/// Only the wall (0.3 m thick, centred on z = 0) stands on the ground; the slab hangs from it.
+static bool balcony_wall(bk_vec3 p) { return fabs(p.z) <= 0.15 && fabs(p.x) <= 1.2; }
+
+static void test_balcony(void) {
+  bk_mesh m = {0};
+  bk_shape_build(BK_SHAPE_BALCONY, &m);
+  // An 8-corner L profile: 16 positions, a quad per edge and two caps of 6 ears.
+  check_counts(&m, 16, 48, 28);
+  const double wall = 0.3 * 3.0, slab = 1.2 * 0.2, width = 2.4;
+  ENSURE_SMALL(check_common(BK_SHAPE_BALCONY, &m), (wall + slab) * width, 1e-12);
+  check_bounds(&m, bk_v3(-1.2, 0.0, -0.15), bk_v3(1.2, 3.0, 1.35));
+  check_metre_uvs("balcony", &m);
+  ENSURE_SMALL(ground_area("balcony", &m, balcony_wall), 0.3 * width, 1e-12);
+  // The slab sticks out of the wall's front between 1.8 and 2 m up.
+  for (uint32_t i = 0; i < m.position_count; ++i)
+    if (m.positions[i].z > 0.15) ENSURE(m.positions[i].y == 1.8 || m.positions[i].y == 2.0);
+  bk_mesh_free(&m);
+  check_fractures(BK_SHAPE_BALCONY, BK_PATTERN_PLANES);
+  check_fractures(BK_SHAPE_BALCONY, BK_PATTERN_VORONOI);
+}
+
+/// The extrusion itself: a polygon with a corner in the middle of an edge
+/// still closes (the corner is never left on an ear's edge), and what it
+/// cannot extrude it refuses without touching the mesh.
+static void test_extrude(void) {
+  // A square with a corner half-way along its top edge; one unit deep.
+  static const double notched[][2] = {{0, 0}, {1, 0}, {1, 1}, {0.5, 1}, {0, 1}};
+  bk_extrusion def = {.profile = notched,
+                      .corner_count = 5,
+                      .x_axis = bk_v3(1, 0, 0),
+                      .y_axis = bk_v3(0, 1, 0),
+                      .depth_from = 0.0,
+                      .depth_to = 1.0};
+  bk_mesh m = {0};
+  ENSURE(bk_shape_extrude(&m, &def));
+  bk_mesh_compute_tangents(&m);
+  check_counts(&m, 10, 30, 16);
+  ENSURE(bk_mesh_is_closed(&m));
+  ENSURE_SMALL(bk_mesh_volume(&m), 1.0, 1e-15);
+  check_metre_uvs("notched square", &m);
+
+  static const double clockwise[][2] = {{0, 0}, {0, 1}, {1, 1}, {1, 0}};
+  bk_extrusion bad = def;
+  bad.profile = clockwise;
+  bad.corner_count = 4;
+  ENSURE(!bk_shape_extrude(&m, &bad));
+  bad = def;
+  bad.corner_count = 2;
+  ENSURE(!bk_shape_extrude(&m, &bad));
+  bad = def;
+  bad.depth_to = bad.depth_from;
+  ENSURE(!bk_shape_extrude(&m, &bad));
+  check_counts(&m, 10, 30, 16);
+  bk_mesh_free(&m);
+}
+
 static void test_rebuild_is_deterministic(void) {
   for (int i = 0; i < BK_SHAPE_COUNT; ++i) {
     bk_mesh a = {0}, b = {0};
@@ -277,6 +459,10 @@ int main(void) {
   RUN(test_wall);
   RUN(test_slab);
   RUN(test_pillar);
+  RUN(test_tower);
+  RUN(test_bridge);
+  RUN(test_balcony);
+  RUN(test_extrude);
   RUN(test_rebuild_is_deterministic);
   return 0;
 }

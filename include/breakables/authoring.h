@@ -160,6 +160,13 @@ typedef enum bk_shape {
   BK_SHAPE_WALL,     ///< thin brick-proportioned wall standing on y = 0
   BK_SHAPE_SLAB,     ///< flat stone slab lying on y = 0
   BK_SHAPE_PILLAR,   ///< tall octagonal pillar standing on y = 0
+  BK_SHAPE_TOWER,    ///< square stone column 0.8 x 4 x 0.8 m standing on y = 0: 8 positions, 12 triangles
+  /// Pi-shaped bridge standing on y = 0: a deck 5 m long (x), 1.2 m wide (z) and 0.3 m thick, its
+  /// underside 1.5 m up, on two legs 0.5 m thick set 0.2 m in from its ends; 44 triangles
+  BK_SHAPE_BRIDGE,
+  /// balcony standing on y = 0: a wall 2.4 m wide (x), 3 m high and 0.3 m thick (z), with a slab
+  /// 0.2 m thick, its top 2 m up, reaching 1.2 m out along +z; only the wall touches the ground; 28 triangles
+  BK_SHAPE_BALCONY,
   BK_SHAPE_COUNT
 } bk_shape;
 

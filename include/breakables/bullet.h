@@ -195,6 +195,12 @@ typedef struct bk_world_def {
   /// retire_after seconds, to keep long sessions bounded; 0 = never (default).
   double retire_volume;
   double retire_after; ///< seconds a small fragment lives once free (> 0); default 10
+  /// Structural stress each step (bk_runtime_solve_stress): what has lost
+  /// its support breaks off and falls; default true
+  bool stress;
+  /// Its work per step in bond evaluations (bk_runtime_def.stress_budget,
+  /// >= 1); default 40,000 (about 0.7 ms on this project's 2-core machine)
+  uint32_t stress_budget;
 } bk_world_def;
 
 bk_world_def bk_default_world_def(void);
@@ -265,10 +271,17 @@ typedef struct bk_break_event {
   bk_vec3 position; ///< world position of the bond centroid
   bk_vec3 velocity; ///< velocity of the body it belonged to, at that point
   double area;
+  bk_break_cause cause; ///< a hit, or the load it carried (stress)
 } bk_break_event;
 
 /// Copies the last step's break events; returns the total count.
 uint32_t bk_world_break_events(const bk_world* world, bk_break_event* out, uint32_t capacity);
+
+/// Where each fragment of a breakable is now: its centroid in the world
+/// (NaN for a fragment whose cluster was removed, e.g. retired). Writes at
+/// most capacity; returns the breakable's fragment count (0 for a stale id).
+uint32_t bk_world_fragment_centroids(const bk_world* world, bk_breakable_id id, bk_vec3* out,
+                                     uint32_t capacity);
 
 /// Counters and timings.
 typedef struct bk_world_stats {
@@ -286,8 +299,12 @@ typedef struct bk_world_stats {
   double retired_mass;        ///< kg removed with retired fragments (total_mass + retired_mass is conserved)
   double step_ms;             ///< last step, all of it
   double physics_ms;          ///< last step, the physics engine alone
-  double break_ms;            ///< last step: damage, components, minimal sets, body rebuild
-  bool nan;                   ///< a body has a non-finite transform or velocity
+  double break_ms;            ///< last step: damage, stress, components, minimal sets, body rebuild
+  double stress_ms;           ///< last step, the stress solve alone (part of break_ms)
+  uint32_t stress_bonds_broken;     ///< by stress, since creation (part of bonds_broken)
+  uint32_t stress_iterations;       ///< last step's stress iterations
+  uint32_t stress_clusters_pending; ///< clusters whose load is not solved yet (0: at rest, costs nothing)
+  bool nan;                         ///< a body has a non-finite transform or velocity
 } bk_world_stats;
 
 bk_world_stats bk_world_get_stats(const bk_world* world);

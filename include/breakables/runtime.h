@@ -77,6 +77,13 @@ typedef struct bk_material {
   bool accumulate;      ///< bonds lose hit points over hits (else discrete: one hit must exceed them)
   double friction;      ///< >= 0
   double restitution;   ///< in [0, 1]
+  /// Stress limits (Pa, > 0; INFINITY: never fails that way): the stress a
+  /// bond carries before it breaks under the load of what it holds up
+  /// (bk_runtime_solve_stress). Per bond area, so they do not depend on the
+  /// fragment count: stone holds much in compression and little in tension.
+  double compression_limit;
+  double tension_limit;
+  double shear_limit;
 } bk_material;
 
 #define BK_MATERIAL_NAME_MAX 31
@@ -112,8 +119,21 @@ typedef struct bk_runtime_def {
   double impulse_threshold;            ///< contacts with less impulse (N s) do no damage; default 0.5
   double damage_min_distance;          ///< s_min of the damage formula (m), > 0; default 0.05
   uint32_t max_new_clusters_per_split; ///< clusters one bk_runtime_split may create, >= 2; default 48
-  bk_body_state_fn* body_state;        ///< required
-  void* context;                       ///< passed to body_state
+  /// Work one bk_runtime_solve_stress may do, in bond evaluations (an
+  /// iteration over a cluster costs about 3 per bond; a 1,024-fragment wall
+  /// has 6,000 bonds): a solve that needs more goes on next call, warm.
+  /// At least one iteration is always made; >= 1; default 40,000 (the
+  /// wall's 3 iterations, about 1.5 ms on this project's 2-core machine)
+  uint32_t stress_budget;
+  /// A solve has converged when the unbalanced force is below this fraction
+  /// of the load, in (0, 0.1]; default 1e-3
+  double stress_tolerance;
+  /// Clusters on the ground (supports) moving faster than this (m/s, at
+  /// any point within their size) are not loaded: their weight is not at
+  /// rest on anything; >= 0; default 0.25
+  double stress_rest_speed;
+  bk_body_state_fn* body_state; ///< required
+  void* context;                ///< passed to body_state
 } bk_runtime_def;
 
 bk_runtime_def bk_default_runtime_def(void);
@@ -209,6 +229,12 @@ typedef struct bk_cluster_created {
   bk_body_state body;   ///< where its body starts and how it moves (its parent's v + w x r)
 } bk_cluster_created;
 
+/// What broke a bond.
+typedef enum bk_break_cause {
+  BK_BREAK_DAMAGE, ///< a hit (contacts, bk_runtime_damage_at)
+  BK_BREAK_STRESS, ///< the load it carried passed its material's limit
+} bk_break_cause;
+
 /// A bond broken by the last call.
 typedef struct bk_bond_break {
   bk_breakable_id breakable;
@@ -217,6 +243,7 @@ typedef struct bk_bond_break {
   bk_vec3 position;      ///< world position of the bond centroid
   bk_vec3 velocity;      ///< velocity of the cluster's body at that point
   double area;           ///< m^2
+  bk_break_cause cause;
 } bk_bond_break;
 
 /// Results of the last call: each writes at most capacity entries and
@@ -225,16 +252,57 @@ uint32_t bk_runtime_created_clusters(const bk_runtime* runtime, bk_cluster_creat
 uint32_t bk_runtime_removed_clusters(const bk_runtime* runtime, bk_cluster_id* out, uint32_t capacity);
 uint32_t bk_runtime_broken_bonds(const bk_runtime* runtime, bk_bond_break* out, uint32_t capacity);
 
+// ---------------------------------------------------------------- stress
+
+/// Where a moving cluster's body rests on something static (the ground, a
+/// static cluster, a fixed world object): a point of a contact, from the
+/// caller's physics. The fragment there carries the load down.
+typedef struct bk_stress_support {
+  bk_cluster_id cluster;
+  bk_vec3 point; ///< world position
+} bk_stress_support;
+
+/// Loads clusters with their weight (gravity, world m/s^2) and solves the
+/// forces their bonds carry down to their supports: a static cluster's
+/// anchored fragments, and the fragments of a slow cluster at the given
+/// support points. Bonds whose stress passes their material's limits break.
+/// Results: broken bonds (cause BK_BREAK_STRESS); split next.
+///
+/// Costs nothing for a cluster whose solve converged and whose bonds,
+/// supports, load and limits did not change since (a structure at rest);
+/// clusters that changed share stress_budget per call, each warm-started
+/// from its last solution, and break bonds only once their solve has
+/// converged (never from a half-solved load).
+void bk_runtime_solve_stress(bk_runtime* runtime, bk_vec3 gravity, const bk_stress_support* supports,
+                             uint32_t support_count);
+
+/// The stress a bond carried at its cluster's last converged solve.
+typedef struct bk_bond_stress {
+  double compression; ///< Pa (normal push plus bending), >= 0
+  double tension;     ///< Pa (normal pull plus bending), >= 0
+  double shear;       ///< Pa (sliding plus twisting), >= 0
+  double ratio;       ///< the largest of the three over its limit: 1 breaks
+} bk_bond_stress;
+
+/// False (out zeroed) for a stale id, a bad bond index, or a bond whose
+/// cluster has not been solved; a broken bond reports zero.
+bool bk_runtime_bond_stress(const bk_runtime* runtime, bk_breakable_id id, uint32_t bond,
+                            bk_bond_stress* out);
+
 /// Hit points left of a bond (0 when broken) and its initial hit points.
 double bk_runtime_bond_health(const bk_runtime* runtime, bk_breakable_id id, uint32_t bond, double* initial);
 
 /// Totals since creation.
 typedef struct bk_runtime_stats {
   uint32_t breakables;
-  uint32_t clusters;       ///< live
-  uint32_t bonds_broken;   ///< since creation
-  uint32_t splits;         ///< clusters split since creation
-  uint32_t pending_splits; ///< clusters waiting for the split budget
+  uint32_t clusters;                ///< live
+  uint32_t bonds_broken;            ///< since creation
+  uint32_t splits;                  ///< clusters split since creation
+  uint32_t pending_splits;          ///< clusters waiting for the split budget
+  uint32_t stress_bonds_broken;     ///< by stress, since creation (part of bonds_broken)
+  uint32_t stress_clusters_solved;  ///< clusters the last bk_runtime_solve_stress iterated on
+  uint32_t stress_iterations;       ///< iterations it spent, over all clusters
+  uint32_t stress_clusters_pending; ///< clusters whose solve has not converged yet
 } bk_runtime_stats;
 
 bk_runtime_stats bk_runtime_get_stats(const bk_runtime* runtime);

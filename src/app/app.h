@@ -105,6 +105,9 @@ typedef struct bk_scene_options {
   int accumulate; ///< -1 = material's choice, 0 = discrete, 1 = accumulating
   bool naive, convex_colliders;
   double retire_volume; ///< world: loose fragments smaller than this (m^3) retire after 10 s; 0 = never
+  bool stress;          ///< world: structural stress (what lost its support falls); default true
+  /// Every material's stress limits times this (1, the default: as they are).
+  double stress_scale;
   /// Optional fracture progress report (leaves so far, target), from the building thread.
   bool (*progress)(void* user, uint32_t leaves, uint32_t target);
   void* progress_user;

@@ -100,3 +100,5 @@ bool bench_section_assets(const bench* b);
 /// 7. Fracture patterns (bench_patterns.c): each pattern's build time, tree
 /// size and fragment quality against planes', on the bunny and the wall.
 bool bench_section_patterns(const bench* b);
+/// Section 8: the structural stress solve's cost against the bond count (bench_stress.c).
+bool bench_section_stress(const bench* b);

@@ -34,12 +34,15 @@ static const char* const bench_usage =
     "     against issue 15's targets (export under 1 s, import under 0.5 s)\n"
     "  7. fracture patterns: planes, voronoi, clustered and radial on the bunny, brick\n"
     "     and planes on the wall, into 64 to 4096 pieces: time, slivers, sizes\n"
+    "  8. structural stress: walls of 256 to 4096 fragments, the stress solve's cost\n"
+    "     per call after a hit and at rest, against the bond count\n"
     "\n"
     "options:\n"
     "  --quick     a short run (under a minute): fracture speed up to 1024 fragments,\n"
     "              maximum fragments up to 2048, runtime up to 256, 1 and 4 walls,\n"
     "              the export with a cube of 1024 fragments, the patterns at 64 and\n"
-    "              1024 pieces. The full run goes to 65536, 65536, 4096, 16 walls,\n"
+    "              1024 pieces, stress on walls of 256 and 1024. The full run goes to 65536, 65536, 4096, 16 "
+    "walls,\n"
     "              4096 fragments and 4096 pieces (minutes).\n"
     "  --out DIR   output directory, created if missing (default: bench-out);\n"
     "              files of the same names in it are replaced\n"
@@ -756,7 +759,7 @@ int bk_cmd_bench(int argc, char** argv) {
   double start = bk_now_ms();
   bool ok = section_fracture_speed(&b) && section_meshes(&b) && section_max_fragments(&b) &&
             section_runtime(&b) && section_scaling(&b) && bench_section_assets(&b) &&
-            bench_section_patterns(&b);
+            bench_section_patterns(&b) && bench_section_stress(&b);
   if (ok) bench_say(&b, "\n---\n\nThe whole run took %.0f s.\n", (bk_now_ms() - start) / 1000.0);
   ok = bench_output_close(&report, ok) && ok;
   if (!ok) return 1;

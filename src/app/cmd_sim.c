@@ -9,14 +9,15 @@ static const char* const sim_usage =
     "usage: breakables sim [--scene NAME | --mesh PATH] [--material NAME] [--pattern NAME] [--pieces N]\n"
     "                      [--seed S] [--shots K] [--steps F] [--volley V]\n"
     "                      [--speed M/S] [--frailty X] [--density X] [--discrete|--accumulate] [--naive]\n"
-    "                      [--max-memory MIB] [--json]\n"
+    "                      [--no-stress] [--stress-scale X] [--max-memory MIB] [--json]\n"
     "\n"
     "Runs a scene headless at a fixed 60 Hz: builds (or loads from the cache) the\n"
     "scene's mesh tree, fires K projectiles at the object at regular intervals\n"
     "during F steps, and reports what broke and what it cost.\n"
     "\n"
     "options:\n"
-    "  --scene NAME     wall, eggshell, pillar, slab, bunny, torus, showcase (default: wall)\n"
+    "  --scene NAME     wall, eggshell, pillar, slab, bunny, torus, showcase, tower, bridge,\n"
+    "                   balcony (default: wall)\n"
     "  --mesh PATH      your own model instead of a scene (what fracture --mesh reads, an\n"
     "                   .mtree, or a .glb/.gltf exported by fracture): stood on the ground\n"
     "                   and shot at from the front\n"
@@ -39,6 +40,9 @@ static const char* const sim_usage =
     "  --discrete       a bond breaks only if one hit exceeds its hit points\n"
     "  --accumulate     bonds lose hit points over hits (default: the material's choice)\n"
     "  --naive          plain BCRB: one collider per fragment, for comparison\n"
+    "  --no-stress      no structural stress: what is still bonded to an anchor stays up\n"
+    "                   however little holds it (as before the stress solver)\n"
+    "  --stress-scale X every material's stress limits times X, 1e-6..1e6 (default 1)\n"
     "  --max-memory MIB memory each fracture may use, 1..1073741824 MiB (default: the\n"
     "                   available memory); a tree estimated to need more is refused\n"
     "  --json           print one JSON object: scene, pieces, bodies_initial, bodies_final,\n"
@@ -46,8 +50,11 @@ static const char* const sim_usage =
     "                   colliders_naive_final, step_ms_median, step_ms_max, break_ms_median,\n"
     "                   break_ms_max, step_ms_last_second, awake_final, pairs_final,\n"
     "                   manifolds_final, mass_rel_error, nan, fragments_free, from_cache,\n"
-    "                   pattern (the objects' pattern, or \"mixed\") and patterns (one per\n"
-    "                   object)\n"
+    "                   stress_bonds_broken (bonds the load they carried broke),\n"
+    "                   fragments_fallen (fragments whose centroid ends more than 0.5 m\n"
+    "                   below where it started), stress_ms_median and stress_ms_max (over\n"
+    "                   the steps the stress solve worked), pattern (the objects' pattern,\n"
+    "                   or \"mixed\") and patterns (one per object)\n"
     "  -h, --help       show this help\n"
     "\n"
     "Mesh trees are cached in $BREAKABLES_CACHE_DIR (else $XDG_CACHE_HOME/breakables,\n"
@@ -88,6 +95,40 @@ static void print_patterns(const bk_loaded_scene* s, bool json) {
   }
 }
 
+// Every fragment's height at the start, object after object.
+static double* rest_heights_of(const bk_loaded_scene* s) {
+  uint32_t total = 0;
+  for (uint32_t i = 0; i < s->tree_count; ++i)
+    total += s->trees[i].leaf_count;
+  double* heights = bk_alloc(sizeof(double) * (total ? total : 1u));
+  bk_vec3* centroids = bk_alloc(sizeof(bk_vec3) * (total ? total : 1u));
+  uint32_t at = 0;
+  for (uint32_t i = 0; i < s->tree_count; ++i) {
+    uint32_t n = bk_world_fragment_centroids(s->world, s->ids[i], centroids, total);
+    for (uint32_t l = 0; l < n; ++l)
+      heights[at + l] = centroids[l].y;
+    at += s->trees[i].leaf_count;
+  }
+  free(centroids);
+  return heights;
+}
+
+// Fragments whose centroid ended more than 0.5 m below where it started.
+static uint32_t fragments_fallen(const bk_loaded_scene* s, const double* rest_heights) {
+  uint32_t total = 0, fallen = 0, at = 0;
+  for (uint32_t i = 0; i < s->tree_count; ++i)
+    total += s->trees[i].leaf_count;
+  bk_vec3* centroids = bk_alloc(sizeof(bk_vec3) * (total ? total : 1u));
+  for (uint32_t i = 0; i < s->tree_count; ++i) {
+    uint32_t n = bk_world_fragment_centroids(s->world, s->ids[i], centroids, total);
+    for (uint32_t l = 0; l < n; ++l)
+      fallen += centroids[l].y < rest_heights[at + l] - 0.5; // NaN (gone) counts as not fallen
+    at += s->trees[i].leaf_count;
+  }
+  free(centroids);
+  return fallen;
+}
+
 int bk_cmd_sim(int argc, char** argv) {
   const char* scene_name = "wall";
   const char* mesh = NULL;
@@ -113,13 +154,15 @@ int bk_cmd_sim(int argc, char** argv) {
       options.accumulate = 0;
     } else if (strcmp(arg, "--accumulate") == 0) {
       options.accumulate = 1;
+    } else if (strcmp(arg, "--no-stress") == 0) {
+      options.stress = false;
     } else {
       flag = false;
     }
     if (flag) continue;
-    const char* known[] = {"--scene",    "--pieces",  "--seed",      "--shots",   "--steps",
-                           "--volley",   "--speed",   "--frailty",   "--density", "--mesh",
-                           "--material", "--pattern", "--max-memory"};
+    const char* known[] = {"--scene",    "--pieces",  "--seed",       "--shots",       "--steps",
+                           "--volley",   "--speed",   "--frailty",    "--density",     "--mesh",
+                           "--material", "--pattern", "--max-memory", "--stress-scale"};
     bool is_known = false;
     for (size_t k = 0; k < sizeof known / sizeof *known; ++k)
       is_known = is_known || strcmp(arg, known[k]) == 0;
@@ -162,6 +205,8 @@ int bk_cmd_sim(int argc, char** argv) {
       // From a lob to twice a rifle bullet; continuous collision detection
       // keeps even the fastest from passing through a thin wall.
       if (!bk_option_double("sim", arg, value, 0.1, 2000.0, &speed)) return 2;
+    } else if (strcmp(arg, "--stress-scale") == 0) {
+      if (!bk_option_double("sim", arg, value, 1e-6, 1e6, &options.stress_scale)) return 2;
     } else if (strcmp(arg, "--frailty") == 0) {
       // Materials use 0.5..8. At 1e-6 no shot breaks a bond and at 1e6 every
       // bond breaks at the first touch: beyond these nothing changes.
@@ -188,9 +233,11 @@ int bk_cmd_sim(int argc, char** argv) {
     return 1;
   }
   bk_world_stats initial = bk_world_get_stats(loaded.world);
+  double* rest_heights = rest_heights_of(&loaded);
   double* step_ms = bk_alloc(sizeof(double) * steps);
   double* break_ms = bk_alloc(sizeof(double) * steps);
-  uint32_t break_steps = 0, fired = 0;
+  double* stress_ms = bk_alloc(sizeof(double) * steps);
+  uint32_t break_steps = 0, stress_steps = 0, fired = 0;
   for (uint64_t step = 0; step < steps; ++step) {
     // Shots at regular intervals, leaving time after the last one.
     uint64_t span = volley && volley < steps ? volley : steps;
@@ -203,6 +250,7 @@ int bk_cmd_sim(int argc, char** argv) {
     bk_world_stats now = bk_world_get_stats(loaded.world);
     step_ms[step] = now.step_ms;
     if (now.break_events != splits_before) break_ms[break_steps++] = now.break_ms;
+    if (now.stress_iterations) stress_ms[stress_steps++] = now.stress_ms;
   }
   bk_world_stats final = bk_world_get_stats(loaded.world);
   // Walks every manifold: read once here, not in the per-step world stats.
@@ -216,6 +264,8 @@ int bk_cmd_sim(int argc, char** argv) {
   uint32_t pieces = 0;
   for (uint32_t i = 0; i < loaded.tree_count; ++i)
     pieces += loaded.trees[i].leaf_count;
+  uint32_t fallen = fragments_fallen(&loaded, rest_heights);
+  double stress_median = bk_median(stress_ms, stress_steps), stress_max = maximum(stress_ms, stress_steps);
   if (json) {
     printf(
         "{\"scene\": \"%s\", \"pieces\": %u, \"shots\": %u, \"steps\": %llu, \"bodies_initial\": %u, "
@@ -223,12 +273,13 @@ int bk_cmd_sim(int argc, char** argv) {
         "\"colliders_final\": %u, \"colliders_naive_final\": %u, \"fragments_free\": %u, "
         "\"step_ms_median\": %.4f, \"step_ms_max\": %.4f, \"break_ms_median\": %.4f, \"break_ms_max\": %.4f, "
         "\"step_ms_last_second\": %.4f, \"awake_final\": %u, \"pairs_final\": %u, \"manifolds_final\": %u, "
-        "\"mass_rel_error\": %.3e, \"nan\": %s, \"from_cache\": %s, ",
+        "\"mass_rel_error\": %.3e, \"nan\": %s, \"from_cache\": %s, \"stress_bonds_broken\": %u, "
+        "\"fragments_fallen\": %u, \"stress_ms_median\": %.4f, \"stress_ms_max\": %.4f, ",
         scene->name, pieces, fired, (unsigned long long)steps, initial.bodies, final.bodies,
         final.break_events, final.bonds_broken, initial.colliders, final.colliders, final.colliders_naive,
         final.fragments_free, step_median, step_max, break_median, break_max, last_median,
         physics.awake_bodies, physics.pairs, physics.manifolds, mass_error, final.nan ? "true" : "false",
-        loaded.from_cache ? "true" : "false");
+        loaded.from_cache ? "true" : "false", final.stress_bonds_broken, fallen, stress_median, stress_max);
     print_patterns(&loaded, true);
     printf("}\n");
   } else {
@@ -242,11 +293,15 @@ int bk_cmd_sim(int argc, char** argv) {
            break_median, break_max);
     printf("  last second: step ms median %.3f, %u bodies awake, %u pairs, %u manifolds, %u contact points\n",
            last_median, physics.awake_bodies, physics.pairs, physics.manifolds, physics.contact_points);
+    printf("  stress: %u bonds broken, %u fragments fell; ms median %.3f max %.3f over %u steps\n",
+           final.stress_bonds_broken, fallen, stress_median, stress_max, stress_steps);
     printf("  mass error %.2e%s\n", mass_error, final.nan ? ", NaN detected" : "");
     print_patterns(&loaded, false);
   }
   free(step_ms);
   free(break_ms);
+  free(stress_ms);
+  free(rest_heights);
   bk_loaded_scene_destroy(&loaded);
   return final.nan ? 1 : 0;
 }

@@ -19,8 +19,9 @@ static const char* const editor_usage =
     "Preview the fragments of a mesh and export them.\n"
     "\n"
     "options:\n"
-    "  --mesh NAME|PATH      cube, torus, eggshell, bunny, wall, slab, pillar, a model file or an\n"
-    "                        .mtree (default: bunny); the panel opens others by path\n"
+    "  --mesh NAME|PATH      cube, torus, eggshell, bunny, wall, slab, pillar, tower, bridge,\n"
+    "                        balcony, a model file or an .mtree (default: bunny); the panel\n"
+    "                        opens others by path\n"
     "  --pattern NAME        planes, voronoi, clustered, radial, brick or cutout (default: planes);\n"
     "                        radial centres on the surface facing the first view, brick follows\n"
     "                        the wall's brick texture, cutout uses the game's cobweb map\n"
@@ -72,7 +73,8 @@ typedef struct editor {
 #define START_YAW 0.6
 #define START_PITCH 0.35
 
-static const char* const mesh_names[] = {"bunny", "cube", "torus", "eggshell", "wall", "slab", "pillar"};
+static const char* const mesh_names[] = {"bunny", "cube",   "torus", "eggshell", "wall",
+                                         "slab",  "pillar", "tower", "bridge",   "balcony"};
 
 // The mesh to fracture, when it can be read here (a tree file cannot: it
 // is not fractured anyway, and the patterns' aims fall back to defaults).

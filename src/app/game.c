@@ -17,15 +17,17 @@ static const char* const play_usage =
     "The demo game: shoot projectiles at breakable objects and tune them live.\n"
     "\n"
     "options:\n"
-    "  --scene NAME          wall, eggshell, pillar, slab, bunny, torus, showcase (default: showcase)\n"
+    "  --scene NAME          wall, eggshell, pillar, slab, bunny, torus, showcase, tower, bridge,\n"
+    "                        balcony (default: showcase)\n"
     "  --mesh PATH           your own model (what fracture --mesh reads, an .mtree, or a .glb/.gltf\n"
     "                        exported by fracture), stood on the ground in front of you\n"
     "  --material NAME       stone, concrete, glass, porcelain, eggshell, wood: every object's\n"
     "                        material (default: the scene's; stone for --mesh)\n"
     "  --pattern NAME        how every object breaks: planes, voronoi, clustered, radial, brick\n"
     "                        or cutout (default: each object's own: the walls brick, the pillar\n"
-    "                        clustered, the bunny radial round its aim point, the eggshell\n"
-    "                        voronoi, the rest planes); the panel changes it too\n"
+    "                        clustered, the bunny, tower, bridge and balcony radial round their\n"
+    "                        aim points, the eggshell voronoi, the rest planes); the panel\n"
+    "                        changes it too\n"
     "  --pieces N            fragments per object, 1..65536 (default: the scene's; cutout makes\n"
     "                        as many as its fracture map has regions)\n"
     "  --seed S              fracture seed, 0..18446744073709551615 (default: 3000)\n"
@@ -44,7 +46,7 @@ static const char* const play_usage =
     "  -h, --help            show this help\n"
     "\n"
     "controls: right mouse drag = look, W A S D Q E = move (Shift = fast), left click or\n"
-    "Space = fire, 1-7 = scenes, R = reset, P = pause, N = single step, T = slow motion,\n"
+    "Space = fire, 1-9 and 0 = scenes, R = reset, P = pause, N = single step, T = slow motion,\n"
     "B / G / H = bonds / mesh-tree nodes / collider hulls overlays, F1 = panel, Esc = quit.\n";
 
 static bk_transform lerp_transform(bk_transform a, bk_transform b, double t) {
@@ -177,8 +179,10 @@ static void key_callback(GLFWwindow* window, int key, int scancode, int action, 
   if (key == GLFW_KEY_G) g->show_nodes = !g->show_nodes;
   if (key == GLFW_KEY_H) g->show_hulls = !g->show_hulls;
   if (key == GLFW_KEY_F1) g->show_panel = !g->show_panel;
-  if (key >= GLFW_KEY_1 && key <= GLFW_KEY_9 && (uint32_t)(key - GLFW_KEY_1) < bk_scene_count()) {
-    g->next_scene = key - GLFW_KEY_1;
+  // 1-9 are the first nine scenes and 0 the tenth, in the keyboard's order.
+  int scene_key = key == GLFW_KEY_0 ? 9 : key >= GLFW_KEY_1 && key <= GLFW_KEY_9 ? key - GLFW_KEY_1 : -1;
+  if (scene_key >= 0 && (uint32_t)scene_key < bk_scene_count()) {
+    g->next_scene = scene_key;
     g->reload = true;
   }
 }

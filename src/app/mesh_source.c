@@ -35,8 +35,8 @@ bool bk_app_load_model(const char* spec, const char* node, bk_mesh* out, bk_impo
     if (!bk_model_import_supports(spec))
       return bk_error_set(
           err,
-          "unknown mesh '%s': use cube, torus, eggshell, bunny, wall, slab, pillar or a model "
-          "file (%s)",
+          "unknown mesh '%s': use cube, torus, eggshell, bunny, wall, slab, pillar, tower, bridge, "
+          "balcony or a model file (%s)",
           spec, BK_IMPORT_EXTENSIONS);
     snprintf(path, sizeof path, "%s", spec);
   }

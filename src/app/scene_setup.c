@@ -6,8 +6,13 @@
 #include "app.h"
 
 bk_scene_options bk_default_scene_options(void) {
-  return (bk_scene_options){
-      .seed = 3000, .texture_scale = 0.1, .accumulate = -1, .pattern = -1, .radial_falloff = -1.0};
+  return (bk_scene_options){.seed = 3000,
+                            .texture_scale = 0.1,
+                            .accumulate = -1,
+                            .pattern = -1,
+                            .radial_falloff = -1.0,
+                            .stress = true,
+                            .stress_scale = 1.0};
 }
 
 bk_world_breakable_def bk_scene_object_def(const bk_scene_object* object, const bk_mesh_tree* tree,
@@ -26,6 +31,11 @@ bk_world_breakable_def bk_scene_object_def(const bk_scene_object* object, const 
     if (options->density > 0.0) b->material.density = options->density;
     if (options->bond_strength > 0.0) b->material.bond_strength = options->bond_strength;
     if (options->accumulate >= 0) b->material.accumulate = options->accumulate == 1;
+    if (options->stress_scale > 0.0) {
+      b->material.compression_limit *= options->stress_scale;
+      b->material.tension_limit *= options->stress_scale;
+      b->material.shear_limit *= options->stress_scale;
+    }
     def.naive = options->naive;
     def.convex_colliders = options->convex_colliders;
   }
@@ -51,6 +61,7 @@ bool bk_loaded_scene_create(const bk_scene* scene, const bk_scene_options* optio
   out->scene = scene;
   bk_world_def wd = bk_default_world_def();
   wd.retire_volume = options->retire_volume;
+  wd.stress = options->stress;
   out->world = bk_world_create(&wd, err);
   if (!out->world) return false;
   for (uint32_t i = 0; i < scene->object_count; ++i) {

@@ -23,7 +23,9 @@ bk_world_def bk_default_world_def(void) {
                         .max_new_bodies_per_step = 48,
                         .projectile_lifetime = 8.0,
                         .retire_volume = 0.0,
-                        .retire_after = 10.0};
+                        .retire_after = 10.0,
+                        .stress = true,
+                        .stress_budget = 40000};
 }
 
 // The runtime asks where a cluster's body is; Bullet knows.
@@ -55,6 +57,7 @@ bk_world* bk_world_create(const bk_world_def* def, bk_error* err) {
   rd.impulse_threshold = d.impulse_threshold;
   rd.damage_min_distance = d.damage_min_distance;
   rd.max_new_clusters_per_split = d.max_new_bodies_per_step;
+  rd.stress_budget = d.stress_budget;
   rd.body_state = body_state;
   rd.context = w;
   bk_error runtime_err = {0};
@@ -117,6 +120,7 @@ void bk_world_destroy(bk_world* w) {
   free(w->removed);
   free(w->broken);
   free(w->events);
+  free(w->supports);
   free(w);
 }
 
@@ -245,6 +249,31 @@ static void apply_contacts(bk_world* w, uint32_t contact_count) {
   bk_world_collect_breaks(w);
 }
 
+// Where moving clusters rest on something static (the ground, a static
+// cluster, anything of zero mass): their weight goes down there.
+static bool body_is_static(const bk_world* w, bk_body_id body) {
+  return bk_body_equal(body, w->ground_body) || bk_physics_body_mass(w->physics, body) == 0.0;
+}
+
+static void solve_stress(bk_world* w, uint32_t contact_count) {
+  uint32_t n = contact_count < w->contact_capacity ? contact_count : w->contact_capacity;
+  if (w->support_capacity < 2u * n) {
+    w->support_capacity = bk_grow_capacity(w->support_capacity, 2u * n);
+    w->supports = bk_realloc(w->supports, sizeof(bk_stress_support) * w->support_capacity);
+  }
+  uint32_t count = 0;
+  for (uint32_t i = 0; i < n; ++i) {
+    const bk_contact* ct = &w->contacts[i];
+    bk_cluster_id cluster = {0, 0};
+    if (cluster_of(w, ct->a, &cluster) && body_is_static(w, ct->b) && !body_is_static(w, ct->a))
+      w->supports[count++] = (bk_stress_support){cluster, ct->point};
+    if (cluster_of(w, ct->b, &cluster) && body_is_static(w, ct->a) && !body_is_static(w, ct->b))
+      w->supports[count++] = (bk_stress_support){cluster, ct->point};
+  }
+  bk_runtime_solve_stress(w->runtime, w->def.gravity, w->supports, count);
+  bk_world_collect_breaks(w);
+}
+
 // Small loose fragments leave after a while: each was a body the solver kept
 // paying for. Their mass is accounted for.
 static void retire_fragments(bk_world* w) {
@@ -281,6 +310,9 @@ void bk_world_step(bk_world* w) {
   double after_physics = now_ms();
   uint32_t contacts = bk_physics_contacts(w->physics, w->contacts, w->contact_capacity);
   apply_contacts(w, contacts);
+  double before_stress = now_ms();
+  if (w->def.stress) solve_stress(w, contacts);
+  w->stress_ms = now_ms() - before_stress;
   bk_runtime_split(w->runtime);
   bk_error err = {0};
   bk_world_apply_results(w, &err); // a body Bullet refuses stays without one: never a crash

@@ -194,7 +194,8 @@ void bk_world_collect_breaks(bk_world* w) {
   reserve((void**)&w->events, &w->event_capacity, w->event_count + count, sizeof(bk_break_event));
   for (uint32_t i = 0; i < count; ++i) {
     const bk_bond_break* b = &w->broken[i];
-    w->events[w->event_count++] = (bk_break_event){b->breakable, b->bond, b->position, b->velocity, b->area};
+    w->events[w->event_count++] =
+        (bk_break_event){b->breakable, b->bond, b->position, b->velocity, b->area, b->cause};
   }
 }
 

@@ -65,7 +65,9 @@ struct bk_world {
   uint32_t events_of_last_step; // events before this index belong to the last step
   uint32_t fragments_retired;
   double retired_mass;
-  double step_ms, physics_ms, break_ms;
+  double step_ms, physics_ms, break_ms, stress_ms;
+  bk_stress_support* supports;
+  uint32_t support_capacity;
 };
 
 /// User data tags on physics bodies.

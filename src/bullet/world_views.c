@@ -37,9 +37,28 @@ bk_world_stats bk_world_get_stats(const bk_world* w) {
   s.step_ms = w->step_ms;
   s.physics_ms = w->physics_ms;
   s.break_ms = w->break_ms;
+  s.stress_ms = w->stress_ms;
+  s.stress_bonds_broken = rs.stress_bonds_broken;
+  s.stress_iterations = rs.stress_iterations;
+  s.stress_clusters_pending = rs.stress_clusters_pending;
   for (uint32_t i = 0; i < w->projectile_count; ++i)
     s.nan = s.nan || body_has_nan(w, w->projectiles[i]);
   return s;
+}
+
+uint32_t bk_world_fragment_centroids(const bk_world* w, bk_breakable_id id, bk_vec3* out, uint32_t capacity) {
+  const bk_mesh_tree* tree = bk_runtime_breakable_tree(w->runtime, id);
+  if (!tree) return 0;
+  for (uint32_t leaf = 0; leaf < tree->leaf_count && leaf < capacity; ++leaf) {
+    bk_cluster_id cluster = bk_runtime_leaf_cluster(w->runtime, id, leaf);
+    if (bk_cluster_is_null(cluster) || cluster.index >= w->body_capacity || !w->bodies[cluster.index].alive) {
+      out[leaf] = bk_v3(NAN, NAN, NAN);
+      continue;
+    }
+    bk_vec3 centroid = bk_mesh_tree_mass(tree, bk_mesh_tree_leaf(tree, leaf)->moments).centroid;
+    out[leaf] = bk_transform_point(bk_world_tree_to_world(w, cluster.index), centroid);
+  }
+  return tree->leaf_count;
 }
 
 uint32_t bk_world_body_count(const bk_world* w) { return w->live_dirty ? 0 : w->live_count; }

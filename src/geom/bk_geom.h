@@ -159,6 +159,30 @@ bool bk_file_begin_atomic(const char* path, const bk_atomic_messages* messages, 
 bool bk_file_commit_atomic(bk_atomic_file* file, const char* path, const bk_atomic_messages* messages,
                            bk_error* err);
 
+// ---------------------------------------------------------------- shapes
+
+/// Most corners an extruded polygon may have (the caps' ears are kept on the stack).
+#define BK_EXTRUSION_MAX_CORNERS 64
+
+/// A prism: a simple polygon in the plane of x_axis and y_axis, extruded
+/// along depth = x_axis x y_axis from depth_from to depth_to.
+typedef struct bk_extrusion {
+  const double (*profile)[2];  ///< the polygon's corners (x, y), counter-clockwise, edges not crossing
+  uint32_t corner_count;       ///< 3 to BK_EXTRUSION_MAX_CORNERS
+  bk_vec3 x_axis, y_axis;      ///< orthonormal world directions of the profile's coordinates
+  double depth_from, depth_to; ///< the prism's extent along depth; depth_to > depth_from
+} bk_extrusion;
+
+/// Appends the prism to `m`: 2n positions, a flat quad (4 corners) per edge
+/// and two caps of n - 2 ear triangles on the polygon's own corners, so
+/// 6n corners and 4n - 4 triangles, closed by topology and facing out. uvs
+/// are in metres like the boxes' (world coordinates along each face, v up
+/// on vertical faces); tangents are left for bk_mesh_compute_tangents.
+/// False (nothing added) when the polygon has too few or too many corners,
+/// the depth is empty, or ear clipping finds no ear (a clockwise polygon,
+/// most that cross themselves: a simple counter-clockwise one always has one).
+bool bk_shape_extrude(bk_mesh* m, const bk_extrusion* def);
+
 #ifdef __cplusplus
 }
 #endif

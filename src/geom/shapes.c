@@ -14,8 +14,9 @@
 #define BK_PI 3.14159265358979323846
 
 static const char* const shape_names[BK_SHAPE_COUNT] = {
-    [BK_SHAPE_CUBE] = "cube", [BK_SHAPE_TORUS] = "torus", [BK_SHAPE_EGGSHELL] = "eggshell",
-    [BK_SHAPE_WALL] = "wall", [BK_SHAPE_SLAB] = "slab",   [BK_SHAPE_PILLAR] = "pillar",
+    [BK_SHAPE_CUBE] = "cube",   [BK_SHAPE_TORUS] = "torus",   [BK_SHAPE_EGGSHELL] = "eggshell",
+    [BK_SHAPE_WALL] = "wall",   [BK_SHAPE_SLAB] = "slab",     [BK_SHAPE_PILLAR] = "pillar",
+    [BK_SHAPE_TOWER] = "tower", [BK_SHAPE_BRIDGE] = "bridge", [BK_SHAPE_BALCONY] = "balcony",
 };
 
 const char* bk_shape_name(bk_shape shape) {
@@ -337,6 +338,44 @@ static void build_pillar(bk_mesh* m) {
   }
 }
 
+// ---------------------------------------------------------------- structures
+
+// Shapes for structural failure: each stands on y = 0 where only the parts
+// meant to be anchored touch the ground, so an unsupported part falls.
+
+/// Bridge: a Pi-shaped side in the x-y plane, extruded 1.2 m along z. A deck
+/// 5 m long and 0.3 m thick, its underside 1.5 m up, on two legs 0.5 m thick
+/// set 0.2 m in from its ends (a 3.6 m clear span). Counter-clockwise from +z.
+static const double bridge_profile[][2] = {
+    {-2.3, 0.0}, {-1.8, 0.0}, {-1.8, 1.5}, {1.8, 1.5},  {1.8, 0.0},  {2.3, 0.0},
+    {2.3, 1.5},  {2.5, 1.5},  {2.5, 1.8},  {-2.5, 1.8}, {-2.5, 1.5}, {-2.3, 1.5},
+};
+#define BRIDGE_HALF_WIDTH 0.6
+
+/// Balcony: an L-shaped side in the z-y plane (z first), extruded 2.4 m
+/// along x: a wall 0.3 m thick and 3 m high centred on z = 0, and a slab
+/// 0.2 m thick whose top is at 2 m, reaching 1.2 m out of the wall's +z face.
+/// Counter-clockwise in (z, y), seen from -x.
+static const double balcony_profile[][2] = {
+    {-0.15, 0.0}, {0.15, 0.0}, {0.15, 1.8}, {1.35, 1.8}, {1.35, 2.0}, {0.15, 2.0}, {0.15, 3.0}, {-0.15, 3.0},
+};
+#define BALCONY_HALF_WIDTH 1.2
+
+/// Extrudes a profile whose two coordinates run along x_axis and y_axis,
+/// symmetric about the origin along x_axis x y_axis. A profile that cannot
+/// be extruded adds nothing: the empty mesh is what bk_mesh_validate
+/// rejects, and test_shapes builds every shape.
+static void build_extrusion(bk_mesh* m, const double (*profile)[2], uint32_t corners, bk_vec3 x_axis,
+                            bk_vec3 y_axis, double half_depth) {
+  bk_extrusion def = {.profile = profile,
+                      .corner_count = corners,
+                      .x_axis = x_axis,
+                      .y_axis = y_axis,
+                      .depth_from = -half_depth,
+                      .depth_to = half_depth};
+  (void)bk_shape_extrude(m, &def);
+}
+
 // ---------------------------------------------------------------- dispatch
 
 void bk_shape_build(bk_shape shape, bk_mesh* out) {
@@ -360,6 +399,18 @@ void bk_shape_build(bk_shape shape, bk_mesh* out) {
     break;
   case BK_SHAPE_PILLAR:
     build_pillar(out);
+    break;
+  case BK_SHAPE_TOWER:
+    // A square stone column 0.8 x 4 x 0.8 m: tall enough to topple when its base goes.
+    build_box(out, bk_v3(-0.4, 0.0, -0.4), bk_v3(0.4, 4.0, 0.4), BOX_UV_METRES);
+    break;
+  case BK_SHAPE_BRIDGE:
+    build_extrusion(out, bridge_profile, sizeof bridge_profile / sizeof *bridge_profile, bk_v3(1.0, 0.0, 0.0),
+                    bk_v3(0.0, 1.0, 0.0), BRIDGE_HALF_WIDTH);
+    break;
+  case BK_SHAPE_BALCONY:
+    build_extrusion(out, balcony_profile, sizeof balcony_profile / sizeof *balcony_profile,
+                    bk_v3(0.0, 0.0, 1.0), bk_v3(0.0, 1.0, 0.0), BALCONY_HALF_WIDTH);
     break;
   case BK_SHAPE_COUNT:
   default:

@@ -14,7 +14,10 @@ bk_breakable_def bk_default_breakable_def(void) {
                                          .bond_strength = 2.0e5,
                                          .accumulate = false,
                                          .friction = 0.6,
-                                         .restitution = 0.1},
+                                         .restitution = 0.1,
+                                         .compression_limit = 2.0e7,
+                                         .tension_limit = 1.0e6,
+                                         .shear_limit = 2.0e6},
                             .anchored = false,
                             .anchor_height = 0.0};
 }
@@ -140,6 +143,7 @@ bool bk_runtime_set_material(bk_runtime* rt, bk_breakable_id id, const bk_materi
   if (material->bond_strength != b->material.bond_strength) rescale_bonds(b, material->bond_strength);
   set_material(b, material);
   if (density_changed) refresh_masses(rt, id.index);
+  rt_stress_material_changed(rt, id.index); // new loads or limits: check the bonds again
   return true;
 }
 
@@ -155,6 +159,7 @@ bool bk_runtime_set_density(bk_runtime* rt, bk_breakable_id id, double density) 
   if (!b || !(density > 0.0) || !isfinite(density)) return false;
   b->material.density = density;
   refresh_masses(rt, id.index);
+  rt_stress_material_changed(rt, id.index);
   return true;
 }
 

@@ -7,25 +7,30 @@
 // nothing.
 #include "runtime_internal.h"
 
-static void record_break(bk_runtime* rt, uint32_t slot, uint32_t bond, bk_vec3 position, bk_vec3 velocity,
-                         double area) {
+void rt_break_bond(bk_runtime* rt, uint32_t slot, uint32_t bond, bk_vec3 position, bk_vec3 velocity,
+                   bk_break_cause cause) {
   if (rt->broken_count == rt->broken_capacity) {
     rt->broken_capacity = bk_grow_capacity(rt->broken_capacity, rt->broken_count + 1);
     rt->broken = bk_realloc(rt->broken, sizeof(bk_bond_break) * rt->broken_capacity);
   }
   const rt_cluster* c = &rt->clusters[slot];
-  const rt_breakable* b = &rt->breakables[c->breakable];
+  rt_breakable* b = &rt->breakables[c->breakable];
+  b->bond_hp[bond] = 0.0;
+  b->bond_broken[bond] = 1;
+  rt->bonds_broken++;
   rt->broken[rt->broken_count++] = (bk_bond_break){.breakable = {c->breakable, b->generation},
                                                    .cluster = rt_cluster_id(rt, slot),
                                                    .bond = bond,
                                                    .position = position,
                                                    .velocity = velocity,
-                                                   .area = area};
+                                                   .area = b->tree->bonds[bond].area,
+                                                   .cause = cause};
 }
 
 void rt_queue_split(bk_runtime* rt, uint32_t slot) {
   rt_cluster* c = &rt->clusters[slot];
   c->dirty = true;
+  c->stress_stale = true; // its bonds changed
   if (c->queued) return;
   c->queued = true;
   if (rt->split_queue_count == rt->split_queue_capacity) {
@@ -61,14 +66,11 @@ static void damage_cluster(bk_runtime* rt, uint32_t slot, bk_vec3 point, double 
         breaks = damage > b->bond_hp[bond];
       }
       if (!breaks) continue;
-      b->bond_hp[bond] = 0.0;
-      b->bond_broken[bond] = 1;
-      rt->bonds_broken++;
       broke = true;
       bk_vec3 world_point = bk_transform_point(tree_to_world, bd->centroid);
       bk_vec3 r = bk_v3_sub(world_point, state.transform.position);
       bk_vec3 velocity = bk_v3_add(state.linear_velocity, bk_v3_cross(state.angular_velocity, r));
-      record_break(rt, slot, bond, world_point, velocity, bd->area);
+      rt_break_bond(rt, slot, bond, world_point, velocity, BK_BREAK_DAMAGE);
     }
   }
   if (broke) rt_queue_split(rt, slot);

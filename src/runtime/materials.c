@@ -10,14 +10,18 @@
 
 // clang-format off
 static const bk_material materials[] = {
-    {.name = "stone",     .density = 2400, .frailty = 1.0, .bond_strength = 7.0e5, .friction = 0.7, .restitution = 0.05},
-    {.name = "concrete",  .density = 2300, .frailty = 0.8, .bond_strength = 1.0e6, .friction = 0.8, .restitution = 0.05},
-    {.name = "glass",     .density = 2500, .frailty = 4.0, .bond_strength = 3.5e5, .friction = 0.3, .restitution = 0.2},
-    {.name = "porcelain", .density = 2400, .frailty = 3.0, .bond_strength = 5.0e5, .friction = 0.4, .restitution = 0.2},
+    {.name = "stone",     .density = 2400, .frailty = 1.0, .bond_strength = 7.0e5, .friction = 0.7, .restitution = 0.05,
+     .compression_limit = 1.0e7, .tension_limit = 4.0e5, .shear_limit = 8.0e5},
+    {.name = "concrete",  .density = 2300, .frailty = 0.8, .bond_strength = 1.0e6, .friction = 0.8, .restitution = 0.05,
+     .compression_limit = 2.0e7, .tension_limit = 1.5e6, .shear_limit = 2.5e6},
+    {.name = "glass",     .density = 2500, .frailty = 4.0, .bond_strength = 3.5e5, .friction = 0.3, .restitution = 0.2,
+     .compression_limit = 2.0e6, .tension_limit = 5.0e5, .shear_limit = 1.0e6},
+    {.name = "porcelain", .density = 2400, .frailty = 3.0, .bond_strength = 5.0e5, .friction = 0.4, .restitution = 0.2,
+     .compression_limit = 1.0e7, .tension_limit = 1.0e6, .shear_limit = 1.5e6},
     {.name = "eggshell",  .density = 1200, .frailty = 8.0, .bond_strength = 2.0e5, .friction = 0.5, .restitution = 0.1,
-     .accumulate = true},
+     .accumulate = true, .compression_limit = 5.0e5, .tension_limit = 1.0e5, .shear_limit = 2.0e5},
     {.name = "wood",      .density = 700,  .frailty = 0.5, .bond_strength = 5.0e5, .friction = 0.6, .restitution = 0.1,
-     .accumulate = true},
+     .accumulate = true, .compression_limit = 5.0e6, .tension_limit = 1.0e7, .shear_limit = 1.0e6},
 };
 // clang-format on
 
@@ -49,5 +53,10 @@ bool bk_material_validate(const bk_material* m, bk_error* err) {
     return bk_error_set(err, "material.friction must be finite and >= 0 (got %g)", m->friction);
   if (!(m->restitution >= 0.0 && m->restitution <= 1.0))
     return bk_error_set(err, "material.restitution must be in [0, 1] (got %g)", m->restitution);
+  const char* limit_names[3] = {"compression_limit", "tension_limit", "shear_limit"};
+  double limits[3] = {m->compression_limit, m->tension_limit, m->shear_limit};
+  for (int i = 0; i < 3; ++i)
+    if (!(limits[i] > 0.0)) // INFINITY is allowed: never fails that way
+      return bk_error_set(err, "material.%s must be positive, in Pa (got %g)", limit_names[i], limits[i]);
   return true;
 }

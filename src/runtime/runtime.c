@@ -10,6 +10,9 @@ bk_runtime_def bk_default_runtime_def(void) {
                           .impulse_threshold = 0.5,
                           .damage_min_distance = 0.05,
                           .max_new_clusters_per_split = 48,
+                          .stress_budget = 40000,
+                          .stress_tolerance = 1e-3,
+                          .stress_rest_speed = 0.25,
                           .body_state = NULL,
                           .context = NULL};
 }
@@ -34,6 +37,15 @@ bk_runtime* bk_runtime_create(const bk_runtime_def* def, bk_error* err) {
     return bk_error_set(err, "runtime: max_new_clusters_per_split must be at least 2 (got %u)",
                         def->max_new_clusters_per_split),
            NULL;
+  if (def->stress_budget < 1)
+    return bk_error_set(err, "runtime: stress_budget must be at least 1 (got %u)", def->stress_budget), NULL;
+  if (!(def->stress_tolerance > 0.0 && def->stress_tolerance <= 0.1))
+    return bk_error_set(err, "runtime: stress_tolerance must be in (0, 0.1] (got %g)", def->stress_tolerance),
+           NULL;
+  if (!(def->stress_rest_speed >= 0.0) || !isfinite(def->stress_rest_speed))
+    return bk_error_set(err, "runtime: stress_rest_speed must be finite and >= 0 (got %g)",
+                        def->stress_rest_speed),
+           NULL;
   bk_runtime* rt = bk_calloc(1, sizeof *rt);
   rt->def = *def;
   return rt;
@@ -44,6 +56,7 @@ void bk_runtime_destroy(bk_runtime* rt) {
   for (uint32_t i = 0; i < rt->cluster_count; ++i) {
     free(rt->clusters[i].leaves);
     free(rt->clusters[i].nodes);
+    rt_stress_release(&rt->clusters[i]);
   }
   for (uint32_t i = 0; i < rt->breakable_count; ++i) {
     rt_breakable* b = &rt->breakables[i];
@@ -54,6 +67,10 @@ void bk_runtime_destroy(bk_runtime* rt) {
     free(b->bond_broken);
     free(b->leaf_cluster);
     free(b->leaf_anchored);
+    free(b->leaf_centroid);
+    free(b->leaf_volume);
+    free(b->leaf_motion);
+    free(b->bond_stress);
   }
   free(rt->breakables);
   free(rt->clusters);
@@ -214,5 +231,9 @@ bk_runtime_stats bk_runtime_get_stats(const bk_runtime* rt) {
                             .clusters = rt->live_count,
                             .bonds_broken = rt->bonds_broken,
                             .splits = rt->splits,
-                            .pending_splits = rt->split_queue_count};
+                            .pending_splits = rt->split_queue_count,
+                            .stress_bonds_broken = rt->stress_bonds_broken,
+                            .stress_clusters_solved = rt->stress_clusters_solved,
+                            .stress_iterations = rt->stress_iterations,
+                            .stress_clusters_pending = rt_stress_pending(rt)};
 }

@@ -4,6 +4,7 @@
 #include <breakables/runtime.h>
 
 #include "bk_geom.h"
+#include "stress_system.h"
 
 /// A breakable: the BCRB graph over its tree's leaves.
 typedef struct rt_breakable {
@@ -19,6 +20,14 @@ typedef struct rt_breakable {
   uint8_t* bond_broken;
   uint32_t* leaf_cluster; // cluster slot of each leaf (UINT32_MAX: none)
   uint8_t* leaf_anchored;
+  // Stress (stress.c), made at the first solve: each leaf's centroid and
+  // volume, its last solved motion (6 values: the next solve's warm start)
+  // and each bond's last solved stress (compression, tension, shear, ratio;
+  // ratio < 0: not solved).
+  bk_vec3* leaf_centroid;
+  double* leaf_volume;
+  double* leaf_motion;
+  double* bond_stress;
 } rt_breakable;
 
 /// A connected cluster of fragments.
@@ -33,6 +42,15 @@ typedef struct rt_cluster {
   bk_transform principal; // body frame in the tree frame
   bk_vec3 inertia;
   double mass, volume;
+  // Stress (stress.c): the system (NULL until first solved), whether its
+  // bonds or masses changed since it was made (stale), whether its load was
+  // solved and its bonds checked (settled: nothing to do until a change),
+  // and the leaves a moving cluster rests on (sorted, gathered over its rest).
+  rt_stress* stress;
+  bool stress_stale, stress_settled;
+  uint32_t* stress_held;
+  uint32_t stress_held_count;
+  uint32_t stress_rest_calls; // calls in a row a moving cluster has rested
 } rt_cluster;
 
 struct bk_runtime {
@@ -54,6 +72,8 @@ struct bk_runtime {
   bk_bond_break* broken;
   uint32_t broken_count, broken_capacity;
   uint32_t bonds_broken, splits;
+  uint32_t stress_bonds_broken, stress_clusters_solved, stress_iterations;
+  uint32_t stress_cursor; // the cluster slot the next stress call starts at
   // Scratch for splitting.
   uint32_t* scratch_component;
   uint32_t* scratch_stack;
@@ -82,6 +102,15 @@ void rt_cluster_mass(const bk_runtime* rt, rt_cluster* c);
 void rt_record_created(bk_runtime* rt, uint32_t slot, bk_cluster_id parent, bk_transform tree_to_world,
                        const bk_body_state* parent_state);
 void rt_record_removed(bk_runtime* rt, bk_cluster_id id);
+/// Marks a bond broken and records it (position: world; velocity: of the body there).
+void rt_break_bond(bk_runtime* rt, uint32_t slot, uint32_t bond, bk_vec3 position, bk_vec3 velocity,
+                   bk_break_cause cause);
+/// Frees a cluster's stress state (its system and held leaves).
+void rt_stress_release(rt_cluster* c);
+/// Clusters whose load has not been solved and checked yet.
+uint32_t rt_stress_pending(const bk_runtime* rt);
+/// After a material change: every cluster of the breakable is solved again.
+void rt_stress_material_changed(bk_runtime* rt, uint32_t breakable_index);
 /// Queues a cluster for a connectivity check (once).
 void rt_queue_split(bk_runtime* rt, uint32_t slot);
 /// The state of a cluster's body from the caller (zero velocity when static).

@@ -1,0 +1,347 @@
+// Structural stress (bk_runtime_solve_stress): which clusters carry a load
+// to supports, their systems (stress_system.c) kept across calls and
+// warm-started, and the bonds that give way.
+//
+// A static cluster rests on its anchored fragments. A moving cluster rests
+// on the fragments where the caller's physics has it touching something
+// static, while it is slow; a falling or tumbling one carries no weight of
+// its own (free fall loads nothing) and is left alone. A cluster's system is
+// made once per set of bonds and supports: a broken bond or a new support
+// set makes it stale; a new gravity direction (the body turned) reloads it.
+// Once a load has converged its bonds are checked against the material's
+// limits, and the cluster is settled: until something changes, it costs
+// nothing. A half-converged load never breaks a bond; a converged one breaks
+// every bond past its limit at once (the split follows) and the rest is
+// solved again, so an overload spreads as it would.
+#include <stdlib.h>
+#include <string.h>
+
+#include "runtime_internal.h"
+
+// A moving cluster counts as resting after this many calls in a row at rest
+// on something static (a quarter of a second at 60 Hz).
+enum { DOF = 6, GROUP_LEVELS = 5, REST_CALLS = 15 };
+
+void rt_stress_release(rt_cluster* c) {
+  rt_stress_destroy(c->stress);
+  free(c->stress_held);
+  c->stress = NULL;
+  c->stress_held = NULL;
+  c->stress_held_count = 0;
+}
+
+// Per-leaf data the systems are made of, once per breakable.
+static void prepare_breakable(rt_breakable* b) {
+  if (b->leaf_centroid) return;
+  const bk_mesh_tree* tree = b->tree;
+  b->leaf_centroid = bk_alloc(sizeof(bk_vec3) * tree->leaf_count);
+  b->leaf_volume = bk_alloc(sizeof(double) * tree->leaf_count);
+  b->leaf_motion = bk_calloc((size_t)DOF * tree->leaf_count, sizeof(double));
+  b->bond_stress = bk_alloc(sizeof(double) * 4u * (tree->bond_count ? tree->bond_count : 1u));
+  for (uint32_t l = 0; l < tree->leaf_count; ++l) {
+    bk_mass_properties mp = bk_mesh_tree_mass(tree, bk_mesh_tree_leaf(tree, l)->moments);
+    b->leaf_centroid[l] = mp.centroid;
+    b->leaf_volume[l] = mp.volume;
+  }
+  for (uint32_t k = 0; k < tree->bond_count; ++k)
+    b->bond_stress[4 * k + 3] = -1.0;
+}
+
+static int compare_u32(const void* a, const void* b) {
+  uint32_t x = *(const uint32_t*)a, y = *(const uint32_t*)b;
+  return x < y ? -1 : x > y;
+}
+
+static uint32_t local_index(const rt_cluster* c, uint32_t leaf) {
+  const uint32_t* found = bsearch(&leaf, c->leaves, c->leaf_count, sizeof(uint32_t), compare_u32);
+  return (uint32_t)(found - c->leaves);
+}
+
+static bool is_held(const rt_cluster* c, uint32_t leaf) {
+  return c->stress_held_count &&
+         bsearch(&leaf, c->stress_held, c->stress_held_count, sizeof(uint32_t), compare_u32);
+}
+
+// The cluster's system: its leaves (supports fixed), its intact bonds.
+static void build_system(rt_breakable* b, rt_cluster* c, uint32_t slot) {
+  const bk_mesh_tree* tree = b->tree;
+  rt_stress_node* nodes = bk_alloc(sizeof(rt_stress_node) * c->leaf_count);
+  for (uint32_t i = 0; i < c->leaf_count; ++i) {
+    uint32_t leaf = c->leaves[i];
+    nodes[i] = (rt_stress_node){.centroid = b->leaf_centroid[leaf],
+                                .mass = b->material.density * b->leaf_volume[leaf],
+                                .fixed = c->is_static ? b->leaf_anchored[leaf] : is_held(c, leaf)};
+  }
+  uint32_t bond_count = 0, capacity = 16;
+  rt_stress_bond* bonds = bk_alloc(sizeof(rt_stress_bond) * capacity);
+  for (uint32_t i = 0; i < c->leaf_count; ++i) {
+    uint32_t leaf = c->leaves[i];
+    for (uint32_t k = b->adjacency_start[leaf]; k < b->adjacency_start[leaf + 1]; ++k) {
+      uint32_t bond = b->adjacency[k];
+      const bk_bond* bd = &tree->bonds[bond];
+      // Each bond once (from its lower leaf), intact and inside the cluster.
+      if (bd->leaf_a != leaf || b->bond_broken[bond] || b->leaf_cluster[bd->leaf_b] != slot) continue;
+      if (bond_count == capacity) {
+        capacity *= 2;
+        bonds = bk_realloc(bonds, sizeof(rt_stress_bond) * capacity);
+      }
+      bonds[bond_count++] = (rt_stress_bond){.a = i,
+                                             .b = local_index(c, bd->leaf_b),
+                                             .centroid = bd->centroid,
+                                             .normal = bd->normal,
+                                             .area = bd->area,
+                                             .tree_bond = bond};
+    }
+  }
+  // Coarse groups: the leaves under one tree node of at least 8, 64, 512 ...
+  // leaves move as one (the tree's nodes are compact, connected pieces).
+  uint32_t* keys[GROUP_LEVELS] = {0};
+  for (uint32_t g = 0; g < GROUP_LEVELS; ++g)
+    keys[g] = bk_alloc(sizeof(uint32_t) * c->leaf_count);
+  for (uint32_t i = 0; i < c->leaf_count; ++i) {
+    uint32_t node = tree->leaf_nodes[c->leaves[i]], size = 8;
+    for (uint32_t g = 0; g < GROUP_LEVELS; ++g, size *= 8) {
+      while (tree->nodes[node].parent != BK_NULL_INDEX &&
+             tree->nodes[node].leaf_end - tree->nodes[node].leaf_begin < size)
+        node = tree->nodes[node].parent;
+      keys[g][i] = node;
+    }
+  }
+  rt_stress_destroy(c->stress);
+  c->stress =
+      rt_stress_create(nodes, c->leaf_count, bonds, bond_count, (const uint32_t* const*)keys, GROUP_LEVELS);
+  for (uint32_t g = 0; g < GROUP_LEVELS; ++g)
+    free(keys[g]);
+  for (uint32_t i = 0; i < c->leaf_count; ++i)
+    memcpy(&c->stress->x[DOF * i], &b->leaf_motion[DOF * (size_t)c->leaves[i]], sizeof(double) * DOF);
+  free(nodes);
+  free(bonds);
+  c->stress_stale = false;
+  c->stress_settled = false;
+}
+
+// Checks every bond of a converged load; breaks those past their limits.
+static void settle(bk_runtime* rt, rt_breakable* b, rt_cluster* c, uint32_t slot, bk_transform tree_to_world,
+                   const bk_body_state* state) {
+  const rt_stress* s = c->stress;
+  for (uint32_t i = 0; i < c->leaf_count; ++i)
+    memcpy(&b->leaf_motion[DOF * (size_t)c->leaves[i]], &s->x[DOF * i], sizeof(double) * DOF);
+  const bk_material* m = &b->material;
+  bool broke = false;
+  for (uint32_t k = 0; k < s->bond_count; ++k) {
+    double stress[3] = {0};
+    rt_stress_bond_stress(s, k, stress);
+    double ratio = fmax(stress[0] / m->compression_limit,
+                        fmax(stress[1] / m->tension_limit, stress[2] / m->shear_limit));
+    uint32_t bond = s->tree_bond[k];
+    double* out = &b->bond_stress[4 * (size_t)bond];
+    out[0] = stress[0], out[1] = stress[1], out[2] = stress[2], out[3] = ratio;
+    if (!(ratio > 1.0)) continue;
+    bk_vec3 position = bk_transform_point(tree_to_world, b->tree->bonds[bond].centroid);
+    bk_vec3 r = bk_v3_sub(position, state->transform.position);
+    bk_vec3 velocity = bk_v3_add(state->linear_velocity, bk_v3_cross(state->angular_velocity, r));
+    rt_break_bond(rt, slot, bond, position, velocity, BK_BREAK_STRESS);
+    rt->stress_bonds_broken++;
+    broke = true;
+  }
+  c->stress_settled = true;
+  if (broke) rt_queue_split(rt, slot);
+}
+
+// ---------------------------------------------------------------- supports
+
+typedef struct held_leaf {
+  uint32_t slot, leaf;
+} held_leaf;
+
+static uint32_t held_lower_bound(const held_leaf* held, uint32_t count, uint32_t slot) {
+  uint32_t lo = 0, hi = count;
+  while (lo < hi) {
+    uint32_t mid = lo + (hi - lo) / 2;
+    if (held[mid].slot < slot)
+      lo = mid + 1;
+    else
+      hi = mid;
+  }
+  return lo;
+}
+
+static int compare_held(const void* a, const void* b) {
+  const held_leaf *x = a, *y = b;
+  if (x->slot != y->slot) return x->slot < y->slot ? -1 : 1;
+  return x->leaf < y->leaf ? -1 : x->leaf > y->leaf;
+}
+
+static double box_distance_squared(bk_aabb box, bk_vec3 p) {
+  double dx = fmax(fmax(box.min.x - p.x, p.x - box.max.x), 0.0);
+  double dy = fmax(fmax(box.min.y - p.y, p.y - box.max.y), 0.0);
+  double dz = fmax(fmax(box.min.z - p.z, p.z - box.max.z), 0.0);
+  return dx * dx + dy * dy + dz * dz;
+}
+
+// The leaf of a cluster a contact point (tree frame) is on: the one whose
+// bounds are nearest, then whose centroid is.
+static uint32_t leaf_at(const rt_breakable* b, const rt_cluster* c, bk_vec3 point) {
+  uint32_t best = c->leaves[0];
+  double best_box = INFINITY, best_centre = INFINITY;
+  for (uint32_t i = 0; i < c->leaf_count; ++i) {
+    uint32_t leaf = c->leaves[i];
+    double box = box_distance_squared(bk_mesh_tree_leaf(b->tree, leaf)->bounds, point);
+    double centre = bk_v3_length(bk_v3_sub(b->leaf_centroid[leaf], point));
+    if (box < best_box || (box == best_box && centre < best_centre))
+      best = leaf, best_box = box, best_centre = centre;
+  }
+  return best;
+}
+
+// Maps the caller's support points to (cluster, leaf) pairs, sorted, unique.
+static uint32_t gather_supports(bk_runtime* rt, const bk_stress_support* supports, uint32_t count,
+                                held_leaf* out) {
+  uint32_t n = 0;
+  for (uint32_t i = 0; i < count; ++i) {
+    rt_cluster* c = rt_find_cluster(rt, supports[i].cluster);
+    if (!c || c->is_static || c->dirty || c->leaf_count < 2 || !bk_v3_is_finite(supports[i].point)) continue;
+    rt_breakable* b = &rt->breakables[c->breakable];
+    prepare_breakable(b);
+    bk_body_state state = rt_body_state(rt, supports[i].cluster.index);
+    bk_transform to_tree = bk_transform_inverse(rt_tree_to_world(c, &state));
+    out[n++] =
+        (held_leaf){supports[i].cluster.index, leaf_at(b, c, bk_transform_point(to_tree, supports[i].point))};
+  }
+  if (n) qsort(out, n, sizeof *out, compare_held);
+  uint32_t unique = 0;
+  for (uint32_t i = 0; i < n; ++i)
+    if (unique == 0 || compare_held(&out[unique - 1], &out[i]) != 0) out[unique++] = out[i];
+  return unique;
+}
+
+// A moving cluster rests when no point of it moves faster than rest_speed.
+static bool at_rest(const bk_runtime* rt, const rt_breakable* b, const bk_body_state* state) {
+  bk_aabb box = b->tree->nodes[0].bounds;
+  double radius = 0.5 * bk_v3_length(bk_v3_sub(box.max, box.min));
+  double speed = bk_v3_length(state->linear_velocity) + bk_v3_length(state->angular_velocity) * radius;
+  return speed <= rt->def.stress_rest_speed;
+}
+
+// Adds this call's held leaves to those of the cluster's rest so far (a
+// union: contact points come and go from step to step while it rests).
+static void merge_held(rt_cluster* c, const held_leaf* held, uint32_t count) {
+  uint32_t* merged = bk_alloc(sizeof(uint32_t) * (c->stress_held_count + count + 1u));
+  uint32_t i = 0, j = 0, n = 0;
+  while (i < c->stress_held_count || j < count) {
+    uint32_t next = j == count || (i < c->stress_held_count && c->stress_held[i] < held[j].leaf)
+                        ? c->stress_held[i++]
+                        : held[j++].leaf;
+    if (n == 0 || merged[n - 1] != next) merged[n++] = next;
+  }
+  free(c->stress_held);
+  c->stress_held = merged;
+  c->stress_held_count = n;
+}
+
+// ---------------------------------------------------------------- the call
+
+static bool same_direction(bk_vec3 a, bk_vec3 b) {
+  return bk_v3_length(bk_v3_sub(a, b)) <= 1e-9 * (bk_v3_length(a) + bk_v3_length(b));
+}
+
+void bk_runtime_solve_stress(bk_runtime* rt, bk_vec3 gravity, const bk_stress_support* supports,
+                             uint32_t support_count) {
+  rt_begin_call(rt);
+  rt->stress_clusters_solved = 0;
+  rt->stress_iterations = 0;
+  if (!bk_v3_is_finite(gravity) || (support_count && !supports)) return;
+  held_leaf* held = bk_alloc(sizeof(held_leaf) * (support_count ? support_count : 1u));
+  uint32_t held_count = gather_supports(rt, supports, support_count, held);
+
+  // Clusters split below create slots past cluster_count's value now; they
+  // are solved next call. The budget goes round: each call starts where the
+  // last one ran out, so a big cluster cannot starve the others.
+  uint32_t slots = rt->cluster_count;
+  uint64_t budget = rt->def.stress_budget;
+  bool spent = false;
+  for (uint32_t visit = 0; visit < slots && !spent; ++visit) {
+    uint32_t slot = (rt->stress_cursor + visit) % slots;
+    rt_cluster* c = &rt->clusters[slot];
+    uint32_t first = held_lower_bound(held, held_count, slot), last = first;
+    while (last < held_count && held[last].slot == slot)
+      last++;
+    if (!c->alive || c->dirty || c->leaf_count < 2) continue;
+    rt_breakable* b = &rt->breakables[c->breakable];
+    bk_body_state state = {0};
+    if (!c->is_static) {
+      // Airborne, moving or asleep: its last solve stands, and a new rest
+      // starts over. A rest is solved once, on what held the cluster over
+      // its first REST_CALLS calls (the load does not move while it rests).
+      state = last > first ? rt_body_state(rt, slot) : state;
+      if (last == first || !at_rest(rt, b, &state)) {
+        c->stress_rest_calls = 0;
+        continue;
+      }
+      if (c->stress_rest_calls == 0) c->stress_held_count = 0;
+      if (c->stress_rest_calls < REST_CALLS) {
+        merge_held(c, held + first, last - first);
+        if (++c->stress_rest_calls < REST_CALLS) continue;
+        c->stress_stale = true;
+      }
+    } else {
+      state = rt_body_state(rt, slot);
+    }
+    prepare_breakable(b);
+    bk_transform tree_to_world = rt_tree_to_world(c, &state);
+    bk_vec3 local_gravity = bk_quat_rotate(bk_quat_conjugate(tree_to_world.rotation), gravity);
+    if (!c->stress || c->stress_stale) {
+      build_system(b, c, slot);
+      rt_stress_load(c->stress, local_gravity);
+    } else if (c->is_static && !same_direction(c->stress->gravity, local_gravity)) {
+      rt_stress_load(c->stress, local_gravity);
+      c->stress_settled = false;
+    } else if (c->stress_settled) {
+      continue; // nothing changed since its last solve
+    }
+    uint64_t cost = rt_stress_iteration_cost(c->stress);
+    uint64_t iterations = budget / cost ? budget / cost : 1u;
+    uint32_t done = rt_stress_iterate(
+        c->stress, (uint32_t)(iterations < UINT32_MAX ? iterations : UINT32_MAX), rt->def.stress_tolerance);
+    rt->stress_iterations += done;
+    rt->stress_clusters_solved++;
+    budget = budget > done * cost ? budget - done * cost : 0u;
+    if (budget == 0) {
+      spent = true;
+      rt->stress_cursor = slot; // this one first next call
+    }
+    if (rt_stress_converged(c->stress, rt->def.stress_tolerance))
+      settle(rt, b, c, slot, tree_to_world, &state);
+  }
+  free(held);
+}
+
+bool bk_runtime_bond_stress(const bk_runtime* rt, bk_breakable_id id, uint32_t bond, bk_bond_stress* out) {
+  bk_bond_stress none = {0};
+  if (out) *out = none;
+  const rt_breakable* b = rt_find_breakable(rt, id);
+  if (!b || bond >= b->tree->bond_count || !b->bond_stress) return false;
+  if (b->bond_broken[bond]) return true;
+  const double* s = &b->bond_stress[4 * (size_t)bond];
+  if (s[3] < 0.0) return false;
+  if (out) *out = (bk_bond_stress){s[0], s[1], s[2], s[3]};
+  return true;
+}
+
+uint32_t rt_stress_pending(const bk_runtime* rt) {
+  uint32_t pending = 0;
+  for (uint32_t slot = 0; slot < rt->cluster_count; ++slot) {
+    const rt_cluster* c = &rt->clusters[slot];
+    // A static cluster always has a load; a moving one once it rested.
+    bool loaded = c->is_static || c->stress;
+    if (c->alive && loaded && c->leaf_count >= 2 && !c->stress_settled) pending++;
+  }
+  return pending;
+}
+
+void rt_stress_material_changed(bk_runtime* rt, uint32_t breakable_index) {
+  for (uint32_t slot = 0; slot < rt->cluster_count; ++slot) {
+    rt_cluster* c = &rt->clusters[slot];
+    if (c->alive && c->breakable == breakable_index) c->stress_stale = true;
+  }
+}
