@@ -54,8 +54,7 @@ static void damage_cluster(bk_runtime* rt, uint32_t slot, bk_vec3 point, double 
     for (uint32_t k = b->adjacency_start[leaf]; k < b->adjacency_start[leaf + 1]; ++k) {
       uint32_t bond = b->adjacency[k];
       const bk_bond* bd = &tree->bonds[bond];
-      // Each bond once (from its lower leaf), and only bonds inside this cluster.
-      if (bd->leaf_a != leaf || b->bond_broken[bond] || b->leaf_cluster[bd->leaf_b] != slot) continue;
+      if (!rt_bond_inside(b, bond, leaf, slot)) continue;
       double s = fmax(bk_v3_length(bk_v3_sub(local, bd->centroid)), s_min);
       double damage = b->material.frailty * impulse / (s * s * s);
       bool breaks = false;

@@ -74,6 +74,8 @@ struct bk_runtime {
   uint32_t bonds_broken, splits;
   uint32_t stress_bonds_broken, stress_clusters_solved, stress_iterations;
   uint32_t stress_cursor; // the cluster slot the next stress call starts at
+  void* stress_scratch;   // the held leaves of a stress call (stress.c)
+  uint32_t stress_scratch_capacity;
   // Scratch for splitting.
   uint32_t* scratch_component;
   uint32_t* scratch_stack;
@@ -102,6 +104,12 @@ void rt_cluster_mass(const bk_runtime* rt, rt_cluster* c);
 void rt_record_created(bk_runtime* rt, uint32_t slot, bk_cluster_id parent, bk_transform tree_to_world,
                        const bk_body_state* parent_state);
 void rt_record_removed(bk_runtime* rt, bk_cluster_id id);
+/// True once per intact bond inside cluster `slot`, seen from `leaf` (its
+/// lower leaf) among the leaf's bonds.
+static inline bool rt_bond_inside(const rt_breakable* b, uint32_t bond, uint32_t leaf, uint32_t slot) {
+  const bk_bond* bd = &b->tree->bonds[bond];
+  return bd->leaf_a == leaf && !b->bond_broken[bond] && b->leaf_cluster[bd->leaf_b] == slot;
+}
 /// Marks a bond broken and records it (position: world; velocity: of the body there).
 void rt_break_bond(bk_runtime* rt, uint32_t slot, uint32_t bond, bk_vec3 position, bk_vec3 velocity,
                    bk_break_cause cause);

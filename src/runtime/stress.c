@@ -79,8 +79,7 @@ static void build_system(rt_breakable* b, rt_cluster* c, uint32_t slot) {
     for (uint32_t k = b->adjacency_start[leaf]; k < b->adjacency_start[leaf + 1]; ++k) {
       uint32_t bond = b->adjacency[k];
       const bk_bond* bd = &tree->bonds[bond];
-      // Each bond once (from its lower leaf), intact and inside the cluster.
-      if (bd->leaf_a != leaf || b->bond_broken[bond] || b->leaf_cluster[bd->leaf_b] != slot) continue;
+      if (!rt_bond_inside(b, bond, leaf, slot)) continue;
       if (bond_count == capacity) {
         capacity *= 2;
         bonds = bk_realloc(bonds, sizeof(rt_stress_bond) * capacity);
@@ -151,7 +150,7 @@ static void settle(bk_runtime* rt, rt_breakable* b, rt_cluster* c, uint32_t slot
 // ---------------------------------------------------------------- supports
 
 typedef struct held_leaf {
-  uint32_t slot, leaf;
+  uint32_t slot, leaf; // while gathering: the support point's index in place of the leaf
 } held_leaf;
 
 static uint32_t held_lower_bound(const held_leaf* held, uint32_t count, uint32_t slot) {
@@ -194,23 +193,43 @@ static uint32_t leaf_at(const rt_breakable* b, const rt_cluster* c, bk_vec3 poin
   return best;
 }
 
-// Maps the caller's support points to (cluster, leaf) pairs, sorted, unique.
-static uint32_t gather_supports(bk_runtime* rt, const bk_stress_support* supports, uint32_t count,
-                                held_leaf* out) {
+// Maps the caller's support points to (cluster, leaf) pairs, sorted, unique,
+// into rt's scratch. Points are taken cluster by cluster (one body state and
+// one transform each); a cluster whose rest is already solved needs no leaf
+// search, only to be seen resting: it gets one pair.
+static uint32_t gather_supports(bk_runtime* rt, const bk_stress_support* supports, uint32_t count) {
+  if (rt->stress_scratch_capacity < count) {
+    rt->stress_scratch_capacity = bk_grow_capacity(rt->stress_scratch_capacity, count);
+    rt->stress_scratch = bk_realloc(rt->stress_scratch, sizeof(held_leaf) * rt->stress_scratch_capacity);
+  }
+  held_leaf* out = rt->stress_scratch;
   uint32_t n = 0;
-  for (uint32_t i = 0; i < count; ++i) {
-    rt_cluster* c = rt_find_cluster(rt, supports[i].cluster);
-    if (!c || c->is_static || c->dirty || c->leaf_count < 2 || !bk_v3_is_finite(supports[i].point)) continue;
+  for (uint32_t i = 0; i < count; ++i) // (slot, index of the point) first, to group them
+    if (rt_find_cluster(rt, supports[i].cluster) && bk_v3_is_finite(supports[i].point))
+      out[n++] = (held_leaf){supports[i].cluster.index, i};
+  if (n) qsort(out, n, sizeof *out, compare_held);
+  uint32_t held = 0;
+  for (uint32_t first = 0, last = 0; first < n; first = last) {
+    uint32_t slot = out[first].slot;
+    while (last < n && out[last].slot == slot)
+      last++;
+    rt_cluster* c = &rt->clusters[slot];
+    if (c->is_static || c->dirty || c->leaf_count < 2) continue;
+    if (c->stress_rest_calls >= REST_CALLS) {
+      out[held++] = (held_leaf){slot, 0};
+      continue;
+    }
     rt_breakable* b = &rt->breakables[c->breakable];
     prepare_breakable(b);
-    bk_body_state state = rt_body_state(rt, supports[i].cluster.index);
+    bk_body_state state = rt_body_state(rt, slot);
     bk_transform to_tree = bk_transform_inverse(rt_tree_to_world(c, &state));
-    out[n++] =
-        (held_leaf){supports[i].cluster.index, leaf_at(b, c, bk_transform_point(to_tree, supports[i].point))};
+    for (uint32_t j = first; j < last; ++j) // held <= j: each pair is read before it is overwritten
+      out[held++] =
+          (held_leaf){slot, leaf_at(b, c, bk_transform_point(to_tree, supports[out[j].leaf].point))};
   }
-  if (n) qsort(out, n, sizeof *out, compare_held);
+  if (held) qsort(out, held, sizeof *out, compare_held);
   uint32_t unique = 0;
-  for (uint32_t i = 0; i < n; ++i)
+  for (uint32_t i = 0; i < held; ++i)
     if (unique == 0 || compare_held(&out[unique - 1], &out[i]) != 0) out[unique++] = out[i];
   return unique;
 }
@@ -251,8 +270,8 @@ void bk_runtime_solve_stress(bk_runtime* rt, bk_vec3 gravity, const bk_stress_su
   rt->stress_clusters_solved = 0;
   rt->stress_iterations = 0;
   if (!bk_v3_is_finite(gravity) || (support_count && !supports)) return;
-  held_leaf* held = bk_alloc(sizeof(held_leaf) * (support_count ? support_count : 1u));
-  uint32_t held_count = gather_supports(rt, supports, support_count, held);
+  uint32_t held_count = gather_supports(rt, supports, support_count);
+  const held_leaf* held = rt->stress_scratch;
 
   // Clusters split below create slots past cluster_count's value now; they
   // are solved next call. The budget goes round: each call starts where the
@@ -313,7 +332,6 @@ void bk_runtime_solve_stress(bk_runtime* rt, bk_vec3 gravity, const bk_stress_su
     if (rt_stress_converged(c->stress, rt->def.stress_tolerance))
       settle(rt, b, c, slot, tree_to_world, &state);
   }
-  free(held);
 }
 
 bool bk_runtime_bond_stress(const bk_runtime* rt, bk_breakable_id id, uint32_t bond, bk_bond_stress* out) {

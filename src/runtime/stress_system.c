@@ -540,7 +540,6 @@ void rt_stress_load(rt_stress* s, bk_vec3 gravity) {
   memcpy(s->p, s->z, sizeof(double) * n);
   s->rz = dot(s->r, s->z, n);
   s->residual = s->load_norm > 0.0 ? sqrt(dot(s->r, s->r, n)) / s->load_norm : 0.0;
-  s->iterations = 0;
 }
 
 uint32_t rt_stress_iterate(rt_stress* s, uint32_t max_iterations, double tolerance) {
@@ -563,7 +562,6 @@ uint32_t rt_stress_iterate(rt_stress* s, uint32_t max_iterations, double toleran
       s->p[i] = s->z[i] + beta * s->p[i];
     s->residual = sqrt(dot(s->r, s->r, n)) / s->load_norm;
     done++;
-    s->iterations++;
   }
   return done;
 }

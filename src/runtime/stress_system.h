@@ -56,8 +56,7 @@ typedef struct rt_stress {
   uint32_t* tree_bond;           // per bond
   double *x, *b, *r, *z, *p, *q; // 6 per node each (x: displacement and rotation)
   double rz, load_norm, residual;
-  uint32_t iterations; ///< since the last load
-  bk_vec3 gravity;     ///< the load's gravity (tree frame)
+  bk_vec3 gravity; ///< the load's gravity (tree frame)
 } rt_stress;
 
 /// A system over these nodes and bonds, with x = 0 (set x to warm-start,
