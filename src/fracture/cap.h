@@ -20,6 +20,12 @@ bool bk_cap_triangulate(bk_cap* cap, const uint32_t* edges, uint32_t edge_count,
                         uint32_t vertex_count, const uint32_t** triangles, uint32_t* triangle_count,
                         bk_error* err);
 
+/// Grid spacing of a noisy cap in noise waves (about three points per wave).
+#define BK_CAP_NOISE_SPACING (1.0 / 3.0)
+/// Grid nodes a noisy cap may take at most: a larger cap gets a coarser grid.
+/// (memory_estimate.c counts the points a fracture's caps get by these two.)
+#define BK_CAP_NOISE_MAX_NODES 2500.0
+
 /// How a cap is made noisy (see cap_noise.c); all in the cap's units.
 typedef struct bk_cap_noise_def {
   bk_vec3 normal;   ///< the cap's plane normal: points move along it

@@ -18,11 +18,6 @@
 
 #include "cap.h"
 
-/// Grid spacing in noise waves (about three points per wave).
-#define CAP_NOISE_SPACING (1.0 / 3.0)
-/// Grid nodes a cap may take at most: a larger cap gets a coarser grid.
-#define CAP_NOISE_MAX_NODES 2500.0
-
 typedef struct cap_mesher {
   bk_cap_noise* out;
   double (*xy)[2]; // per point: plane coordinates
@@ -216,7 +211,7 @@ void bk_cap_noise_make(const bk_cap_noise_def* def, const uint32_t* triangles, u
 
   // Grid nodes strictly inside each cap triangle and at least half a
   // spacing from the border go into it, splitting the piece they fall in.
-  double h = fmax(CAP_NOISE_SPACING / def->frequency, sqrt(area / CAP_NOISE_MAX_NODES));
+  double h = fmax(BK_CAP_NOISE_SPACING / def->frequency, sqrt(area / BK_CAP_NOISE_MAX_NODES));
   double tiny_area = 1e-9 * h * h;
   uint32_t *children = NULL, child_count = 0, child_capacity = 0;
   for (uint32_t t = 0; t < triangle_count; ++t) {

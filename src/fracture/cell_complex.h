@@ -173,6 +173,16 @@ bool bk_cell_build_faces(bk_cell_complex* cx, const bk_cell_polytope* polytopes,
                          const bk_cell_surface* surfaces, uint32_t cells, bk_cell_faces* out, bk_error* err);
 void bk_cell_faces_free(bk_cell_faces* f);
 
+/// Refinement levels of a noisy cut face at most (each splits the face
+/// triangles' inner edges).
+#define BK_CELL_NOISE_MAX_LEVELS 3
+/// The refined faces may have at most this many times the triangles of the
+/// flat ones, or BK_CELL_NOISE_EXTRA more, however fine the noise (fewer
+/// levels are taken for every face until they fit). memory_estimate.c
+/// follows these three.
+#define BK_CELL_NOISE_BUDGET 8.0
+#define BK_CELL_NOISE_EXTRA 100000.0
+
 /// Refines every cut face and pushes its inner points along its normal by
 /// coherent noise (amplitude and frequency in local units), tapered to zero
 /// at the face's border, which stays put.

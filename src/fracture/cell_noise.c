@@ -27,9 +27,6 @@ double bk_noise3(bk_vec3 p, int seed) {
   return stb_perlin_noise3_seed((float)p.x, (float)p.y, (float)p.z, 0, 0, 0, seed);
 }
 
-/// Refinement levels at most (each splits a face triangle's inner edges).
-#define NOISE_MAX_LEVELS 3
-
 typedef struct tri_list {
   uint32_t* v;
   uint32_t count, capacity; // triangles
@@ -109,9 +106,9 @@ void bk_cell_faces_add_noise(bk_cell_complex* cx, bk_cell_faces* faces, double a
   tri_list all = {0}, a = {0}, b = {0};
   uint32_t* border_edges = NULL;
   uint32_t border_capacity = 0;
-  // A budget: the refined faces may have at most eight times the
-  // triangles (or 100,000 more), however fine the noise.
-  int max_levels = NOISE_MAX_LEVELS;
+  // A budget: the refined faces may have at most BK_CELL_NOISE_BUDGET
+  // times the triangles (or BK_CELL_NOISE_EXTRA more), however fine the noise.
+  int max_levels = BK_CELL_NOISE_MAX_LEVELS;
   for (; max_levels > 0; --max_levels) {
     double total = 0.0;
     for (uint32_t f = 0; f < faces->count; ++f) {
@@ -122,11 +119,13 @@ void bk_cell_faces_add_noise(bk_cell_complex* cx, bk_cell_faces* faces, double a
           const uint32_t* v = faces->triangles + 3 * (face->first + t);
           longest = fmax(longest, bk_v3_length(bk_v3_sub(cx->points[v[k]], cx->points[v[(k + 1) % 3]])));
         }
-      int levels = (int)fmin(ceil(log2(fmax(longest * frequency * 2.0, 1.0))), NOISE_MAX_LEVELS);
+      int levels = (int)fmin(ceil(log2(fmax(longest * frequency * 2.0, 1.0))), BK_CELL_NOISE_MAX_LEVELS);
       levels = levels < 0 ? 0 : (levels > max_levels ? max_levels : levels);
       total += face->count * pow(4.0, levels);
     }
-    if (total <= fmax(8.0 * faces->triangle_count, faces->triangle_count + 100000.0)) break;
+    if (total <=
+        fmax(BK_CELL_NOISE_BUDGET * faces->triangle_count, faces->triangle_count + BK_CELL_NOISE_EXTRA))
+      break;
   }
   int noise_seed = (int)(seed & 0xff);
   double offset = (double)((seed >> 8) & 0xffff) * 0.618;
@@ -166,8 +165,8 @@ void bk_cell_faces_add_noise(bk_cell_complex* cx, bk_cell_faces* faces, double a
     }
     bk_index_map_free(&uses);
     // Enough levels for about two vertices per noise wave, at most
-    // NOISE_MAX_LEVELS (each level makes up to four times the triangles).
-    int levels = (int)fmin(ceil(log2(fmax(longest * frequency * 2.0, 1.0))), NOISE_MAX_LEVELS);
+    // BK_CELL_NOISE_MAX_LEVELS (each level makes up to four times the triangles).
+    int levels = (int)fmin(ceil(log2(fmax(longest * frequency * 2.0, 1.0))), BK_CELL_NOISE_MAX_LEVELS);
     levels = levels < 0 ? 0 : (levels > max_levels ? max_levels : levels);
     uint32_t first_point = cx->count;
     for (int l = 0; l < levels; ++l) {

@@ -2,54 +2,175 @@
 // request that cannot fit is refused up front instead of exhausting the
 // machine half-way (a cube into 1,048,576 pieces peaks at 8.3 GB).
 //
-// The model was fitted (least squares on relative error) to the peak resident
-// memory of `breakables fracture --json` (Release build, x86-64, glibc) over 7
-// built-in meshes (12 to 3,674 triangles) and icospheres of 5,120 to 327,680
-// triangles, from 1 to 262,144 pieces (133 runs). With T source triangles,
-// N pieces and L = log2 N, the peak is the larger of
+// The models are fitted (least squares on relative error) to the peak
+// resident memory of `breakables fracture` (Release build, x86-64, glibc).
+// With T source triangles, N pieces and L = log2 N:
+//
+// Planes and brick, fitted over 7 built-in meshes (12 to 3,674 triangles)
+// and icospheres of 5,120 to 327,680 triangles, from 1 to 262,144 pieces
+// (133 runs). The peak is the larger of
 //   - the first cut's working set (N > 1): slicing, capping and checking a
 //     copy of the whole source, 660 bytes per source triangle;
 //   - the finished tree, the sum of
-//       a fixed part: the process itself;
+//       a fixed part: the process itself (8.6 MB, 10.3 MB measured for the
+//         command line tool with the libraries it links; 5.75 MB when the
+//         rest was fitted);
 //       T: the source mesh and its loading;
 //       T L: every level of the tree holds the whole source surface again;
 //       N: each fragment and its parent node (about 14 triangles each, with
 //          their caps, bounds, moments and bonds), 8.4 KB per piece;
 //       sqrt(T) N^(1/3): curved surfaces are cut into more triangles as the
 //          pieces along them grow in number.
-// The fit is within -10%..+13% of every measurement. The estimate is the fit
-// times 1.25, so it exceeds every measured peak (by 12% to 41%) and leaves
-// room for changes to the fracture core.
+// The cell patterns (voronoi, clustered, radial, cut-out) hold every cell's
+// surface and cut faces and group the cells into a tree whose every level
+// holds its cells' triangles again: 4.4 KB per piece and level. Fitted over 6
+// built-in meshes and spheres of 20,000 and 80,000 triangles at 2 to 4,096
+// pieces (70 runs), within -9%..+13% of each.
+//
+// Noise (noise_amplitude > 0) adds the triangles its meshers make, counted
+// as they make them, so the estimate follows the frequency as they do:
+//   - planes: each cap gets the nodes of a grid BK_CAP_NOISE_SPACING waves
+//     apart (at most BK_CAP_NOISE_MAX_NODES), and every tree level below the
+//     cut holds them again; besides, noisy caps are never re-triangulated,
+//     so later cuts leave more triangles on them (24 KB per piece);
+//   - cell patterns: cut faces are refined by up to BK_CELL_NOISE_MAX_LEVELS
+//     levels within the mesher's budget.
+// Measured on the cube, bunny, torus, eggshell, wall, pillar and the two
+// spheres at 2 to 4,096 pieces, flat and with noise at frequencies 2, 8 and
+// 24 (390 runs, peaks of 11 to 860 MiB), the estimate, the fit times 1.25, is
+// 0.89 to 1.53 times the peak for planes and brick, flat or noisy; 1.15 to
+// 1.42 times for the cell patterns flat and 0.70 to 2.04 times noisy (on
+// the cube and the bunny 0.91 to 1.94): how many levels the refinement
+// budget lets through makes their peak jump by up to 2x between nearby
+// requests, and the estimate stays between the two outcomes.
 #include <math.h>
 
 #include "bk_fracture.h"
+#include "cap.h"
+#include "cell_complex.h"
 
 // Margins over the fits, so that the estimates err on the high side.
 #define BUILD_MARGIN 1.25
 #define FILE_MARGIN 1.1
 
+// A cut through the centroid of a piece of volume v has about this times
+// v^(2/3) of area (a unit cube's cuts: 1 to 1.4).
+#define CAP_AREA_PER_VOLUME 1.2
+
 static double pieces_of(const bk_fracture_def* desc) {
+  if (desc && desc->pattern == BK_PATTERN_VORONOI && desc->seed_points) // one cell per point inside
+    return desc->seed_point_count ? (double)desc->seed_point_count : 1.0;
   return desc && desc->pieces ? (double)desc->pieces : (double)bk_default_fracture_def().pieces;
+}
+
+static bool cell_pattern(const bk_fracture_def* desc) {
+  return desc && desc->pattern != BK_PATTERN_PLANES && desc->pattern != BK_PATTERN_BRICK;
+}
+
+// Noise waves per source unit, or 0 when the cut faces stay flat (brick
+// refuses noise).
+static double noise_frequency_of(const bk_fracture_def* desc) {
+  if (!desc || desc->pattern == BK_PATTERN_BRICK || !(desc->noise_amplitude > 0.0)) return 0.0;
+  return desc->noise_frequency > 0.0 ? desc->noise_frequency : 0.0;
 }
 
 static uint64_t to_bytes(double bytes) {
   return bytes >= 18446744073709551615.0 ? UINT64_MAX : (uint64_t)ceil(bytes);
 }
 
+// The points the noisy caps of a planes fracture get, each counted once for
+// every tree level below its cut (cap_noise.c). The k-th level's cuts halve
+// pieces of volume / 2^k; a cap gets the grid nodes at least half a spacing
+// inside its border.
+static double planes_noise_point_levels(double volume, double n, double frequency) {
+  double levels = log2(n), sum = 0.0;
+  double most_across = sqrt(BK_CAP_NOISE_MAX_NODES);
+  for (int k = 0; ldexp(1.0, k) < n; ++k) {
+    double pieces = ldexp(1.0, k);
+    double cuts = fmin(pieces, n - pieces);
+    double area = CAP_AREA_PER_VOLUME * pow(volume / pieces, 2.0 / 3.0);
+    double across = fmin(sqrt(area) * frequency / BK_CAP_NOISE_SPACING, most_across);
+    double inside = fmax(across - 1.0, 0.0);
+    sum += cuts * inside * inside * (levels - k);
+  }
+  return sum;
+}
+
+// Bytes noisy caps add to a planes tree: 355 per point and level, and the
+// cut faces left whole (24 KB per piece).
+static double planes_noise_bytes(double volume, double n, double frequency) {
+  if (!(n > 1.0) || !(frequency > 0.0) || !(volume > 0.0)) return 0.0;
+  return 24000.0 * n + 355.0 * planes_noise_point_levels(volume, n, frequency);
+}
+
+// Cut-face triangles of a cell pattern before noise: about 24 per cell, and
+// more where the faces meet a finely triangulated surface.
+static double cell_face_triangles(double t, double n) { return 24.0 * n + 4.5 * sqrt(t) * cbrt(n); }
+
+// The triangles noise adds to the cut faces of a cell pattern
+// (cell_noise.c): a face whose longest edge is e gets
+// ceil(log2(2 frequency e)) levels, at most BK_CELL_NOISE_MAX_LEVELS, within
+// the budget.
+static double cell_noise_triangles(double t, double volume, double n, double frequency) {
+  if (!(n > 1.0) || !(frequency > 0.0) || !(volume > 0.0)) return 0.0;
+  // Shares of the face triangles whose faces' longest edge is about x times
+  // the cells' size (volume / N)^(1/3), as measured on all six meshes.
+  static const double shares[][2] = {{0.4, 0.15}, {0.8, 0.30}, {1.2, 0.35}, {1.6, 0.17}, {2.2, 0.03}};
+  // Triangles a face triangle becomes at each level: less than 4^levels,
+  // since the border edges are never split (measured).
+  static const double growth[BK_CELL_NOISE_MAX_LEVELS + 1] = {1.0, 2.5, 9.0, 35.0};
+  double faces = cell_face_triangles(t, n), cell = cbrt(volume / n), ratio = 0.0;
+  for (size_t i = 0; i < sizeof shares / sizeof *shares; ++i) {
+    double wanted = ceil(log2(fmax(2.0 * frequency * shares[i][0] * cell, 1.0)));
+    int levels = (int)fmin(wanted, BK_CELL_NOISE_MAX_LEVELS);
+    ratio += shares[i][1] * growth[levels];
+  }
+  // Past the budget the mesher takes fewer levels for every face, which
+  // leaves 2.3 to 4.5 times the triangles depending on which side of the
+  // budget the faces fall; 3 times is within 2x of either. On few faces the
+  // budget allows 100,000 more: 7,000 to 53,000 more were measured at 64
+  // pieces.
+  double most = fmax((0.38 * BK_CELL_NOISE_BUDGET - 1.0) * faces, 0.25 * BK_CELL_NOISE_EXTRA);
+  return fmin(faces * (ratio - 1.0), most);
+}
+
+// Each triangle noise adds to a cell pattern's cut faces is held by both
+// cells, by the tree's inner nodes up to where the two are grouped, and by
+// the build's working copies.
+static double cell_noise_bytes_per_triangle(double levels) { return 300.0 + 120.0 * levels; }
+
 uint64_t bk_mesh_tree_estimate_bytes(const bk_mesh* source, const bk_fracture_def* desc) {
   double t = source ? (double)source->triangle_count : 0.0, n = pieces_of(desc);
-  double levels = log2(n);
+  double levels = log2(n), frequency = noise_frequency_of(desc);
+  double volume = source && frequency > 0.0 ? bk_mesh_volume(source) : 0.0;
   double first_cut = n > 1.0 ? 5.75e6 + 660.0 * t : 0.0;
-  double tree = 5.75e6 + 190.0 * t + 72.0 * t * levels + 8420.0 * n + 16100.0 * sqrt(t) * cbrt(n);
+  double tree = 0.0;
+  if (cell_pattern(desc))
+    tree = 11.75e6 + 235.0 * t + 4440.0 * n * levels + 24300.0 * sqrt(t) * cbrt(n) + 160.0 * t * levels +
+           cell_noise_bytes_per_triangle(levels) * cell_noise_triangles(t, volume, n, frequency);
+  else
+    tree = 8.6e6 + 190.0 * t + 72.0 * t * levels + 8420.0 * n + 16100.0 * sqrt(t) * cbrt(n) +
+           planes_noise_bytes(volume, n, frequency);
   return to_bytes(BUILD_MARGIN * fmax(first_cut, tree));
 }
 
-// Fitted the same way to the sizes of 13 saved trees (4.3 KB per piece); the
-// rounded fit is 4% to 15% above each. Saving holds the whole file in memory
-// before writing it.
+// Fitted the same way to the sizes of saved trees: planes to 13 (4.3 KB per
+// piece; the rounded fit is 4% to 15% above each), the cell patterns to 68
+// (3.4 KB per piece and level; -28% to +66% of each, the most above on the
+// smallest files). Noise adds to the file what it adds to the tree in
+// memory less the build's working copies: 0.67 of it for planes, 0.85 for
+// the cell patterns (the estimates are 0.93 to 1.56 and 0.64 to 1.48 times
+// 36 noisy files). Saving holds the whole file in memory before writing it.
 uint64_t bk_mesh_tree_estimate_file_bytes(const bk_mesh* source, const bk_fracture_def* desc) {
   double t = source ? (double)source->triangle_count : 0.0, n = pieces_of(desc);
-  double levels = log2(n);
-  double fit = 40.0 * t + 48.0 * t * levels + 4300.0 * n + 9000.0 * sqrt(t) * cbrt(n);
+  double levels = log2(n), frequency = noise_frequency_of(desc);
+  double volume = source && frequency > 0.0 ? bk_mesh_volume(source) : 0.0;
+  double fit = 0.0;
+  if (cell_pattern(desc))
+    fit = 3400.0 * n * levels + 11500.0 * sqrt(t) * cbrt(n) + 125.0 * t * levels +
+          0.85 * cell_noise_bytes_per_triangle(levels) * cell_noise_triangles(t, volume, n, frequency);
+  else
+    fit = 40.0 * t + 48.0 * t * levels + 4300.0 * n + 9000.0 * sqrt(t) * cbrt(n) +
+          0.67 * planes_noise_bytes(volume, n, frequency);
   return to_bytes(FILE_MARGIN * fit);
 }
