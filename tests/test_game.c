@@ -156,6 +156,40 @@ static void test_own_model(void) {
   ENSURE_MSG(strstr(output, "\"pieces\": 40"), "%s", output);
 }
 
+// Pixels of the overlays' colour ramp (green, yellow, red: strong red or
+// green, little blue); the sky, the ground and the objects have none.
+static int ramp_pixels(const char* path) {
+  int w = 0, h = 0, channels = 0, count = 0;
+  unsigned char* pixels = stbi_load(path, &w, &h, &channels, 3);
+  ENSURE_MSG(pixels != NULL, "cannot read %s", path);
+  for (int i = 0; i < w * h; ++i) {
+    const unsigned char* p = &pixels[3 * i];
+    int top = p[0] > p[1] ? p[0] : p[1];
+    count += top > 150 && p[2] < 0.4 * top;
+  }
+  stbi_image_free(pixels);
+  return count;
+}
+
+// The stress overlay: a bridge with weakened limits, standing, shows its
+// bonds in the ramp's colours once it is solved; with stress off the same
+// bonds are grey (nothing solved).
+static void test_stress_overlay(void) {
+  char args[1024], shot[512];
+  int counts[2] = {0, 0};
+  for (int off = 0; off < 2; ++off) {
+    snprintf(shot, sizeof shot, "%s/stress_overlay_%d.png", BK_TEST_TMP, off);
+    snprintf(args, sizeof args,
+             "play --scene bridge --stress-scale 0.3 --frames 30 --overlay stress --hide-panel%s "
+             "--screenshot '%s' --width 640 --height 360",
+             off ? " --no-stress" : "", shot);
+    ENSURE_MSG(run(args) == 0, "%s", args);
+    counts[off] = ramp_pixels(shot);
+  }
+  fprintf(stderr, "    ramp-coloured pixels: %d with stress, %d without\n", counts[0], counts[1]);
+  ENSURE(counts[0] > 500 && counts[1] < counts[0] / 20);
+}
+
 // Without a display the game says so in one line and exits 1 (no crash).
 static void test_no_display(void) {
   char command[1024];
@@ -188,6 +222,7 @@ int main(void) {
   RUN(test_bad_options);
   RUN(test_editor);
   RUN(test_own_model);
+  RUN(test_stress_overlay);
   RUN(test_scenes);
   return 0;
 }

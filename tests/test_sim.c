@@ -265,6 +265,38 @@ static void test_live_frailty_and_density(void) {
   bk_mesh_tree_free(&tree);
 }
 
+// Structural stress is a live switch, and its limits live material values:
+// a wall whose limits drop to 1 Pa keeps every bond while stress is off, and
+// sheds bonds under its own weight once it is back on.
+static void test_live_stress(void) {
+  bk_mesh_tree tree = make_tree(BK_SHAPE_WALL, 64, 6);
+  bk_world* world = make_world();
+  ENSURE(bk_world_stress(world));
+  bk_world_set_stress(world, false);
+  ENSURE(!bk_world_stress(world));
+  bk_world_breakable_def desc = bk_default_world_breakable_def();
+  desc.breakable.anchored = true;
+  bk_breakable_id id = add(world, &tree, desc);
+  bk_material m = bk_world_material(world, id);
+  m.compression_limit = m.tension_limit = m.shear_limit = 1.0;
+  ENSURE(bk_world_set_material(world, id, &m));
+  bk_material back = bk_world_material(world, id);
+  ENSURE(back.compression_limit == 1.0 && back.tension_limit == 1.0 && back.shear_limit == 1.0);
+  for (int i = 0; i < 60; ++i)
+    bk_world_step(world);
+  bk_world_stats s = bk_world_get_stats(world);
+  ENSURE(s.bonds_broken == 0 && s.stress_iterations == 0 && s.bodies == 1);
+  bk_world_set_stress(world, true);
+  ENSURE(bk_world_stress(world));
+  for (int i = 0; i < 60; ++i)
+    bk_world_step(world);
+  s = bk_world_get_stats(world);
+  ENSURE_MSG(s.stress_bonds_broken > 0 && s.bodies > 1, "%u bonds broken by stress, %u bodies",
+             s.stress_bonds_broken, s.bodies);
+  bk_world_destroy(world);
+  bk_mesh_tree_free(&tree);
+}
+
 // Left alone for two simulated minutes, a standing object keeps every bond.
 static void test_resting_keeps_bonds(void) {
   bk_mesh_tree wall = make_tree(BK_SHAPE_WALL, 64, 6), pillar = make_tree(BK_SHAPE_PILLAR, 64, 7);
@@ -466,6 +498,7 @@ int main(void) {
   RUN(test_eggshell_not_solid);
   RUN(test_discrete_vs_accumulating);
   RUN(test_live_frailty_and_density);
+  RUN(test_live_stress);
   RUN(test_naive_same_clusters);
   RUN(test_split_keeps_motion);
   RUN(test_split_budget);

@@ -10,6 +10,7 @@
 #include <breakables/runtime.h>
 
 #include "ensure.h"
+#include "runtime_internal.h"
 #include "stress_system.h"
 
 enum { DOF = 6 };
@@ -35,7 +36,7 @@ static void test_column(void) {
                                 .area = 1.0,
                                 .tree_bond = i};
   rt_stress* s = rt_stress_create(nodes, N, bonds, N - 1, NULL, 0);
-  rt_stress_load(s, gravity);
+  rt_stress_load(s, gravity, NULL);
   rt_stress_iterate(s, 500, 1e-12);
   ENSURE(rt_stress_converged(s, 1e-10));
   for (uint32_t k = 0; k + 1 < N; ++k) {
@@ -67,7 +68,7 @@ static void test_cantilever(void) {
                                 .area = area,
                                 .tree_bond = i};
   rt_stress* s = rt_stress_create(nodes, N, bonds, N - 1, NULL, 0);
-  rt_stress_load(s, gravity);
+  rt_stress_load(s, gravity, NULL);
   rt_stress_iterate(s, 1000, 1e-13);
   for (uint32_t k = 0; k + 1 < N; ++k) {
     double stress[3] = {0};
@@ -82,6 +83,116 @@ static void test_cantilever(void) {
     ENSURE_REL(stress[1], bending, 1e-7); // no axial force: bending alone
     ENSURE_REL(stress[0], bending, 1e-7);
   }
+  rt_stress_destroy(s);
+}
+
+// A block lattice of nx x ny x nz unit cubes (bottom layer held), its
+// bonds between face neighbours, grouped 2 x 2 x 2 and 4 x 4 x 4 for the
+// multigrid when `grouped`.
+enum { LX = 8, LY = 8, LZ = 3, LATTICE = LX * LY * LZ };
+
+static rt_stress* make_lattice(bool grouped) {
+  rt_stress_node nodes[LATTICE];
+  rt_stress_bond bonds[3 * LATTICE];
+  uint32_t keys[2][LATTICE];
+  uint32_t bond_count = 0;
+  for (uint32_t x = 0; x < LX; ++x)
+    for (uint32_t y = 0; y < LY; ++y)
+      for (uint32_t z = 0; z < LZ; ++z) {
+        uint32_t i = (x * LY + y) * LZ + z;
+        // Masses vary so no symmetry helps the solve.
+        nodes[i] = (rt_stress_node){.centroid = {x + 0.5, y + 0.5, z + 0.5},
+                                    .mass = 100.0 + 37.0 * ((x * 7 + y * 3 + z) % 5),
+                                    .fixed = y == 0};
+        keys[0][i] = ((x / 2) * LY + y / 2) * LZ + z / 2;
+        keys[1][i] = ((x / 4) * LY + y / 4) * LZ + z / 4;
+        const uint32_t step[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+        for (int d = 0; d < 3; ++d) {
+          uint32_t u = x + step[d][0], v = y + step[d][1], w = z + step[d][2];
+          if (u >= LX || v >= LY || w >= LZ) continue;
+          bonds[bond_count] =
+              (rt_stress_bond){.a = i,
+                               .b = (u * LY + v) * LZ + w,
+                               .centroid = {x + 0.5 + 0.5 * step[d][0], y + 0.5 + 0.5 * step[d][1],
+                                            z + 0.5 + 0.5 * step[d][2]},
+                               .normal = {step[d][0], step[d][1], step[d][2]},
+                               .area = 0.5 + 0.1 * (bond_count % 3),
+                               .tree_bond = bond_count};
+          bond_count++;
+        }
+      }
+  const uint32_t* groups[2] = {keys[0], keys[1]};
+  return rt_stress_create(nodes, LATTICE, bonds, bond_count, grouped ? groups : NULL, grouped ? 2u : 0u);
+}
+
+// The multigrid (coarse levels assembled from the groups, the finest
+// additive) converges to the direct solution of the whole system; its
+// setup comes in steps (a level each), and made step by step or all at
+// once, it gives the same answer.
+static void test_multigrid_matches_direct(void) {
+  rt_stress* direct = make_lattice(false);
+  rt_stress_load(direct, gravity, NULL);
+  ENSURE(direct->level_count == 1); // no groups: one dense solve
+  rt_stress_iterate(direct, 10, 1e-12);
+  ENSURE(rt_stress_converged(direct, 1e-10));
+
+  rt_stress* stepped = make_lattice(true);
+  ENSURE(!stepped->ready && !rt_stress_converged(stepped, 1.0)); // not loaded: never converged
+  uint32_t steps = 0;
+  while (!stepped->ready) {
+    ENSURE(rt_stress_setup_step(stepped) > 0);
+    steps++;
+  }
+  ENSURE_MSG(steps == 3 && stepped->level_count == 3, "%u steps, %u levels", steps, stepped->level_count);
+  ENSURE(stepped->levels[1].pair_count > 0 && stepped->levels[1].pair_count < stepped->levels[1].bond_count);
+  rt_stress_load(stepped, gravity, NULL);
+  uint32_t iterations = rt_stress_iterate(stepped, 200, 1e-10);
+  ENSURE(rt_stress_converged(stepped, 1e-10));
+  printf("  lattice of %u: multigrid in %u iterations\n", LATTICE, iterations);
+  ENSURE(iterations < 60);
+
+  rt_stress* at_once = make_lattice(true);
+  rt_stress_load(at_once, gravity, NULL); // the setup made here
+  ENSURE(at_once->ready);
+  ENSURE(rt_stress_iterate(at_once, 200, 1e-10) == iterations);
+  double worst = 0.0, largest = 0.0;
+  for (uint32_t k = 0; k < direct->bond_count; ++k) {
+    double a[3] = {0}, b[3] = {0}, c[3] = {0};
+    rt_stress_bond_stress(direct, k, a);
+    rt_stress_bond_stress(stepped, k, b);
+    rt_stress_bond_stress(at_once, k, c);
+    for (int i = 0; i < 3; ++i) {
+      worst = fmax(worst, fabs(a[i] - b[i]));
+      largest = fmax(largest, fabs(a[i]));
+      ENSURE(b[i] == c[i]);
+    }
+  }
+  ENSURE_MSG(worst <= 1e-6 * largest, "multigrid off the direct solve by %g of %g", worst, largest);
+  rt_stress_destroy(direct);
+  rt_stress_destroy(stepped);
+  rt_stress_destroy(at_once);
+}
+
+// The cantilever again, with a weight hung at its tip: node loads add to
+// its own; the root shears by both.
+static void test_cantilever_tip_load(void) {
+  enum { N = 6 };
+  rt_stress_node nodes[N];
+  rt_stress_bond bonds[N - 1];
+  double side = 0.5, area = side * side, mass = 50.0, hung = 300.0 * 9.81;
+  for (uint32_t i = 0; i < N; ++i)
+    nodes[i] = (rt_stress_node){.centroid = {(i + 0.5) * side, 2.0, 0.0}, .mass = mass, .fixed = i == 0};
+  for (uint32_t i = 0; i + 1 < N; ++i)
+    bonds[i] = (rt_stress_bond){
+        .a = i, .b = i + 1, .centroid = {(i + 1.0) * side, 2.0, 0.0}, .normal = {1, 0, 0}, .area = area};
+  double loads[DOF * N] = {0};
+  loads[DOF * (N - 1) + 1] = -hung;
+  rt_stress* s = rt_stress_create(nodes, N, bonds, N - 1, NULL, 0);
+  rt_stress_load(s, gravity, loads);
+  rt_stress_iterate(s, 1000, 1e-13);
+  double stress[3] = {0};
+  rt_stress_bond_stress(s, 0, stress);
+  ENSURE_REL(stress[2], ((N - 1) * mass * 9.81 + hung) / area, 1e-7);
   rt_stress_destroy(s);
 }
 
@@ -157,7 +268,7 @@ static void free_scene(scene* s) {
 // Solves and splits until nothing is left to do (at most `calls` calls).
 static uint32_t settle(scene* s, uint32_t calls) {
   for (uint32_t i = 0; i < calls; ++i) {
-    bk_runtime_solve_stress(s->rt, gravity, NULL, 0);
+    bk_runtime_solve_stress(s->rt, gravity, NULL, 0, NULL, 0);
     uint32_t n = bk_runtime_broken_bonds(s->rt, NULL, 0);
     bk_bond_break* broken = calloc(n + 1u, sizeof *broken);
     bk_runtime_broken_bonds(s->rt, broken, n);
@@ -221,13 +332,13 @@ static void test_sound_structures_stand(void) {
            calls, worst);
     ENSURE(worst > 0.0 && worst < 1.0);
     for (uint32_t i = calls; i < 3600; ++i) {
-      bk_runtime_solve_stress(s.rt, gravity, NULL, 0);
+      bk_runtime_solve_stress(s.rt, gravity, NULL, 0, NULL, 0);
       bk_runtime_stats st = bk_runtime_get_stats(s.rt);
       ENSURE(st.stress_iterations == 0 && st.stress_clusters_solved == 0); // asleep: nothing to do
     }
     ENSURE(bk_runtime_get_stats(s.rt).bonds_broken == 0);
     // Turned upside down, the same structure has other loads: solved again.
-    bk_runtime_solve_stress(s.rt, bk_v3(0, 9.81, 0), NULL, 0);
+    bk_runtime_solve_stress(s.rt, bk_v3(0, 9.81, 0), NULL, 0, NULL, 0);
     ENSURE(bk_runtime_get_stats(s.rt).stress_iterations > 0);
     free_scene(&s);
     bk_mesh_tree_free(&tree);
@@ -347,6 +458,92 @@ static void test_limits_and_determinism(void) {
   bk_mesh_tree_free(&tree);
 }
 
+// A weight on the bridge's deck (a load at a point of its span): small and
+// changing, it wakes nothing; forty times the span's weight breaks it, even
+// when it comes every other call.
+static void test_loads(void) {
+  bk_mesh_tree tree = make_tree(BK_SHAPE_BRIDGE, 256, BK_PATTERN_VORONOI);
+  scene s = make_scene(&tree, "concrete", 1.0);
+  settle(&s, 400);
+  bk_cluster_id bridge = {0, 0};
+  ENSURE(bk_runtime_clusters(s.rt, &bridge, 1) == 1);
+  bk_cluster_info info = {0};
+  ENSURE(bk_runtime_cluster(s.rt, bridge, &info));
+  bk_aabb box = tree.nodes[0].bounds;
+  bk_vec3 middle = {0.5 * (box.min.x + box.max.x), box.max.y, 0.5 * (box.min.z + box.max.z)};
+  double weight = info.mass * 9.81;
+  // A few percent of its weight, changing every call: below what a solve is
+  // worth (a tenth).
+  for (uint32_t i = 0; i < 60; ++i) {
+    bk_stress_load load = {bridge, middle, {0.0, -weight * (0.02 + 0.01 * (i % 3)), 0.0}};
+    bk_runtime_solve_stress(s.rt, gravity, NULL, 0, &load, 1);
+    ENSURE(bk_runtime_get_stats(s.rt).stress_clusters_solved == 0);
+  }
+  // A bad load is ignored, not a crash.
+  bk_stress_load bad = {bridge, {NAN, 0, 0}, {0, -weight, 0}};
+  bk_runtime_solve_stress(s.rt, gravity, NULL, 0, &bad, 1);
+  ENSURE(bk_runtime_get_stats(s.rt).stress_clusters_solved == 0);
+  // Forty times its weight on the middle of the span, as a resting
+  // contact reports it: there one step, gone the next (averaged over calls).
+  uint32_t broken = 0;
+  for (uint32_t i = 0; i < 200 && !broken; ++i) {
+    bk_stress_load load = {bridge, middle, {0.0, -80.0 * weight, 0.0}};
+    bk_runtime_solve_stress(s.rt, gravity, NULL, 0, &load, i % 2);
+    broken = bk_runtime_broken_bonds(s.rt, NULL, 0);
+  }
+  printf("  bridge under 40x its weight: %u bonds broken by stress\n", broken);
+  ENSURE(broken > 0);
+  free_scene(&s);
+  bk_mesh_tree_free(&tree);
+}
+
+// The leaf under a point, found down the mesh tree, is the one trying every
+// leaf of the cluster finds (nearest bounds, then nearest centroid), for
+// points inside, on and around a wall, on the whole wall and on a piece of it.
+static void test_leaf_at_matches_scan(void) {
+  bk_mesh_tree tree = make_tree(BK_SHAPE_WALL, 512, BK_PATTERN_VORONOI);
+  scene s = make_scene(&tree, "stone", 1.0);
+  bk_runtime_damage_at(s.rt, bk_v3(0.0, 0.6, 0.1), 320.0); // holes it: clusters of all sizes
+  bk_runtime_split(s.rt);
+  take_created(s.rt, s.bodies);
+  rt_breakable* b = &s.rt->breakables[0];
+  rt_stress_prepare_breakable(b);
+  bk_aabb box = tree.nodes[0].bounds;
+  uint64_t random = 12345;
+  uint32_t checked = 0;
+  for (uint32_t slot = 0; slot < s.rt->cluster_count; ++slot) {
+    const rt_cluster* c = &s.rt->clusters[slot];
+    if (!c->alive || c->leaf_count < 2) continue;
+    for (int i = 0; i < 200; ++i) {
+      double u[3] = {0};
+      for (int d = 0; d < 3; ++d) {
+        random = random * 6364136223846793005u + 1442695040888963407u;
+        u[d] = (double)(random >> 11) / 9007199254740992.0 * 1.4 - 0.2; // a margin around the bounds
+      }
+      bk_vec3 p = {box.min.x + u[0] * (box.max.x - box.min.x), box.min.y + u[1] * (box.max.y - box.min.y),
+                   box.min.z + u[2] * (box.max.z - box.min.z)};
+      uint32_t best = c->leaves[0];
+      double best_box = INFINITY, best_centre = INFINITY;
+      for (uint32_t k = 0; k < c->leaf_count; ++k) {
+        bk_aabb lb = bk_mesh_tree_leaf(&tree, c->leaves[k])->bounds;
+        double dx = fmax(fmax(lb.min.x - p.x, p.x - lb.max.x), 0.0);
+        double dy = fmax(fmax(lb.min.y - p.y, p.y - lb.max.y), 0.0);
+        double dz = fmax(fmax(lb.min.z - p.z, p.z - lb.max.z), 0.0);
+        double d2 = dx * dx + dy * dy + dz * dz;
+        double centre = bk_v3_length(bk_v3_sub(b->leaf_centroid[c->leaves[k]], p));
+        if (d2 < best_box || (d2 == best_box && centre < best_centre))
+          best = c->leaves[k], best_box = d2, best_centre = centre;
+      }
+      ENSURE(rt_stress_leaf_at(b, c, p) == best);
+      checked++;
+    }
+  }
+  printf("  leaf under a point: %u points, down the tree as by trying every leaf\n", checked);
+  ENSURE(checked >= 400);
+  free_scene(&s);
+  bk_mesh_tree_free(&tree);
+}
+
 static void test_validation(void) {
   bk_material m = *bk_material_find("stone");
   bk_error err = {0};
@@ -374,11 +571,15 @@ static void test_validation(void) {
 int main(void) {
   test_column();
   test_cantilever();
+  test_cantilever_tip_load();
+  test_multigrid_matches_direct();
   test_validation();
   test_sound_structures_stand();
   test_pillar_drops_top();
   test_hanging_chip_falls();
   test_limits_and_determinism();
+  test_loads();
+  test_leaf_at_matches_scan();
   printf("test_stress: ok\n");
   return 0;
 }

@@ -120,10 +120,12 @@ typedef struct bk_runtime_def {
   double damage_min_distance;          ///< s_min of the damage formula (m), > 0; default 0.05
   uint32_t max_new_clusters_per_split; ///< clusters one bk_runtime_split may create, >= 2; default 48
   /// Work one bk_runtime_solve_stress may do, in bond evaluations (an
-  /// iteration over a cluster costs about 3 per bond; a 1,024-fragment wall
-  /// has 6,000 bonds): a solve that needs more goes on next call, warm.
-  /// At least one iteration is always made; >= 1; default 40,000 (the
-  /// wall's 3 iterations, about 1.5 ms on this project's 2-core machine)
+  /// iteration over a cluster costs about one per bond and two per
+  /// fragment: 9,800 for a sound 1,024-fragment wall of 6,060 bonds; making
+  /// a cluster's system about ten iterations, a level per step): a solve
+  /// that needs more goes on next call, warm. The step that reaches the
+  /// budget is finished, so every call makes progress; >= 1; default
+  /// 16,000 (about 0.35 ms a call on this project's 2-core machine)
   uint32_t stress_budget;
   /// A solve has converged when the unbalanced force is below this fraction
   /// of the load, in (0, 0.1]; default 1e-3
@@ -262,19 +264,30 @@ typedef struct bk_stress_support {
   bk_vec3 point; ///< world position
 } bk_stress_support;
 
-/// Loads clusters with their weight (gravity, world m/s^2) and solves the
-/// forces their bonds carry down to their supports: a static cluster's
-/// anchored fragments, and the fragments of a slow cluster at the given
-/// support points. Bonds whose stress passes their material's limits break.
-/// Results: broken bonds (cause BK_BREAK_STRESS); split next.
+/// A force on a cluster beyond its own weight: something resting on it (a
+/// weight on a bridge, debris on a balcony), e.g. a resting contact's
+/// impulse over the step. The fragment under the point carries it.
+typedef struct bk_stress_load {
+  bk_cluster_id cluster;
+  bk_vec3 point; ///< world position
+  bk_vec3 force; ///< N, world
+} bk_stress_load;
+
+/// Loads clusters with their weight (gravity, world m/s^2) and the given
+/// loads (may be NULL with load_count 0) and solves the forces their bonds
+/// carry down to their supports: a static cluster's anchored fragments, and
+/// the fragments of a slow cluster at the given support points. Bonds whose
+/// stress passes their material's limits break. Results: broken bonds
+/// (cause BK_BREAK_STRESS); split next.
 ///
 /// Costs nothing for a cluster whose solve converged and whose bonds,
-/// supports, load and limits did not change since (a structure at rest);
-/// clusters that changed share stress_budget per call, each warm-started
-/// from its last solution, and break bonds only once their solve has
-/// converged (never from a half-solved load).
+/// supports, loads (within a tenth of its weight and loads) and limits did
+/// not change since (a structure at rest); clusters that changed share
+/// stress_budget per call, each warm-started from its last solution, and
+/// break bonds only once their solve has converged (never from a
+/// half-solved load).
 void bk_runtime_solve_stress(bk_runtime* runtime, bk_vec3 gravity, const bk_stress_support* supports,
-                             uint32_t support_count);
+                             uint32_t support_count, const bk_stress_load* loads, uint32_t load_count);
 
 /// The stress a bond carried at its cluster's last converged solve.
 typedef struct bk_bond_stress {

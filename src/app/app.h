@@ -108,6 +108,9 @@ typedef struct bk_scene_options {
   bool stress;          ///< world: structural stress (what lost its support falls); default true
   /// Every material's stress limits times this (1, the default: as they are).
   double stress_scale;
+  /// Stress limits (Pa) for every object, in place of the material's times
+  /// stress_scale (0, the default: the material's).
+  double compression_limit, tension_limit, shear_limit;
   /// Optional fracture progress report (leaves so far, target), from the building thread.
   bool (*progress)(void* user, uint32_t leaves, uint32_t target);
   void* progress_user;

@@ -12,7 +12,7 @@ static const char* const play_usage =
     "usage: breakables [play] [--scene NAME | --mesh PATH] [--material NAME] [--pattern NAME] [--pieces N]\n"
     "                  [--seed S] [--frames N] [--autofire K]\n"
     "                  [--screenshot FILE.png] [--width W] [--height H] [--hide-panel] [--overlay NAME]\n"
-    "                  [--volley V] [--benchmark] [--max-memory MIB]\n"
+    "                  [--volley V] [--benchmark] [--no-stress] [--stress-scale X] [--max-memory MIB]\n"
     "\n"
     "The demo game: shoot projectiles at breakable objects and tune them live.\n"
     "\n"
@@ -38,16 +38,22 @@ static const char* const play_usage =
     "  --screenshot FILE.png save the last frame\n"
     "  --width W --height H  window size, each 64..8192 (default: 1280x720)\n"
     "  --hide-panel          start with the tuning panel hidden (F1 shows it)\n"
-    "  --overlay NAME        start with a debug overlay on: bonds, nodes or hulls (repeatable)\n"
+    "  --overlay NAME        start with a debug overlay on: bonds (by hit points left), stress\n"
+    "                        (bonds by their stress over its limit), nodes or hulls (repeatable)\n"
     "  --benchmark           start the panel's runtime sweep (16..512 fragments, mesh tree against\n"
     "                        plain BCRB); a scripted run waits for it before its last frame\n"
+    "  --no-stress           no structural stress: what is still bonded to an anchor stays up\n"
+    "                        however little holds it (the panel turns it back on)\n"
+    "  --stress-scale X      every material's stress limits times X, 1e-6..1e6 (default 1; at\n"
+    "                        0.15 the bridge and the balcony cannot carry their own weight)\n"
     "  --max-memory MIB      memory each fracture may use, 1..1073741824 MiB (default: the\n"
     "                        available memory); a tree estimated to need more is refused\n"
     "  -h, --help            show this help\n"
     "\n"
     "controls: right mouse drag = look, W A S D Q E = move (Shift = fast), left click or\n"
     "Space = fire, 1-9 and 0 = scenes, R = reset, P = pause, N = single step, T = slow motion,\n"
-    "B / G / H = bonds / mesh-tree nodes / collider hulls overlays, F1 = panel, Esc = quit.\n";
+    "B / V / G / H = bonds by hit points / bonds by stress / mesh-tree nodes / collider hulls\n"
+    "overlays, F1 = panel, Esc = quit.\n";
 
 static bk_transform lerp_transform(bk_transform a, bk_transform b, double t) {
   bk_quat qa = a.rotation, qb = b.rotation;
@@ -80,7 +86,7 @@ bool bk_game_load_scene(bk_game* g, uint32_t index, bk_error* err) {
     const bk_scene_object* object = &scene->objects[i];
     g->looks[i] = bk_renderer_material(g->renderer, object->look ? object->look : object->material);
   }
-  aim_camera(g, scene->eye, scene->target);
+  aim_camera(g, bk_v3_length(scene->camera) > 0.0 ? scene->camera : scene->eye, scene->target);
   g->projectile_speed = scene->projectile_speed;
   g->projectile_radius = scene->projectile_radius;
   g->projectile_mass = scene->projectile_mass;
@@ -116,18 +122,27 @@ static const float* tint_of(const bk_game* g, bk_breakable_id id) {
 
 static void step_world(bk_game* g) {
   bk_world_step(g->scene.world);
-  // A big hit breaks hundreds of bonds at once. Blended particles cost fill
-  // rate, so a step emits at most ~8 puffs and ~150 chips, spread evenly
-  // over its broken bonds.
+  // A big hit breaks hundreds of bonds at once, and so does a structure
+  // giving way. Blended particles cost fill rate, so a step emits at most ~8
+  // puffs and ~150 chips over the bonds a hit broke and ~12 crumbles (5
+  // particles each) over those the load broke, each spread evenly over them.
   bk_break_event events[1024];
   uint32_t total = bk_world_break_events(g->scene.world, events, 1024);
-  uint32_t n = total < 1024 ? total : 1024;
-  uint32_t dust_every = n / 8 + 1, chip_every = n / 75 + 1;
-  for (uint32_t i = 0; i < n; ++i) {
-    bool dust = i % dust_every == 0;
-    int chips = i % chip_every == 0 ? 2 : 0;
-    if (dust || chips)
-      bk_particles_emit_break(&g->particles, &events[i], tint_of(g, events[i].breakable), chips, dust);
+  uint32_t n = total < 1024 ? total : 1024, loaded = 0;
+  for (uint32_t i = 0; i < n; ++i)
+    loaded += events[i].cause == BK_BREAK_STRESS;
+  uint32_t dust_every = (n - loaded) / 8 + 1, chip_every = (n - loaded) / 75 + 1,
+           crumble_every = loaded / 12 + 1;
+  for (uint32_t i = 0, hit = 0, load = 0; i < n; ++i) {
+    const float* tint = tint_of(g, events[i].breakable);
+    if (events[i].cause == BK_BREAK_STRESS) {
+      if (load++ % crumble_every == 0) bk_particles_emit_crumble(&g->particles, &events[i], tint);
+      continue;
+    }
+    bool dust = hit % dust_every == 0;
+    int chips = hit % chip_every == 0 ? 2 : 0;
+    hit++;
+    if (dust || chips) bk_particles_emit_break(&g->particles, &events[i], tint, chips, dust);
   }
   bk_world_stats s = bk_world_get_stats(g->scene.world);
   g->physics_ms = s.physics_ms;
@@ -176,6 +191,7 @@ static void key_callback(GLFWwindow* window, int key, int scancode, int action, 
   if (key == GLFW_KEY_N) g->step_once = true;
   if (key == GLFW_KEY_T) g->time_scale = g->time_scale < 1.0 ? 1.0 : 0.2;
   if (key == GLFW_KEY_B) g->show_bonds = !g->show_bonds;
+  if (key == GLFW_KEY_V) g->show_stress = !g->show_stress;
   if (key == GLFW_KEY_G) g->show_nodes = !g->show_nodes;
   if (key == GLFW_KEY_H) g->show_hulls = !g->show_hulls;
   if (key == GLFW_KEY_F1) g->show_panel = !g->show_panel;
@@ -194,11 +210,53 @@ static void mouse_callback(GLFWwindow* window, int button, int action, int mods)
     bk_game_fire(g, g->eye, bk_game_forward(g));
 }
 
-// Distinct colours for a body's chosen nodes, and green-to-red for bond health.
+// Distinct colours for a body's chosen nodes.
 static void node_color(uint32_t i, float out[4]) {
   float h = (float)((i * 0.618033988749895) - floor(i * 0.618033988749895));
   out[0] = 0.5f + 0.5f * cosf(6.2831853f * h), out[1] = 0.5f + 0.5f * cosf(6.2831853f * (h + 0.33f));
   out[2] = 0.5f + 0.5f * cosf(6.2831853f * (h + 0.67f)), out[3] = 0.55f;
+}
+
+// Green through yellow (half way) to red as t goes from 0 to 1.
+static void ramp_color(double t, float out[4]) {
+  float x = (float)fmin(fmax(t, 0.0), 1.0);
+  out[0] = fminf(1.0f, 2.0f * x), out[1] = fminf(1.0f, 2.0f * (1.0f - x)), out[2] = 0.1f, out[3] = 0.9f;
+}
+
+// The intact bonds inside each body, as lines between the centroids of their
+// fragments: coloured by the hit points they have left, or by the stress
+// they carried at their cluster's last solve over its limit (grey where
+// there is none: a moving cluster, or stress turned off). Stresses span
+// decades (a standing structure's bonds mostly carry 1% to 10% of their
+// limits), so their colour goes by decades: green up to 1%, yellow at 10%,
+// red at the limit.
+static void draw_bonds(bk_game* g, double alpha, bool by_stress) {
+  bk_world* w = g->scene.world;
+  const bk_runtime* rt = bk_world_runtime(w);
+  bool solving = bk_world_stress(w);
+  uint32_t bodies = bk_world_body_count(w);
+  for (uint32_t i = 0; i < bodies; ++i) {
+    bk_body_view v = {0};
+    if (!bk_world_body_view(w, i, &v) || v.leaf_count < 2) continue;
+    bk_transform model = lerp_transform(v.tree_to_world_previous, v.tree_to_world, alpha);
+    for (uint32_t b = 0; b < v.tree->bond_count; ++b) {
+      const bk_bond* bond = &v.tree->bonds[b];
+      // Leaves are ascending: a bond outside their range is another body's.
+      if (bond->leaf_a < v.leaves[0] || bond->leaf_a > v.leaves[v.leaf_count - 1]) continue;
+      double initial = 0.0, left = bk_world_bond_health(w, v.breakable, b, &initial);
+      if (left <= 0.0 || !bk_cluster_equal(bk_runtime_leaf_cluster(rt, v.breakable, bond->leaf_a), v.cluster))
+        continue;
+      float color[4] = {0.55f, 0.55f, 0.6f, 0.6f};
+      bk_bond_stress stress = {0};
+      if (!by_stress)
+        ramp_color(1.0 - left / initial, color);
+      else if (solving && bk_runtime_bond_stress(rt, v.breakable, b, &stress))
+        ramp_color(1.0 + 0.5 * log10(fmax(stress.ratio, 0.01)), color); // decades: 1%, 10%, 100%
+      bk_vec3 a = bk_mesh_tree_mass(v.tree, bk_mesh_tree_leaf(v.tree, bond->leaf_a)->moments).centroid;
+      bk_vec3 c = bk_mesh_tree_mass(v.tree, bk_mesh_tree_leaf(v.tree, bond->leaf_b)->moments).centroid;
+      bk_renderer_draw_line(g->renderer, bk_transform_point(model, a), bk_transform_point(model, c), color);
+    }
+  }
 }
 
 static void draw_world(bk_game* g, double alpha) {
@@ -236,24 +294,8 @@ static void draw_world(bk_game* g, double alpha) {
       }
     }
   }
-  if (g->show_bonds) {
-    // Bonds between fragments of the same body, coloured by remaining hit points.
-    for (uint32_t i = 0; i < bodies; ++i) {
-      bk_body_view v = {0};
-      if (!bk_world_body_view(w, i, &v) || v.leaf_count < 2) continue;
-      bk_transform model = lerp_transform(v.tree_to_world_previous, v.tree_to_world, alpha);
-      for (uint32_t b = 0; b < v.tree->bond_count; ++b) {
-        const bk_bond* bond = &v.tree->bonds[b];
-        double initial = 0.0, left = bk_world_bond_health(w, v.breakable, b, &initial);
-        if (left <= 0.0 || bond->leaf_a < v.leaves[0] || bond->leaf_a > v.leaves[v.leaf_count - 1]) continue;
-        bk_vec3 a = bk_mesh_tree_mass(v.tree, bk_mesh_tree_leaf(v.tree, bond->leaf_a)->moments).centroid;
-        bk_vec3 c = bk_mesh_tree_mass(v.tree, bk_mesh_tree_leaf(v.tree, bond->leaf_b)->moments).centroid;
-        float health = (float)(left / initial);
-        const float color[4] = {1.0f - health, health, 0.1f, 0.9f};
-        bk_renderer_draw_line(g->renderer, bk_transform_point(model, a), bk_transform_point(model, c), color);
-      }
-    }
-  }
+  if (g->show_bonds) draw_bonds(g, alpha, false);
+  if (g->show_stress) draw_bonds(g, alpha, true);
   const float steel[3] = {0.25f, 0.25f, 0.28f};
   for (uint32_t i = 0; i < bk_world_projectile_count(w); ++i) {
     bk_vec3 p = {0};
@@ -294,16 +336,23 @@ int bk_cmd_play(int argc, char** argv) {
       hide_panel = true;
     } else if (strcmp(arg, "--benchmark") == 0) {
       g->start_benchmark = true;
+    } else if (strcmp(arg, "--no-stress") == 0) {
+      g->options.stress = false;
+    } else if (strcmp(arg, "--stress-scale") == 0 && i + 1 < argc) {
+      if (!bk_option_double("play", arg, argv[++i], 1e-6, 1e6, &g->options.stress_scale)) return free(g), 2;
     } else if (strcmp(arg, "--overlay") == 0 && i + 1 < argc) {
       const char* name = argv[++i];
       if (strcmp(name, "bonds") == 0)
         g->show_bonds = true;
+      else if (strcmp(name, "stress") == 0)
+        g->show_stress = true;
       else if (strcmp(name, "nodes") == 0)
         g->show_nodes = true;
       else if (strcmp(name, "hulls") == 0)
         g->show_hulls = true;
       else {
-        fprintf(stderr, "breakables play: --overlay must be bonds, nodes or hulls (got '%s')\n", name);
+        fprintf(stderr, "breakables play: --overlay must be bonds, stress, nodes or hulls (got '%s')\n",
+                name);
         return free(g), 2;
       }
     } else if (strcmp(arg, "--scene") == 0 && i + 1 < argc) {

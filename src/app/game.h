@@ -26,6 +26,9 @@ void bk_particles_free(bk_particles* particles);
 /// `chips` debris chips and optionally a dust puff at one broken bond, tinted like the material.
 void bk_particles_emit_break(bk_particles* particles, const bk_break_event* event, const float tint[3],
                              int chips, bool dust);
+/// What a bond broken by the load it carried sheds: a few fine, slow grains
+/// and a crumb trickling down from it, not an impact's burst.
+void bk_particles_emit_crumble(bk_particles* particles, const bk_break_event* event, const float tint[3]);
 /// Advances by dt; fills `instances` with the live ones and returns their count.
 uint32_t bk_particles_update(bk_particles* particles, double dt);
 

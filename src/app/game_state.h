@@ -31,7 +31,7 @@ typedef struct bk_game {
   double projectile_speed, projectile_radius, projectile_mass;
   uint32_t shots;
   // Overlays and panel.
-  bool show_bonds, show_nodes, show_hulls, show_panel;
+  bool show_bonds, show_stress, show_nodes, show_hulls, show_panel;
   bool start_benchmark; ///< run the panel's runtime sweep at start (--benchmark)
   bk_particles particles;
   double physics_ms, break_ms;

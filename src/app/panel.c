@@ -240,6 +240,62 @@ static void material_section(bk_game* g) {
   if (bk_ui_button("reset with these settings (R)")) g->reload = true;
 }
 
+// Structural stress: the switch is the world's and the limits are the
+// runtime's (the first object's shown, a change written to every object, as
+// the material's other values); the options only record them for the next
+// reset. A new limit makes the runtime solve every cluster again.
+static void stress_section(bk_game* g) {
+  bk_world* world = g->scene.world;
+  bool on = bk_world_stress(world);
+  if (bk_ui_checkbox("structural stress", &on)) {
+    g->options.stress = on;
+    bk_world_set_stress(world, on);
+  }
+  bk_ui_tooltip("each step the weight of what stands is carried through its bonds down to the ground; a "
+                "bond past a limit breaks and what it held falls (off: whatever is bonded to an anchor "
+                "stays up however little holds it)");
+  static const char* const labels[3] = {"compression", "tension", "shear"};
+  static const char* const tips[3] = {
+      "the push a bond takes per m^2 before it crushes (stone 10 MPa, concrete 20)",
+      "the pull a bond takes per m^2 before it cracks open: what a tower bent over its notch or a "
+      "deck sagging between its legs fails by (stone 0.4 MPa, concrete 1.5)",
+      "the sliding a bond takes per m^2 before it shears off: what gives where a balcony leaves its "
+      "wall (stone 0.8 MPa, concrete 2.5)"};
+  bk_material live = bk_world_material(world, g->scene.ids[0]);
+  double* limits[3] = {&live.compression_limit, &live.tension_limit, &live.shear_limit};
+  double* recorded[3] = {&g->options.compression_limit, &g->options.tension_limit, &g->options.shear_limit};
+  for (int k = 0; k < 3; ++k) {
+    double mpa = *limits[k] * 1e-6;
+    bool changed = bk_ui_slider_double(labels[k], &mpa, 0.001, 100.0, "%.3g MPa", true);
+    bk_ui_tooltip(tips[k]);
+    if (!changed || !(mpa > 0.0)) continue;
+    *recorded[k] = mpa * 1e6;
+    for (uint32_t i = 0; i < g->scene.tree_count; ++i) {
+      bk_material m = bk_world_material(world, g->scene.ids[i]);
+      double* limit = k == 0 ? &m.compression_limit : k == 1 ? &m.tension_limit : &m.shear_limit;
+      *limit = mpa * 1e6;
+      bk_world_set_material(world, g->scene.ids[i], &m);
+    }
+  }
+  if (bk_ui_button("the material's limits")) {
+    g->options.stress_scale = 1.0;
+    g->options.compression_limit = g->options.tension_limit = g->options.shear_limit = 0.0;
+    for (uint32_t i = 0; i < g->scene.tree_count; ++i) {
+      bk_material m = bk_world_material(world, g->scene.ids[i]);
+      const bk_material* preset = m.name ? bk_material_find(m.name) : NULL;
+      if (!preset) continue;
+      m.compression_limit = preset->compression_limit;
+      m.tension_limit = preset->tension_limit;
+      m.shear_limit = preset->shear_limit;
+      bk_world_set_material(world, g->scene.ids[i], &m);
+    }
+  }
+  bk_ui_tooltip("each object's limits back to its preset's");
+  bk_world_stats s = bk_world_get_stats(world);
+  bk_ui_text("bonds broken by stress %u   solve %.2f ms", s.stress_bonds_broken, s.stress_ms);
+  bk_ui_text("clusters still to solve %u", s.stress_clusters_pending);
+}
+
 // True when the selector's choice breaks some object of the scene by `pattern`.
 static bool pattern_used(const bk_scene* scene, bk_fracture_pattern pattern) {
   if (pattern_setting > 0) return pattern_setting == 1 + (int)pattern;
@@ -265,9 +321,9 @@ static void pattern_selector(bk_game* g) {
     names[1 + p] = bk_fracture_pattern_name((bk_fracture_pattern)p);
   bk_ui_combo("pattern", &pattern_setting, names, 1 + BK_PATTERN_COUNT);
   bk_ui_tooltip(
-      "how the objects break: the scene's choice (walls brick, pillar clustered, bunny radial round "
-      "its aim point, eggshell voronoi, the rest planes) or one pattern for all (applies on "
-      "re-fracture)");
+      "how the objects break: the scene's choice (walls brick, pillar clustered, bunny, tower, bridge "
+      "and balcony radial round their aim points, eggshell voronoi, the rest planes) or one pattern "
+      "for all (applies on re-fracture)");
   bk_fracture_def defaults = bk_default_fracture_def();
   if (pattern_used(scene, BK_PATTERN_CLUSTERED)) {
     if (clusters_setting == 0) clusters_setting = (int)defaults.clusters;
@@ -341,6 +397,7 @@ void bk_game_panel(bk_game* g) {
     pieces_setting = 0;
   }
   if (bk_ui_collapsing_header("Material", true)) material_section(g);
+  if (bk_ui_collapsing_header("Structural stress", false)) stress_section(g);
   if (bk_ui_collapsing_header("Fracture", false)) fracture_section(g);
   if (bk_ui_collapsing_header("Projectile", false)) {
     bk_ui_slider_double("speed m/s", &g->projectile_speed, 1.0, 200.0, "%.0f", false);
@@ -359,6 +416,9 @@ void bk_game_panel(bk_game* g) {
   }
   if (bk_ui_collapsing_header("Overlays", false)) {
     bk_ui_checkbox("bonds by hit points (B)", &g->show_bonds);
+    bk_ui_checkbox("bonds by stress (V)", &g->show_stress);
+    bk_ui_tooltip("each intact bond coloured by its stress over its limit: green up to 1%, yellow at "
+                  "10%, red at the limit (it breaks); grey bonds are not solved (moving, or stress is off)");
     bk_ui_checkbox("mesh-tree nodes per body (G)", &g->show_nodes);
     bk_ui_checkbox("collider hulls (H)", &g->show_hulls);
   }

@@ -1,6 +1,7 @@
-// Dust and debris: at every broken bond a few chips fly off with the body's
-// motion and a soft dust puff drifts and fades. A fixed-size pool keeps the
-// count bounded; the oldest particle gives way to a new one.
+// Dust and debris: at a bond a hit broke a few chips fly off with the body's
+// motion and a soft dust puff drifts and fades; at one the load broke fine
+// grains crumble and trickle down. A fixed-size pool keeps the count
+// bounded; the oldest particle gives way to a new one.
 #include <string.h>
 
 #include "game.h"
@@ -62,6 +63,45 @@ void bk_particles_emit_break(bk_particles* p, const bk_break_event* e, const flo
     d->color[k] = 0.55f + 0.35f * tint[k];
   d->color[3] = 0.35f;
   d->max_life = d->life;
+}
+
+void bk_particles_emit_crumble(bk_particles* p, const bk_break_event* e, const float tint[3]) {
+  // A crack opening under load, not a blow: nothing is thrown. Fine grains
+  // leave the bond with a fraction of its body's motion and fall slowly
+  // (a tenth of gravity against the dust's drag settles them at about
+  // 0.65 m/s), spreading a little, for a few seconds; they are darker than
+  // impact dust, the colour of the broken stone rather than a light cloud.
+  double size = sqrt(e->area);
+  for (int i = 0; i < 4; ++i) {
+    bk_particle* d = next_slot(p);
+    bk_vec3 offset = bk_v3(jitter(&p->rng, 0.5), jitter(&p->rng, 0.5), jitter(&p->rng, 0.5));
+    *d = (bk_particle){.position = bk_v3_add(e->position, bk_v3_scale(offset, size)),
+                       .velocity = bk_v3_add(
+                           bk_v3_scale(e->velocity, 0.2),
+                           bk_v3(jitter(&p->rng, 0.08), -0.1 * bk_rng_unit(&p->rng), jitter(&p->rng, 0.08))),
+                       .size = (float)(0.025 + 0.025 * bk_rng_unit(&p->rng)),
+                       .growth = 0.04f,
+                       .life = 2.5f + 1.5f * (float)bk_rng_unit(&p->rng),
+                       .kind = 0.0f,
+                       .gravity = 0.1f};
+    float shade = 0.75f + 0.15f * (float)bk_rng_unit(&p->rng);
+    for (int k = 0; k < 3; ++k)
+      d->color[k] = tint[k] * shade;
+    d->color[3] = 0.6f;
+    d->max_life = d->life;
+  }
+  // One crumb: a small hard fleck that drops straight off.
+  bk_particle* c = next_slot(p);
+  *c = (bk_particle){.position = e->position,
+                     .velocity = bk_v3_scale(e->velocity, 0.5),
+                     .size = (float)(0.006 + 0.008 * bk_rng_unit(&p->rng)),
+                     .life = 2.0f + (float)bk_rng_unit(&p->rng),
+                     .kind = 1.0f,
+                     .gravity = 1.0f};
+  for (int k = 0; k < 3; ++k)
+    c->color[k] = tint[k] * 0.8f;
+  c->color[3] = 1.0f;
+  c->max_life = c->life;
 }
 
 uint32_t bk_particles_update(bk_particles* p, double dt) {

@@ -36,6 +36,9 @@ bk_world_breakable_def bk_scene_object_def(const bk_scene_object* object, const 
       b->material.tension_limit *= options->stress_scale;
       b->material.shear_limit *= options->stress_scale;
     }
+    if (options->compression_limit > 0.0) b->material.compression_limit = options->compression_limit;
+    if (options->tension_limit > 0.0) b->material.tension_limit = options->tension_limit;
+    if (options->shear_limit > 0.0) b->material.shear_limit = options->shear_limit;
     def.naive = options->naive;
     def.convex_colliders = options->convex_colliders;
   }
@@ -51,6 +54,8 @@ void bk_loaded_scene_apply_material(bk_loaded_scene* s, bk_scene_options* option
   options->material = material->name;
   options->frailty = options->density = options->bond_strength = 0.0;
   options->accumulate = -1;
+  options->stress_scale = 1.0;
+  options->compression_limit = options->tension_limit = options->shear_limit = 0.0;
   for (uint32_t i = 0; i < s->tree_count; ++i)
     bk_world_set_material(s->world, s->ids[i], material);
 }

@@ -33,7 +33,10 @@ typedef struct bk_scene {
   double aspect_bias; ///< fracture: tilt cuts across the long axis (bk_fracture_def.aspect_bias)
   bk_scene_object objects[8];
   uint32_t object_count;
-  bk_vec3 eye, target; ///< camera and the point projectiles aim at
+  bk_vec3 eye, target; ///< where projectiles come from (and the camera), and the point they aim at
+  /// Where the game's camera starts instead, looking at the target (zero:
+  /// at the eye): a view from the side of what the shots from the eye do.
+  bk_vec3 camera;
   /// More aim points (optional): a volley goes round target, then these, in turn.
   bk_vec3 extra_targets[7];
   uint32_t extra_target_count;

@@ -25,7 +25,7 @@ bk_world_def bk_default_world_def(void) {
                         .retire_volume = 0.0,
                         .retire_after = 10.0,
                         .stress = true,
-                        .stress_budget = 40000};
+                        .stress_budget = 16000};
 }
 
 // The runtime asks where a cluster's body is; Bullet knows.
@@ -121,6 +121,7 @@ void bk_world_destroy(bk_world* w) {
   free(w->broken);
   free(w->events);
   free(w->supports);
+  free(w->stress_loads);
   free(w);
 }
 
@@ -213,6 +214,12 @@ double bk_world_bond_strength(const bk_world* w, bk_breakable_id id) {
   return bk_runtime_bond_strength(w->runtime, id);
 }
 
+// The runtime keeps what each cluster's last solve found; while stress is
+// off nothing is solved, and clusters made or changed meanwhile are solved
+// when it is back on.
+void bk_world_set_stress(bk_world* w, bool stress) { w->def.stress = stress; }
+bool bk_world_stress(const bk_world* w) { return w->def.stress; }
+
 void bk_world_impact(bk_world* w, bk_vec3 point, double impulse) {
   bk_runtime_damage_at(w->runtime, point, impulse);
   bk_world_collect_breaks(w);
@@ -250,7 +257,10 @@ static void apply_contacts(bk_world* w, uint32_t contact_count) {
 }
 
 // Where moving clusters rest on something static (the ground, a static
-// cluster, anything of zero mass): their weight goes down there.
+// cluster, anything of zero mass): their weight goes down there. What rests
+// on a cluster (a slow contact with a body of some mass: a weight on a
+// bridge, debris on a balcony) loads it with the contact's force; a fast
+// contact is an impact, whose damage the contacts already did.
 static bool body_is_static(const bk_world* w, bk_body_id body) {
   return bk_body_equal(body, w->ground_body) || bk_physics_body_mass(w->physics, body) == 0.0;
 }
@@ -261,16 +271,28 @@ static void solve_stress(bk_world* w, uint32_t contact_count) {
     w->support_capacity = bk_grow_capacity(w->support_capacity, 2u * n);
     w->supports = bk_realloc(w->supports, sizeof(bk_stress_support) * w->support_capacity);
   }
-  uint32_t count = 0;
+  if (w->stress_load_capacity < 2u * n) {
+    w->stress_load_capacity = bk_grow_capacity(w->stress_load_capacity, 2u * n);
+    w->stress_loads = bk_realloc(w->stress_loads, sizeof(bk_stress_load) * w->stress_load_capacity);
+  }
+  uint32_t count = 0, loads = 0;
   for (uint32_t i = 0; i < n; ++i) {
     const bk_contact* ct = &w->contacts[i];
+    bool a_static = body_is_static(w, ct->a), b_static = body_is_static(w, ct->b);
     bk_cluster_id cluster = {0, 0};
-    if (cluster_of(w, ct->a, &cluster) && body_is_static(w, ct->b) && !body_is_static(w, ct->a))
+    if (cluster_of(w, ct->a, &cluster) && b_static && !a_static)
       w->supports[count++] = (bk_stress_support){cluster, ct->point};
-    if (cluster_of(w, ct->b, &cluster) && body_is_static(w, ct->a) && !body_is_static(w, ct->b))
+    if (cluster_of(w, ct->b, &cluster) && a_static && !b_static)
       w->supports[count++] = (bk_stress_support){cluster, ct->point};
+    if (ct->approach_speed >= w->def.impact_speed) continue;
+    // The normal points from b to a: the contact pushes a along it.
+    bk_vec3 force = bk_v3_scale(ct->normal, ct->impulse / w->def.fixed_dt);
+    if (!b_static && cluster_of(w, ct->a, &cluster))
+      w->stress_loads[loads++] = (bk_stress_load){cluster, ct->point, force};
+    if (!a_static && cluster_of(w, ct->b, &cluster))
+      w->stress_loads[loads++] = (bk_stress_load){cluster, ct->point, bk_v3_scale(force, -1.0)};
   }
-  bk_runtime_solve_stress(w->runtime, w->def.gravity, w->supports, count);
+  bk_runtime_solve_stress(w->runtime, w->def.gravity, w->supports, count, w->stress_loads, loads);
   bk_world_collect_breaks(w);
 }
 

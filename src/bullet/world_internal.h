@@ -68,6 +68,8 @@ struct bk_world {
   double step_ms, physics_ms, break_ms, stress_ms;
   bk_stress_support* supports;
   uint32_t support_capacity;
+  bk_stress_load* stress_loads; // what rests on clusters, from the step's slow contacts
+  uint32_t stress_load_capacity;
 };
 
 /// User data tags on physics bodies.

@@ -10,7 +10,7 @@ bk_runtime_def bk_default_runtime_def(void) {
                           .impulse_threshold = 0.5,
                           .damage_min_distance = 0.05,
                           .max_new_clusters_per_split = 48,
-                          .stress_budget = 40000,
+                          .stress_budget = 16000,
                           .stress_tolerance = 1e-3,
                           .stress_rest_speed = 0.25,
                           .body_state = NULL,
@@ -82,6 +82,7 @@ void bk_runtime_destroy(bk_runtime* rt) {
   free(rt->scratch_component);
   free(rt->scratch_stack);
   free(rt->stress_scratch);
+  free(rt->stress_load_scratch);
   free(rt);
 }
 

@@ -30,6 +30,13 @@ typedef struct rt_breakable {
   double* bond_stress;
 } rt_breakable;
 
+/// A force on one leaf of a cluster for the stress solve (stress_loads.c),
+/// tree frame: the force at the leaf's centroid and its moment about it.
+typedef struct rt_leaf_load {
+  uint32_t slot, leaf;
+  double force[3], torque[3];
+} rt_leaf_load;
+
 /// A connected cluster of fragments.
 typedef struct rt_cluster {
   uint32_t breakable;
@@ -51,6 +58,13 @@ typedef struct rt_cluster {
   uint32_t* stress_held;
   uint32_t stress_held_count;
   uint32_t stress_rest_calls; // calls in a row a moving cluster has rested
+  // The loads (things resting on it) its current solve carries, by leaf,
+  // and those of the calls since, summed, to be averaged (contact forces
+  // flicker from step to step).
+  rt_leaf_load* stress_loads;
+  uint32_t stress_load_count;
+  rt_leaf_load* stress_window;
+  uint32_t stress_window_count, stress_window_calls;
 } rt_cluster;
 
 struct bk_runtime {
@@ -76,6 +90,8 @@ struct bk_runtime {
   uint32_t stress_cursor; // the cluster slot the next stress call starts at
   void* stress_scratch;   // the held leaves of a stress call (stress.c)
   uint32_t stress_scratch_capacity;
+  rt_leaf_load* stress_load_scratch; // the loads of a stress call, by cluster and leaf
+  uint32_t stress_load_scratch_capacity;
   // Scratch for splitting.
   uint32_t* scratch_component;
   uint32_t* scratch_stack;
@@ -115,6 +131,24 @@ void rt_break_bond(bk_runtime* rt, uint32_t slot, uint32_t bond, bk_vec3 positio
                    bk_break_cause cause);
 /// Frees a cluster's stress state (its system and held leaves).
 void rt_stress_release(rt_cluster* c);
+/// The per-leaf data stress solves need (centroids, volumes, warm starts).
+void rt_stress_prepare_breakable(rt_breakable* b);
+/// The leaf of a cluster nearest a point of the tree frame.
+uint32_t rt_stress_leaf_at(const rt_breakable* b, const rt_cluster* c, bk_vec3 point);
+/// Maps the caller's loads to (cluster, leaf) entries, sorted, one per
+/// leaf, into rt's load scratch; returns how many.
+uint32_t rt_stress_gather_loads(bk_runtime* rt, const bk_stress_load* loads, uint32_t count);
+/// Adds a cluster's loads of this call (sorted by leaf) to its window; once
+/// the window spans enough calls, their average replaces the loads its
+/// solve carries if it differs from them by more than a tenth of its weight
+/// and loads (weight, N), and true is returned: the cluster must be loaded
+/// again.
+bool rt_stress_window_loads(rt_cluster* c, const rt_leaf_load* loads, uint32_t count, double weight);
+/// Drops a cluster's loads and window.
+void rt_stress_drop_loads(rt_cluster* c);
+/// The cluster's loads as forces on its system's nodes (6 per leaf, in the
+/// order of its leaves), or NULL when it carries none; the caller frees it.
+double* rt_stress_node_loads(const rt_cluster* c);
 /// Clusters whose load has not been solved and checked yet.
 uint32_t rt_stress_pending(const bk_runtime* rt);
 /// After a material change: every cluster of the breakable is solved again.

@@ -28,10 +28,11 @@ void rt_stress_release(rt_cluster* c) {
   c->stress = NULL;
   c->stress_held = NULL;
   c->stress_held_count = 0;
+  rt_stress_drop_loads(c);
 }
 
 // Per-leaf data the systems are made of, once per breakable.
-static void prepare_breakable(rt_breakable* b) {
+void rt_stress_prepare_breakable(rt_breakable* b) {
   if (b->leaf_centroid) return;
   const bk_mesh_tree* tree = b->tree;
   b->leaf_centroid = bk_alloc(sizeof(bk_vec3) * tree->leaf_count);
@@ -153,16 +154,25 @@ typedef struct held_leaf {
   uint32_t slot, leaf; // while gathering: the support point's index in place of the leaf
 } held_leaf;
 
-static uint32_t held_lower_bound(const held_leaf* held, uint32_t count, uint32_t slot) {
+// The range of entries of one cluster slot in an array sorted by slot, each
+// entry `stride` bytes starting with its slot (held_leaf, rt_leaf_load).
+static void slot_range(const void* entries, size_t stride, uint32_t count, uint32_t slot, uint32_t* first,
+                       uint32_t* last) {
+  const unsigned char* bytes = entries;
   uint32_t lo = 0, hi = count;
   while (lo < hi) {
-    uint32_t mid = lo + (hi - lo) / 2;
-    if (held[mid].slot < slot)
+    uint32_t mid = lo + (hi - lo) / 2, at = 0;
+    memcpy(&at, bytes + stride * mid, sizeof at);
+    if (at < slot)
       lo = mid + 1;
     else
       hi = mid;
   }
-  return lo;
+  *first = *last = lo;
+  for (uint32_t at = 0; *last < count; ++*last) {
+    memcpy(&at, bytes + stride * *last, sizeof at);
+    if (at != slot) break;
+  }
 }
 
 static int compare_held(const void* a, const void* b) {
@@ -180,7 +190,7 @@ static double box_distance_squared(bk_aabb box, bk_vec3 p) {
 
 // The leaf of a cluster a contact point (tree frame) is on: the one whose
 // bounds are nearest, then whose centroid is.
-static uint32_t leaf_at(const rt_breakable* b, const rt_cluster* c, bk_vec3 point) {
+static uint32_t leaf_at_scan(const rt_breakable* b, const rt_cluster* c, bk_vec3 point) {
   uint32_t best = c->leaves[0];
   double best_box = INFINITY, best_centre = INFINITY;
   for (uint32_t i = 0; i < c->leaf_count; ++i) {
@@ -189,6 +199,38 @@ static uint32_t leaf_at(const rt_breakable* b, const rt_cluster* c, bk_vec3 poin
     double centre = bk_v3_length(bk_v3_sub(b->leaf_centroid[leaf], point));
     if (box < best_box || (box == best_box && centre < best_centre))
       best = leaf, best_box = box, best_centre = centre;
+  }
+  return best;
+}
+
+// Down the mesh tree from the cluster's node set (which covers exactly its
+// leaves), skipping every node whose bounds are farther than the best leaf's:
+// a few dozen boxes for a point on a 1,024-fragment wall, where trying every
+// leaf made a step with a few hundred contacts cost milliseconds. Should the
+// search outgrow its stack, every leaf is tried.
+uint32_t rt_stress_leaf_at(const rt_breakable* b, const rt_cluster* c, bk_vec3 point) {
+  enum { STACK = 512 };
+  const bk_mesh_tree* tree = b->tree;
+  uint32_t stack[STACK];
+  uint32_t top = 0, best = c->leaves[0];
+  double best_box = INFINITY, best_centre = INFINITY;
+  if (c->node_count > STACK) return leaf_at_scan(b, c, point);
+  for (uint32_t i = 0; i < c->node_count; ++i)
+    stack[top++] = c->nodes[i];
+  while (top) {
+    const bk_mesh_tree_node* node = &tree->nodes[stack[--top]];
+    double box = box_distance_squared(node->bounds, point);
+    if (box > best_box) continue;
+    if (node->child_count == 0) {
+      uint32_t leaf = node->leaf_begin;
+      double centre = bk_v3_length(bk_v3_sub(b->leaf_centroid[leaf], point));
+      if (box < best_box || (box == best_box && centre < best_centre))
+        best = leaf, best_box = box, best_centre = centre;
+      continue;
+    }
+    if (top + node->child_count > STACK) return leaf_at_scan(b, c, point);
+    for (uint32_t k = 0; k < node->child_count; ++k)
+      stack[top++] = node->first_child + k;
   }
   return best;
 }
@@ -220,12 +262,12 @@ static uint32_t gather_supports(bk_runtime* rt, const bk_stress_support* support
       continue;
     }
     rt_breakable* b = &rt->breakables[c->breakable];
-    prepare_breakable(b);
+    rt_stress_prepare_breakable(b);
     bk_body_state state = rt_body_state(rt, slot);
     bk_transform to_tree = bk_transform_inverse(rt_tree_to_world(c, &state));
     for (uint32_t j = first; j < last; ++j) // held <= j: each pair is read before it is overwritten
-      out[held++] =
-          (held_leaf){slot, leaf_at(b, c, bk_transform_point(to_tree, supports[out[j].leaf].point))};
+      out[held++] = (held_leaf){
+          slot, rt_stress_leaf_at(b, c, bk_transform_point(to_tree, supports[out[j].leaf].point))};
   }
   if (held) qsort(out, held, sizeof *out, compare_held);
   uint32_t unique = 0;
@@ -235,9 +277,12 @@ static uint32_t gather_supports(bk_runtime* rt, const bk_stress_support* support
 }
 
 // A moving cluster rests when no point of it moves faster than rest_speed.
-static bool at_rest(const bk_runtime* rt, const rt_breakable* b, const bk_body_state* state) {
-  bk_aabb box = b->tree->nodes[0].bounds;
-  double radius = 0.5 * bk_v3_length(bk_v3_sub(box.max, box.min));
+// Its radius from its inertia: twice the radius of gyration about its
+// weakest axis (a cube's half diagonal is 2.1 times it), so a chip of a big
+// object is not judged by the whole object's size.
+static bool at_rest(const bk_runtime* rt, const rt_cluster* c, const bk_body_state* state) {
+  double largest = fmax(c->inertia.x, fmax(c->inertia.y, c->inertia.z));
+  double radius = c->mass > 0.0 ? 2.0 * sqrt(largest / c->mass) : 0.0;
   double speed = bk_v3_length(state->linear_velocity) + bk_v3_length(state->angular_velocity) * radius;
   return speed <= rt->def.stress_rest_speed;
 }
@@ -265,13 +310,15 @@ static bool same_direction(bk_vec3 a, bk_vec3 b) {
 }
 
 void bk_runtime_solve_stress(bk_runtime* rt, bk_vec3 gravity, const bk_stress_support* supports,
-                             uint32_t support_count) {
+                             uint32_t support_count, const bk_stress_load* loads, uint32_t load_count) {
   rt_begin_call(rt);
   rt->stress_clusters_solved = 0;
   rt->stress_iterations = 0;
-  if (!bk_v3_is_finite(gravity) || (support_count && !supports)) return;
+  if (!bk_v3_is_finite(gravity) || (support_count && !supports) || (load_count && !loads)) return;
   uint32_t held_count = gather_supports(rt, supports, support_count);
   const held_leaf* held = rt->stress_scratch;
+  uint32_t leaf_load_count = rt_stress_gather_loads(rt, loads, load_count);
+  const rt_leaf_load* leaf_loads = rt->stress_load_scratch;
 
   // Clusters split below create slots past cluster_count's value now; they
   // are solved next call. The budget goes round: each call starts where the
@@ -282,49 +329,83 @@ void bk_runtime_solve_stress(bk_runtime* rt, bk_vec3 gravity, const bk_stress_su
   for (uint32_t visit = 0; visit < slots && !spent; ++visit) {
     uint32_t slot = (rt->stress_cursor + visit) % slots;
     rt_cluster* c = &rt->clusters[slot];
-    uint32_t first = held_lower_bound(held, held_count, slot), last = first;
-    while (last < held_count && held[last].slot == slot)
-      last++;
+    uint32_t first = 0, last = 0;
+    slot_range(held, sizeof *held, held_count, slot, &first, &last);
     if (!c->alive || c->dirty || c->leaf_count < 2) continue;
     rt_breakable* b = &rt->breakables[c->breakable];
     bk_body_state state = {0};
     if (!c->is_static) {
-      // Airborne, moving or asleep: its last solve stands, and a new rest
-      // starts over. A rest is solved once, on what held the cluster over
-      // its first REST_CALLS calls (the load does not move while it rests).
-      state = last > first ? rt_body_state(rt, slot) : state;
-      if (last == first || !at_rest(rt, b, &state)) {
+      // A rest is solved once, on what held the cluster over its first
+      // REST_CALLS calls (the load does not move while it rests). Moving:
+      // its last solve stands, and a new rest starts over. Still but with
+      // no contact reported: asleep (physics engines report none for a
+      // sleeping body), so resting where it was: its rest goes on (a body
+      // can fall asleep before its rest is solved), and a bond broken since
+      // (a hit on a sleeping body) is solved on what held it.
+      bool touching = last > first;
+      bool unsolved = c->stress_held_count && (c->stress_stale || !c->stress_settled);
+      bool resting = c->stress_rest_calls > 0 && c->stress_rest_calls < REST_CALLS;
+      if (!touching && !resting && !unsolved) continue; // airborne, or asleep with nothing new
+      state = rt_body_state(rt, slot);
+      if (!at_rest(rt, c, &state)) {
         c->stress_rest_calls = 0;
+        c->stress_held_count = 0; // it moves: what held it is no longer under it
         continue;
       }
-      if (c->stress_rest_calls == 0) c->stress_held_count = 0;
+      if (touching && c->stress_rest_calls == 0) c->stress_held_count = 0; // a new rest
       if (c->stress_rest_calls < REST_CALLS) {
-        merge_held(c, held + first, last - first);
-        if (++c->stress_rest_calls < REST_CALLS) continue;
+        if (touching) merge_held(c, held + first, last - first);
+        if (++c->stress_rest_calls < REST_CALLS || !c->stress_held_count) continue;
         c->stress_stale = true;
       }
     } else {
       state = rt_body_state(rt, slot);
     }
-    prepare_breakable(b);
+    rt_stress_prepare_breakable(b);
     bk_transform tree_to_world = rt_tree_to_world(c, &state);
     bk_vec3 local_gravity = bk_quat_rotate(bk_quat_conjugate(tree_to_world.rotation), gravity);
+    uint32_t load_first = 0, load_last = 0;
+    slot_range(leaf_loads, sizeof *leaf_loads, leaf_load_count, slot, &load_first, &load_last);
+    double weight = c->mass * bk_v3_length(gravity);
+    if (rt_stress_window_loads(c, leaf_loads + load_first, load_last - load_first, weight)) {
+      if (c->stress) c->stress->loaded = false; // carries them from its next load
+      c->stress_settled = false;
+    }
+    // Within the budget (a step that starts within it may pass it): the
+    // system made (a level per step, so a big one takes a few calls),
+    // loaded, then iterated.
+    uint64_t charged = 0;
     if (!c->stress || c->stress_stale) {
       build_system(b, c, slot);
-      rt_stress_load(c->stress, local_gravity);
-    } else if (c->is_static && !same_direction(c->stress->gravity, local_gravity)) {
-      rt_stress_load(c->stress, local_gravity);
+      charged = rt_stress_create_cost(c->stress);
+    } else if (c->is_static && c->stress->loaded && !same_direction(c->stress->gravity, local_gravity)) {
+      c->stress->loaded = false; // the structure turned: its load did too
       c->stress_settled = false;
     } else if (c->stress_settled) {
       continue; // nothing changed since its last solve
     }
-    uint64_t cost = rt_stress_iteration_cost(c->stress);
-    uint64_t iterations = budget / cost ? budget / cost : 1u;
-    uint32_t done = rt_stress_iterate(
-        c->stress, (uint32_t)(iterations < UINT32_MAX ? iterations : UINT32_MAX), rt->def.stress_tolerance);
+    rt_stress* s = c->stress;
+    while (!s->ready && charged < budget)
+      charged += rt_stress_setup_step(s);
+    uint32_t done = 0;
+    if (s->ready) {
+      uint64_t cost = rt_stress_iteration_cost(s);
+      if (!s->loaded && charged < budget) {
+        double* node_loads = rt_stress_node_loads(c);
+        rt_stress_load(s, local_gravity, node_loads);
+        free(node_loads);
+        charged += cost;
+      }
+      if (s->loaded && charged < budget) {
+        uint64_t iterations = (budget - charged + cost - 1u) / cost;
+        done = rt_stress_iterate(s, (uint32_t)(iterations < UINT32_MAX ? iterations : UINT32_MAX),
+                                 rt->def.stress_tolerance);
+        charged += done * cost;
+      }
+    }
     rt->stress_iterations += done;
     rt->stress_clusters_solved++;
-    budget = budget > done * cost ? budget - done * cost : 0u;
+    budget = budget > charged ? budget - charged : 0u;
     if (budget == 0) {
       spent = true;
       rt->stress_cursor = slot; // this one first next call
@@ -350,9 +431,10 @@ uint32_t rt_stress_pending(const bk_runtime* rt) {
   uint32_t pending = 0;
   for (uint32_t slot = 0; slot < rt->cluster_count; ++slot) {
     const rt_cluster* c = &rt->clusters[slot];
-    // A static cluster always has a load; a moving one once it rested.
+    // A static cluster always has a load; a moving one once it rested. A
+    // bond broken since its last solve makes it pending too.
     bool loaded = c->is_static || c->stress;
-    if (c->alive && loaded && c->leaf_count >= 2 && !c->stress_settled) pending++;
+    if (c->alive && loaded && c->leaf_count >= 2 && (!c->stress_settled || c->stress_stale)) pending++;
   }
   return pending;
 }
