@@ -163,9 +163,9 @@ static void test_sim(void) {
   r = run("sim --scene wall --pieces 64 --shots 1 --steps 8 --volley 2 --json");
   ENSURE_MSG(json_number(r->out, "bonds_broken") > 0, "%s", r->out);
   r = run("sim --help");
-  const char* options[] = {"--scene",      "--pieces", "--seed",    "--shots",   "--steps",
-                           "--volley",     "--speed",  "--frailty", "--density", "--discrete",
-                           "--accumulate", "--naive",  "--json"};
+  const char* options[] = {"--scene", "--pieces",  "--seed",        "--shots",    "--steps",      "--volley",
+                           "--speed", "--frailty", "--density",     "--discrete", "--accumulate", "--naive",
+                           "--json",  "--drop",    "--drop-radius", "--drop-at"};
   for (size_t i = 0; i < sizeof options / sizeof *options; ++i)
     ENSURE_MSG(strstr(r->out, options[i]) != NULL, "sim help does not describe %s", options[i]);
   expect_error("sim --scene castle", 2, "unknown scene 'castle'");
@@ -174,6 +174,27 @@ static void test_sim(void) {
   expect_error("sim --frailty nan", 2, "--frailty 'nan' is not a decimal number (1e-6..1e6)");
   expect_error("sim --density -5", 2, "--density '-5' is out of range (1..1e5)");
   expect_error("sim --explode", 2, "unknown option '--explode'");
+}
+
+// A weight set down on the middle of the bridge's deck (issue 17): 20 t
+// breaks the span by the load it carries and what it held falls; 2 t is
+// carried. No shot is fired with --drop unless asked for.
+static void test_sim_drop(void) {
+  setenv("BREAKABLES_CACHE_DIR", BK_TEST_TMP "/cache", 1);
+  run_result* r = run("sim --scene bridge --drop 20000 --json");
+  ENSURE_MSG(r->status == 0, "%s", r->err);
+  ENSURE_MSG(json_number(r->out, "shots") == 0 && json_number(r->out, "drop_kg") == 20000 &&
+                 strstr(r->out, "\"drop_point\": [0.0000, 1.80"),
+             "%s", r->out); // on the deck's top, 1.8 m up
+  ENSURE_MSG(json_number(r->out, "stress_bonds_broken") > 0 && json_number(r->out, "fragments_fallen") > 0,
+             "the weight broke nothing: %s", r->out);
+  r = run("sim --scene bridge --drop 2000 --json");
+  ENSURE_MSG(r->status == 0 && json_number(r->out, "drop_kg") == 2000, "%s%s", r->out, r->err);
+  ENSURE_MSG(json_number(r->out, "bonds_broken") == 0 && json_number(r->out, "fragments_fallen") == 0 &&
+                 json_number(r->out, "bodies_final") == 1,
+             "2 t broke the bridge: %s", r->out);
+  r = run("sim --scene bridge --steps 1 --json");
+  ENSURE_MSG(json_number(r->out, "drop_kg") == 0 && strstr(r->out, "\"drop_point\": null"), "%s", r->out);
 }
 
 // A user's own model in sim: a fractured .mtree is used as it is (its own
@@ -346,6 +367,15 @@ static void test_number_options(void) {
       {"sim --density 0.5", "--density '0.5' is out of range (1..1e5)"},
       {"sim --density 1e300", "--density '1e300' is out of range (1..1e5)"},
       {"sim --density 2,5", "--density '2,5' is not a decimal number (1..1e5)"},
+      {"sim --drop 0", "breakables sim: --drop '0' is out of range (1..1e6)"},
+      {"sim --drop nan", "breakables sim: --drop 'nan' is not a decimal number (1..1e6)"},
+      {"sim --drop 2e6", "breakables sim: --drop '2e6' is out of range (1..1e6)"},
+      {"sim --drop", "breakables sim: --drop needs a value"},
+      {"sim --drop 100 --drop-radius 0", "breakables sim: --drop-radius '0' is out of range (0.01..2)"},
+      {"sim --drop 100 --drop-at 1.5", "breakables sim: --drop-at '1.5' is not a whole number (0..10000000)"},
+      {"sim --drop 100 --drop-at 300", "breakables sim: --drop-at 300 is past the run's end (--steps 300)"},
+      {"sim --drop-at 5", "breakables sim: --drop-at needs --drop KG"},
+      {"sim --drop-radius 0.5", "breakables sim: --drop-radius needs --drop KG"},
       {"play --pieces 0", "breakables play: --pieces '0' is out of range (1..65536)"},
       {"play --seed ' -1'", "breakables play: --seed ' -1' is not a whole number (0..18446744073709551615)"},
       {"play --volley +5", "breakables play: --volley '+5' is not a whole number (1..10000000)"},
@@ -354,6 +384,12 @@ static void test_number_options(void) {
       {"play --width 63", "breakables play: --width '63' is out of range (64..8192)"},
       {"play --height ' 720'", "breakables play: --height ' 720' is not a whole number (64..8192)"},
       {"play --stress-scale 0", "breakables play: --stress-scale '0' is out of range (1e-6..1e6)"},
+      {"play --drop -1", "breakables play: --drop '-1' is out of range (1..1e6)"},
+      {"play --drop inf", "breakables play: --drop 'inf' is not a decimal number (1..1e6)"},
+      {"play --drop 100 --drop-radius 2.5", "breakables play: --drop-radius '2.5' is out of range (0.01..2)"},
+      {"play --drop 100 --frames 50",
+       "breakables play: --drop-at 60 (the default) is past the run's end (--frames 50)"},
+      {"play --drop-at 5", "breakables play: --drop-at needs --drop KG"},
       {"play --overlay bricks",
        "breakables play: --overlay must be bonds, stress, nodes or hulls (got 'bricks')"},
       {"editor --pieces 65537", "breakables editor: --pieces '65537' is out of range (1..65536)"},
@@ -404,6 +440,10 @@ static void test_number_options(void) {
       {"sim", "0.1..2000"},
       {"sim", "1e-6..1e6"},
       {"sim", "1..1e5"},
+      {"sim", "1..1e6"},
+      {"sim", "0.01..2"},
+      {"play", "1..1e6"},
+      {"play", "0.01..2"},
       {"play", "1..65536"},
       {"play", "1..10000000"},
       {"play", "0..10000"},
@@ -701,6 +741,7 @@ int main(void) {
   RUN(test_errors);
   RUN(test_repairs_simple_hole);
   RUN(test_sim);
+  RUN(test_sim_drop);
   RUN(test_sim_own_mesh);
   RUN(test_export_keeps_material);
   RUN(test_number_options);

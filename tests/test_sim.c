@@ -492,6 +492,38 @@ static void test_many_breaks(void) {
   bk_mesh_tree_free(&tree);
 }
 
+// A projectile leaves after the world's projectile_lifetime, or its own;
+// one with an infinite lifetime (a weight) stays; a bad lifetime is named.
+static void test_projectile_lifetime(void) {
+  bk_world* world = make_world();
+  double world_life = bk_default_world_def().projectile_lifetime;
+  bk_projectile_def shot = bk_default_projectile_def();
+  shot.position = bk_v3(0, 5, 0);
+  ENSURE(shot.lifetime == 0.0);
+  ENSURE(!bk_body_is_null(bk_world_fire(world, &shot, NULL)));
+  shot.position = bk_v3(2, 5, 0);
+  shot.lifetime = 1.0;
+  ENSURE(!bk_body_is_null(bk_world_fire(world, &shot, NULL)));
+  shot.position = bk_v3(4, 5, 0);
+  shot.lifetime = INFINITY;
+  ENSURE(!bk_body_is_null(bk_world_fire(world, &shot, NULL)));
+  const double lifetimes[] = {-1.0, NAN};
+  for (int i = 0; i < 2; ++i) {
+    bk_error err = {0};
+    shot.lifetime = lifetimes[i];
+    ENSURE(bk_body_is_null(bk_world_fire(world, &shot, &err)));
+    ENSURE_MSG(strstr(err.message, "lifetime") != NULL, "%s", err.message);
+  }
+  int steps_per_second = (int)(1.0 / bk_default_world_def().fixed_dt + 0.5);
+  for (int i = 0; i < 2 * steps_per_second; ++i)
+    bk_world_step(world);
+  ENSURE(bk_world_projectile_count(world) == 2); // its own second is over
+  for (int i = 0; i < (int)(world_life * steps_per_second); ++i)
+    bk_world_step(world);
+  ENSURE(bk_world_projectile_count(world) == 1); // the world's lifetime too; the weight stays
+  bk_world_destroy(world);
+}
+
 int main(void) {
   RUN(test_unbroken_is_one_body);
   RUN(test_torus_principal_inertia);
@@ -507,5 +539,6 @@ int main(void) {
   RUN(test_many_breaks);
   RUN(test_wall_breaks);
   RUN(test_resting_keeps_bonds);
+  RUN(test_projectile_lifetime);
   return 0;
 }

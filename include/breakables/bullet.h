@@ -255,6 +255,9 @@ typedef struct bk_projectile_def {
   bk_vec3 position, velocity;
   double radius; ///< > 0; default 0.08 m
   double mass;   ///< > 0; default 4 kg
+  /// Seconds before it is removed, >= 0: 0 (the default) takes the world's
+  /// projectile_lifetime; INFINITY keeps it (a weight set on a structure)
+  double lifetime;
 } bk_projectile_def;
 
 bk_projectile_def bk_default_projectile_def(void);

@@ -173,6 +173,50 @@ void bk_loaded_scene_destroy(bk_loaded_scene* scene);
 /// The i-th shot of a volley from the scene's eye towards (around) its target.
 bk_projectile_def bk_scene_shot(const bk_scene* scene, uint32_t shot, double speed);
 
+/// A weight set down on a scene (--drop KG, --drop-radius M, --drop-at
+/// STEP): a ball of `kg` set at rest on the top surface over the first
+/// object's aim point at step (sim) or frame (play) `at`, a load for the
+/// structure to carry (see bk_app_drop_weight).
+typedef struct bk_drop {
+  double kg;     ///< 0: no weight
+  double radius; ///< m
+  uint64_t at;   ///< the step or frame it is set down
+  bool radius_given, at_given;
+} bk_drop;
+
+/// The options' ranges: from a sack to a loaded lorry and more (Bullet's
+/// float masses stay meaningful against a 256-piece concrete deck of about
+/// 12 t); a ball of 1 cm to 2 m; a step within what sim can run.
+#define BK_DROP_KG_MIN 1.0
+#define BK_DROP_KG_MAX 1e6
+#define BK_DROP_RADIUS_MIN 0.01
+#define BK_DROP_RADIUS_MAX 2.0
+#define BK_DROP_RADIUS_DEFAULT 0.3
+enum {
+  BK_DROP_AT_DEFAULT = 60, ///< a second in: the structure has settled and been solved once
+  BK_DROP_AT_MAX = 10000000,
+};
+
+bk_drop bk_default_drop(void);
+/// Parses --drop, --drop-radius and --drop-at for `command`: returns 0 if
+/// `argv[*i]` was one of them (consuming its value), 1 if not ours, 2 on a
+/// bad value (one line printed, naming the option).
+int bk_parse_drop_option(const char* command, int argc, char** argv, int* i, bk_drop* drop);
+/// Refuses --drop-radius or --drop-at without --drop, and a drop at or past
+/// `last` (the run's steps or frames, 0 = unbounded), named by
+/// `last_option`, with one line printed.
+bool bk_check_drop(const char* command, const bk_drop* drop, uint64_t last, const char* last_option);
+/// The first surface straight down from `height` m above `point` (only a
+/// breakable's, when breakables_only); false if the ray meets none.
+bool bk_app_top_surface(bk_world* world, bk_vec3 point, double height, bool breakables_only, bk_vec3* out);
+/// Where a scene's weight goes: the top of its first object over that
+/// object's aim point (else over the object's middle); false if neither is
+/// over it.
+bool bk_scene_drop_point(bk_loaded_scene* scene, bk_vec3* out);
+/// Sets a ball of `kg` and `radius` at rest just above `surface` (a
+/// projectile: it leaves after the world's projectile_lifetime, 8 s).
+bool bk_app_drop_weight(bk_world* world, bk_vec3 surface, double kg, double radius, bk_error* err);
+
 /// Writes target's path relative to the directory of from_file (for a URI
 /// in a file written there); false if either cannot be resolved or it does
 /// not fit in capacity bytes.

@@ -9,7 +9,8 @@ static const char* const sim_usage =
     "usage: breakables sim [--scene NAME | --mesh PATH] [--material NAME] [--pattern NAME] [--pieces N]\n"
     "                      [--seed S] [--shots K] [--steps F] [--volley V]\n"
     "                      [--speed M/S] [--frailty X] [--density X] [--discrete|--accumulate] [--naive]\n"
-    "                      [--no-stress] [--stress-scale X] [--max-memory MIB] [--json]\n"
+    "                      [--no-stress] [--stress-scale X] [--drop KG] [--drop-radius M] [--drop-at STEP]\n"
+    "                      [--max-memory MIB] [--json]\n"
     "\n"
     "Runs a scene headless at a fixed 60 Hz: builds (or loads from the cache) the\n"
     "scene's mesh tree, fires K projectiles at the object at regular intervals\n"
@@ -31,7 +32,7 @@ static const char* const sim_usage =
     "  --pieces N       fragments per object, 1..65536 (default: the scene's; cutout\n"
     "                   makes as many as its fracture map has regions)\n"
     "  --seed S         fracture seed, 0..18446744073709551615 (default: 3000)\n"
-    "  --shots K        projectiles to fire, 0..1000 (default: 3)\n"
+    "  --shots K        projectiles to fire, 0..1000 (default: 3, or 0 with --drop)\n"
     "  --steps F        60 Hz steps to run, 1..1000000 (default: 300)\n"
     "  --volley V       fire the shots within the first V steps, 1..1000000 (default: all\n"
     "                   F): the rest shows what the debris costs as it settles\n"
@@ -44,6 +45,12 @@ static const char* const sim_usage =
     "  --no-stress      no structural stress: what is still bonded to an anchor stays up\n"
     "                   however little holds it (as before the stress solver)\n"
     "  --stress-scale X every material's stress limits times X, 1e-6..1e6 (default 1)\n"
+    "  --drop KG        set a weight of KG, 1..1e6, down at rest on the top surface over the\n"
+    "                   first object's aim point (the bridge: the middle of its deck), for\n"
+    "                   the structure to carry (20000 breaks the bridge, 2000 does not)\n"
+    "  --drop-radius M  the weight's radius, 0.01..2 m (default 0.3)\n"
+    "  --drop-at STEP   the step it is set down, 0..10000000, before --steps (default 60:\n"
+    "                   the structure has settled)\n"
     "  --max-memory MIB memory each fracture may use, 1..1073741824 MiB (default: the\n"
     "                   available memory); a tree estimated to need more is refused\n"
     "  --json           print one JSON object: scene, pieces, bodies_initial, bodies_final,\n"
@@ -55,7 +62,8 @@ static const char* const sim_usage =
     "                   fragments_fallen (fragments whose centroid ends more than 0.5 m\n"
     "                   below where it started), stress_ms_median and stress_ms_max (over\n"
     "                   the steps the stress solve worked), pattern (the objects' pattern,\n"
-    "                   or \"mixed\") and patterns (one per object)\n"
+    "                   or \"mixed\"), patterns (one per object), drop_kg (0: no weight) and\n"
+    "                   drop_point (where the weight was set down, or null)\n"
     "  -h, --help       show this help\n"
     "\n"
     "Mesh trees are cached in $BREAKABLES_CACHE_DIR (else $XDG_CACHE_HOME/breakables,\n"
@@ -137,13 +145,17 @@ int bk_cmd_sim(int argc, char** argv) {
   bool scene_given = false;
   uint64_t shots = 3, steps = 300, volley = 0;
   double speed = 0.0;
-  bool json = false;
+  bool json = false, shots_given = false;
   bk_scene_options options = bk_default_scene_options();
+  bk_drop drop = bk_default_drop();
   for (int i = 1; i < argc; ++i) {
     const char* arg = argv[i];
     const char* value = i + 1 < argc ? argv[i + 1] : NULL;
     bool flag = true;
     uint64_t number = 0;
+    int dropped = bk_parse_drop_option("sim", argc, argv, &i, &drop);
+    if (dropped == 0) continue;
+    if (dropped == 2) return 2;
     if (strcmp(arg, "-h") == 0 || strcmp(arg, "--help") == 0) {
       fputs(sim_usage, stdout);
       return 0;
@@ -197,6 +209,7 @@ int bk_cmd_sim(int argc, char** argv) {
       if (!bk_option_u64("sim", arg, value, 0, UINT64_MAX, &options.seed)) return 2;
     } else if (strcmp(arg, "--shots") == 0) {
       if (!bk_option_u64("sim", arg, value, 0, 1000, &shots)) return 2;
+      shots_given = true;
     } else if (strcmp(arg, "--steps") == 0) {
       // A million steps is 4.6 simulated hours, two timings of 8 bytes each.
       if (!bk_option_u64("sim", arg, value, 1, 1000000, &steps)) return 2;
@@ -219,6 +232,10 @@ int bk_cmd_sim(int argc, char** argv) {
       if (!bk_option_double("sim", arg, value, 1.0, 1e5, &options.density)) return 2;
     }
   }
+  if (!bk_check_drop("sim", &drop, steps, "--steps")) return 2;
+  // A weight is the load under test: shots on top of it would break the
+  // structure themselves and hide what the weight alone does.
+  if (drop.kg > 0.0 && !shots_given) shots = 0;
   bk_error err = {0};
   uint32_t scene_index = bk_scene_resolve(scene_name, scene_given, mesh, material, &err);
   if (scene_index == UINT32_MAX) {
@@ -239,7 +256,22 @@ int bk_cmd_sim(int argc, char** argv) {
   double* break_ms = bk_alloc(sizeof(double) * steps);
   double* stress_ms = bk_alloc(sizeof(double) * steps);
   uint32_t break_steps = 0, stress_steps = 0, fired = 0;
+  bk_vec3 drop_point = {0.0, 0.0, 0.0};
+  bool drop_set = false;
   for (uint64_t step = 0; step < steps; ++step) {
+    if (drop.kg > 0.0 && step == drop.at) {
+      bk_error drop_err = {0};
+      if (!bk_scene_drop_point(&loaded, &drop_point) ||
+          !bk_app_drop_weight(loaded.world, drop_point, drop.kg, drop.radius, &drop_err)) {
+        fprintf(stderr, "breakables sim: --drop: %s\n",
+                drop_err.message[0] ? drop_err.message
+                                    : "no surface of the first object to set the weight on");
+        free(step_ms), free(break_ms), free(stress_ms), free(rest_heights);
+        bk_loaded_scene_destroy(&loaded);
+        return 1;
+      }
+      drop_set = true;
+    }
     // Shots at regular intervals, leaving time after the last one.
     uint64_t span = volley && volley < steps ? volley : steps;
     while (fired < shots && step >= (fired + 1) * span / (shots + 1)) {
@@ -282,7 +314,11 @@ int bk_cmd_sim(int argc, char** argv) {
         physics.awake_bodies, physics.pairs, physics.manifolds, mass_error, final.nan ? "true" : "false",
         loaded.from_cache ? "true" : "false", final.stress_bonds_broken, fallen, stress_median, stress_max);
     print_patterns(&loaded, true);
-    printf("}\n");
+    printf(", \"drop_kg\": %g, \"drop_point\": ", drop_set ? drop.kg : 0.0);
+    if (drop_set)
+      printf("[%.4f, %.4f, %.4f]}\n", drop_point.x, drop_point.y, drop_point.z);
+    else
+      printf("null}\n");
   } else {
     printf("%s: %u fragments, %u shots over %llu steps (%.1f s)\n", scene->name, pieces, fired,
            (unsigned long long)steps, (double)steps / 60.0);
@@ -296,6 +332,9 @@ int bk_cmd_sim(int argc, char** argv) {
            last_median, physics.awake_bodies, physics.pairs, physics.manifolds, physics.contact_points);
     printf("  stress: %u bonds broken, %u fragments fell; ms median %.3f max %.3f over %u steps\n",
            final.stress_bonds_broken, fallen, stress_median, stress_max, stress_steps);
+    if (drop_set)
+      printf("  weight: %g kg (radius %g m) set on (%.2f, %.2f, %.2f) at step %llu\n", drop.kg, drop.radius,
+             drop_point.x, drop_point.y, drop_point.z, (unsigned long long)drop.at);
     printf("  mass error %.2e%s\n", mass_error, final.nan ? ", NaN detected" : "");
     print_patterns(&loaded, false);
   }

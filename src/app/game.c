@@ -12,7 +12,8 @@ static const char* const play_usage =
     "usage: breakables [play] [--scene NAME | --mesh PATH] [--material NAME] [--pattern NAME] [--pieces N]\n"
     "                  [--seed S] [--frames N] [--autofire K]\n"
     "                  [--screenshot FILE.png] [--width W] [--height H] [--hide-panel] [--overlay NAME]\n"
-    "                  [--volley V] [--benchmark] [--no-stress] [--stress-scale X] [--max-memory MIB]\n"
+    "                  [--volley V] [--benchmark] [--no-stress] [--stress-scale X] [--drop KG]\n"
+    "                  [--drop-radius M] [--drop-at FRAME] [--max-memory MIB]\n"
     "\n"
     "The demo game: shoot projectiles at breakable objects and tune them live.\n"
     "\n"
@@ -46,14 +47,22 @@ static const char* const play_usage =
     "                        however little holds it (the panel turns it back on)\n"
     "  --stress-scale X      every material's stress limits times X, 1e-6..1e6 (default 1; at\n"
     "                        0.15 the bridge and the balcony cannot carry their own weight)\n"
+    "  --drop KG             set a weight of KG, 1..1e6, down at rest on the top surface over the\n"
+    "                        first object's aim point (the bridge: the middle of its deck), for the\n"
+    "                        structure to carry (20000 breaks the bridge, 2000 does not); also\n"
+    "                        the mass X sets down (default 20000)\n"
+    "  --drop-radius M       the weight's radius, 0.01..2 m (default 0.3)\n"
+    "  --drop-at FRAME       the frame it is set down, 0..10000000, before --frames (default 60:\n"
+    "                        the structure has settled)\n"
     "  --max-memory MIB      memory each fracture may use, 1..1073741824 MiB (default: the\n"
     "                        available memory); a tree estimated to need more is refused\n"
     "  -h, --help            show this help\n"
     "\n"
     "controls: right mouse drag = look, W A S D Q E = move (Shift = fast), left click or\n"
-    "Space = fire, 1-9 and 0 = scenes, R = reset, P = pause, N = single step, T = slow motion,\n"
-    "B / V / G / H = bonds by hit points / bonds by stress / mesh-tree nodes / collider hulls\n"
-    "overlays, F1 = panel, Esc = quit.\n";
+    "Space = fire, X = set a weight down on what you look at (its mass and radius in the\n"
+    "panel's Structural stress section), 1-9 and 0 = scenes, R = reset, P = pause,\n"
+    "N = single step, T = slow motion, B / V / G / H = bonds by hit points / bonds by stress /\n"
+    "mesh-tree nodes / collider hulls overlays, F1 = panel, Esc = quit.\n";
 
 static bk_transform lerp_transform(bk_transform a, bk_transform b, double t) {
   bk_quat qa = a.rotation, qb = b.rotation;
@@ -109,6 +118,24 @@ void bk_game_fire(bk_game* g, bk_vec3 from, bk_vec3 direction) {
                             .mass = g->projectile_mass};
   bk_world_fire(g->scene.world, &shot, NULL);
   g->shots++;
+}
+
+bool bk_game_drop_weight(bk_game* g, bk_vec3 from, bk_vec3 direction) {
+  bk_world* world = g->scene.world;
+  bk_vec3 forward = bk_v3_normalize(direction);
+  bk_ray_hit hit = {0};
+  if (!bk_physics_ray_cast(bk_world_physics(world), from, bk_v3_add(from, bk_v3_scale(forward, 1000.0)),
+                           &hit))
+    return false;
+  // A little behind the face that was hit, so that a wall seen head on
+  // still has its top over the point; the weight goes where one let go from
+  // high above would land, whatever stands over the point.
+  bk_vec3 across = {hit.normal.x, 0.0, hit.normal.z}, surface = {0.0, 0.0, 0.0};
+  bk_vec3 under = bk_v3_sub(hit.point, bk_v3_scale(across, 0.02));
+  if (!bk_app_top_surface(world, under, 100.0, false, &surface)) return false;
+  if (!bk_app_drop_weight(world, surface, g->weight_kg, g->weight_radius, NULL)) return false;
+  g->weights++;
+  return true;
 }
 
 static const float* tint_of(const bk_game* g, bk_breakable_id id) {
@@ -186,6 +213,7 @@ static void key_callback(GLFWwindow* window, int key, int scancode, int action, 
   if (action != GLFW_PRESS || (g->ui && bk_ui_wants_keyboard())) return;
   if (key == GLFW_KEY_ESCAPE) glfwSetWindowShouldClose(window, GLFW_TRUE);
   if (key == GLFW_KEY_SPACE) bk_game_fire(g, g->eye, bk_game_forward(g));
+  if (key == GLFW_KEY_X) bk_game_drop_weight(g, g->eye, bk_game_forward(g));
   if (key == GLFW_KEY_R) g->reload = true;
   if (key == GLFW_KEY_P) g->paused = !g->paused;
   if (key == GLFW_KEY_N) g->step_once = true;
@@ -316,6 +344,7 @@ int bk_cmd_play(int argc, char** argv) {
   bk_window_options wo = {.width = 1280, .height = 720};
   bk_game* g = bk_calloc(1, sizeof *g);
   g->options = bk_default_scene_options();
+  g->drop = bk_default_drop();
   g->options.retire_volume = 2e-5; // chips under 20 cm^3 leave after 10 s: a long session stays bounded
   const char* scene_name = "showcase";
   const char* mesh = NULL;
@@ -326,6 +355,9 @@ int bk_cmd_play(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     const char* arg = argv[i];
     int parsed = bk_parse_window_option("play", argc, argv, &i, &wo);
+    if (parsed == 0) continue;
+    if (parsed == 2) return free(g), 2;
+    parsed = bk_parse_drop_option("play", argc, argv, &i, &g->drop);
     if (parsed == 0) continue;
     if (parsed == 2) return free(g), 2;
     uint64_t number = 0;
@@ -385,6 +417,10 @@ int bk_cmd_play(int argc, char** argv) {
       return free(g), 2;
     }
   }
+  if (!bk_check_drop("play", &g->drop, wo.frames, "--frames")) return free(g), 2;
+  // X sets down the scripted weight's mass, else one the bridge cannot carry.
+  g->weight_kg = g->drop.kg > 0.0 ? g->drop.kg : 20000.0;
+  g->weight_radius = g->drop.radius;
   bk_error err = {0};
   uint32_t scene_index = bk_scene_resolve(scene_name, scene_given, mesh, material, &err);
   if (scene_index == UINT32_MAX) {
@@ -456,6 +492,14 @@ int bk_cmd_play(int argc, char** argv) {
       bk_projectile_def shot = bk_scene_shot(g->scene.scene, fired++, g->projectile_speed);
       bk_world_fire(g->scene.world, &shot, NULL);
     }
+    if (g->drop.kg > 0.0 && frame == g->drop.at) {
+      bk_vec3 surface = {0.0, 0.0, 0.0};
+      if (bk_scene_drop_point(&g->scene, &surface) &&
+          bk_app_drop_weight(g->scene.world, surface, g->drop.kg, g->drop.radius, NULL))
+        g->weights++;
+      else
+        fprintf(stderr, "breakables play: --drop: no surface of the first object to set the weight on\n");
+    }
     uint32_t particles = bk_particles_update(&g->particles, g->paused ? 0.0 : dt * g->time_scale);
 
     // The world as the last steps left it, between their two states.
@@ -516,10 +560,10 @@ int bk_cmd_play(int argc, char** argv) {
   bk_world_stats s = bk_world_get_stats(g->scene.world);
   if (wo.frames)
     printf("frames %u, bodies %u (from %u), fragments free %u, mean frame ms %.2f (last second %.2f), "
-           "physics ms %.2f (last second %.2f), shots %u, gl errors %s\n",
+           "physics ms %.2f (last second %.2f), shots %u, weights %u, gl errors %s\n",
            frame, s.bodies, bodies_start, s.fragments_free, frame ? frame_ms_sum / frame : 0.0,
            frame ? last_ms_sum / (frame < 60 ? frame : 60) : 0.0, jobs ? physics_ms_sum / jobs : 0.0,
-           frame ? last_physics_sum / (frame < 60 ? frame : 60) : 0.0, fired + g->shots,
+           frame ? last_physics_sum / (frame < 60 ? frame : 60) : 0.0, fired + g->shots, g->weights,
            gl_error ? "yes" : "none");
   if (gl_error) {
     fprintf(stderr, "breakables play: OpenGL error 0x%x while rendering\n", gl_error);

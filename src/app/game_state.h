@@ -30,6 +30,10 @@ typedef struct bk_game {
   // Projectiles.
   double projectile_speed, projectile_radius, projectile_mass;
   uint32_t shots;
+  // Weights: the scripted one (--drop) and the X key's, of the panel's mass and radius.
+  bk_drop drop;
+  double weight_kg, weight_radius;
+  uint32_t weights; ///< set down so far
   // Overlays and panel.
   bool show_bonds, show_stress, show_nodes, show_hulls, show_panel;
   bool start_benchmark; ///< run the panel's runtime sweep at start (--benchmark)
@@ -44,6 +48,10 @@ bool bk_game_load_scene(bk_game* game, uint32_t index, bk_error* err);
 void bk_game_unload_scene(bk_game* game);
 /// Fires a projectile with the current projectile settings.
 void bk_game_fire(bk_game* game, bk_vec3 from, bk_vec3 direction);
+/// Sets a weight of the panel's mass and radius on the top surface over
+/// what the ray from `from` along `direction` meets first; false (nothing
+/// set) if it meets nothing.
+bool bk_game_drop_weight(bk_game* game, bk_vec3 from, bk_vec3 direction);
 /// The camera's view direction.
 bk_vec3 bk_game_forward(const bk_game* game);
 /// Draws the tuning panel (between bk_ui_begin_frame and bk_ui_end_frame).

@@ -291,6 +291,18 @@ static void stress_section(bk_game* g) {
     }
   }
   bk_ui_tooltip("each object's limits back to its preset's");
+  // The weight X sets down: a load to carry, where a shot is a hit.
+  bk_ui_slider_double("weight kg", &g->weight_kg, 100.0, 1e5, "%.0f", true);
+  bk_ui_tooltip("the mass of the ball X sets down at rest on what you look at (the concrete bridge "
+                "carries 2,000 kg in the middle of its deck and breaks under 20,000)");
+  bk_ui_slider_double("radius m", &g->weight_radius, BK_DROP_RADIUS_MIN, BK_DROP_RADIUS_MAX, "%.2f", true);
+  bk_ui_tooltip("the weight's radius: the smaller, the more its load bears on one place");
+  bk_vec3 surface = {0.0, 0.0, 0.0};
+  if (bk_ui_button("set one on the target") && bk_scene_drop_point(&g->scene, &surface) &&
+      bk_app_drop_weight(world, surface, g->weight_kg, g->weight_radius, NULL))
+    g->weights++;
+  bk_ui_tooltip("on the top surface over the scene's aim point (X: over what you look at); it stays "
+                "until the scene is reset");
   bk_world_stats s = bk_world_get_stats(world);
   bk_ui_text("bonds broken by stress %u   solve %.2f ms", s.stress_bonds_broken, s.stress_ms);
   bk_ui_text("clusters still to solve %u", s.stress_clusters_pending);

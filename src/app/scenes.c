@@ -181,6 +181,8 @@ static const bk_scene scenes[] = {
      .object_count = 1,
      .eye = {3.4, 3.4, 3.6},
      .target = {0.0, 1.9, 0.15}, // the slab's root, where it leaves the wall's face
+     // Over the slab's outer part: straight over its root is the wall's top.
+     .drop_over = {0.0, 2.0, 1.0},
      .projectile_speed = 40.0,
      .projectile_radius = 0.1,
      .projectile_mass = 8.0},

@@ -37,6 +37,10 @@ typedef struct bk_scene {
   /// Where the game's camera starts instead, looking at the target (zero:
   /// at the eye): a view from the side of what the shots from the eye do.
   bk_vec3 camera;
+  /// Where a weight (--drop, bk_scene_drop_point) is set: on the top surface
+  /// over this point (zero: over the first object's aim point, which may lie
+  /// under some other part of it).
+  bk_vec3 drop_over;
   /// More aim points (optional): a volley goes round target, then these, in turn.
   bk_vec3 extra_targets[7];
   uint32_t extra_target_count;

@@ -1,11 +1,13 @@
 // Projectiles: spheres with continuous collision detection, removed (with
-// their shapes) after projectile_lifetime so a long session stays bounded.
+// their shapes) after their lifetime (the world's projectile_lifetime unless
+// they have their own) so a long session stays bounded.
 #include <string.h>
 
 #include "world_internal.h"
 
 bk_projectile_def bk_default_projectile_def(void) {
-  return (bk_projectile_def){.position = {0, 0, 0}, .velocity = {0, 0, 0}, .radius = 0.08, .mass = 4.0};
+  return (bk_projectile_def){
+      .position = {0, 0, 0}, .velocity = {0, 0, 0}, .radius = 0.08, .mass = 4.0, .lifetime = 0.0};
 }
 
 bk_body_id bk_world_fire(bk_world* w, const bk_projectile_def* def, bk_error* err) {
@@ -21,6 +23,8 @@ bk_body_id bk_world_fire(bk_world* w, const bk_projectile_def* def, bk_error* er
   if (!(def->mass > 0.0) || !isfinite(def->mass))
     return bk_error_set(err, "projectile: mass must be a positive finite number (got %g)", def->mass),
            null_id;
+  if (!(def->lifetime >= 0.0))
+    return bk_error_set(err, "projectile: lifetime must be >= 0 (got %g)", def->lifetime), null_id;
   double radius = def->radius, mass = def->mass;
   bk_shape_id sphere = bk_physics_create_sphere(w->physics, radius);
   bk_body_def bd = bk_default_body_def();
@@ -43,20 +47,22 @@ bk_body_id bk_world_fire(bk_world* w, const bk_projectile_def* def, bk_error* er
     w->projectiles = bk_realloc(w->projectiles, sizeof(bk_body_id) * w->projectile_capacity);
     w->projectile_radius = bk_realloc(w->projectile_radius, sizeof(double) * w->projectile_capacity);
     w->projectile_shape = bk_realloc(w->projectile_shape, sizeof(bk_shape_id) * w->projectile_capacity);
-    w->projectile_born = bk_realloc(w->projectile_born, sizeof(uint64_t) * w->projectile_capacity);
+    w->projectile_expires = bk_realloc(w->projectile_expires, sizeof(uint64_t) * w->projectile_capacity);
   }
   w->projectile_radius[w->projectile_count] = radius;
   w->projectile_shape[w->projectile_count] = sphere;
-  w->projectile_born[w->projectile_count] = w->step_count;
+  double lifetime = def->lifetime > 0.0 ? def->lifetime : w->def.projectile_lifetime;
+  double steps = lifetime / w->def.fixed_dt;
+  w->projectile_expires[w->projectile_count] =
+      steps < 1e18 ? w->step_count + (uint64_t)steps : UINT64_MAX; // INFINITY: never
   w->projectiles[w->projectile_count++] = body;
   return body;
 }
 
 void bk_world_retire_projectiles(bk_world* w) {
-  uint64_t max_age = (uint64_t)(w->def.projectile_lifetime / w->def.fixed_dt);
   uint32_t kept = 0;
   for (uint32_t i = 0; i < w->projectile_count; ++i) {
-    if (w->step_count - w->projectile_born[i] > max_age) {
+    if (w->step_count > w->projectile_expires[i]) {
       bk_physics_destroy_body(w->physics, w->projectiles[i]);
       bk_physics_destroy_shape(w->physics, w->projectile_shape[i]);
       continue;
@@ -64,7 +70,7 @@ void bk_world_retire_projectiles(bk_world* w) {
     w->projectiles[kept] = w->projectiles[i];
     w->projectile_radius[kept] = w->projectile_radius[i];
     w->projectile_shape[kept] = w->projectile_shape[i];
-    w->projectile_born[kept] = w->projectile_born[i];
+    w->projectile_expires[kept] = w->projectile_expires[i];
     kept++;
   }
   w->projectile_count = kept;

@@ -113,7 +113,7 @@ void bk_world_destroy(bk_world* w) {
   free(w->projectiles);
   free(w->projectile_radius);
   free(w->projectile_shape);
-  free(w->projectile_born);
+  free(w->projectile_expires);
   free(w->contacts);
   free(w->damage);
   free(w->created);

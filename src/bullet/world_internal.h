@@ -47,7 +47,7 @@ struct bk_world {
   bk_body_id* projectiles;
   bk_shape_id* projectile_shape;
   double* projectile_radius;
-  uint64_t* projectile_born; // step number
+  uint64_t* projectile_expires; // the step after which it is removed
   uint32_t projectile_count, projectile_capacity;
   uint64_t step_count;
   bk_contact* contacts;
