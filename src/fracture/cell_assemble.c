@@ -6,6 +6,7 @@
 // attributes; cut faces get the face's normal, planar uvs in texture tiles
 // (the same on both sides, so the halves of a crack match) and a tangent
 // along u.
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -165,22 +166,36 @@ static void free_hierarchy(hierarchy* h) {
   free(h->pool);
 }
 
-typedef struct mesh_maker {
+// What every thread reads while making the nodes' meshes.
+typedef struct mesh_job {
   const bk_cell_build* b;
   const bk_mesh* root;
-  double texture_scale; // local
-  double uv_shift[3];   // the frame origin over the tile size, for planar uvs
-  uint32_t* stamp;
-  uint32_t* local;
-} mesh_maker;
+  const hierarchy* h;
+  const uint32_t* leaf_start;   // per leaf: its first entry in leaf_tris (leaves + 1)
+  const uint32_t* leaf_tris;    // per leaf: its cell triangles, bar the faces inside it, in order
+  const uint32_t* node_of_leaf; // per leaf: the node that is that leaf
+  double texture_scale;         // local
+  double uv_shift[3];           // the frame origin over the tile size, for planar uvs
+  bk_tree_frame frame;
+  bk_mesh_tree* tree;
+  uint8_t* open; // per node: a leaf that is not closed
+  bool inner;    // the pass making the inner nodes (the leaves are made)
+  atomic_uint next_node;
+} mesh_job;
 
-static uint32_t position_of(mesh_maker* mm, bk_mesh* out, uint32_t v, uint32_t node) {
-  if (mm->stamp[v] != node) {
-    mm->stamp[v] = node;
-    mm->local[v] = bk_mesh_add_position(out, mm->b->cx.points[v]);
-  }
-  return mm->local[v];
-}
+// One thread's scratch, sized by the complex and the leaves.
+typedef struct mesh_worker {
+  mesh_job* job;
+  uint32_t* stamp;     // per complex vertex: the node it was last placed in
+  uint32_t* local;     // per complex vertex: its position in that node
+  uint32_t* in_node;   // per leaf: the node being made, when it is one of its leaves
+  uint32_t* kept;      // the node's triangles (entries of leaf_tris)
+  uint32_t* kept_leaf; // the leaf of each
+  uint32_t* order;     // the node's complex vertices, in order of first use
+  uint32_t kept_capacity, order_capacity;
+  uint32_t *edge_start, *edge_fill, *edge_to; // a leaf's directed edges by first position
+  uint32_t edge_position_capacity, edge_capacity;
+} mesh_worker;
 
 static void surface_corner(const bk_mesh* root, uint32_t t, bk_vec3 p, bk_corner* c) {
   bk_vec3 p0 = root->positions[bk_mesh_tri_position(root, t, 0)],
@@ -212,44 +227,161 @@ static void surface_corner(const bk_mesh* root, uint32_t t, bk_vec3 p, bk_corner
   }
 }
 
-static void add_triangle(mesh_maker* mm, bk_mesh* out, const bk_cell_tri* t, uint32_t node) {
-  const bk_cell_build* b = mm->b;
-  uint32_t corners[3];
-  uint8_t material = 0;
-  uint32_t tag = 0;
+// The corners (positions unset), material and tag of cell triangle `index`.
+static void triangle_corners(const mesh_job* job, uint32_t index, bk_corner corners[3], uint8_t* material,
+                             uint32_t* tag) {
+  const bk_cell_build* b = job->b;
+  const bk_cell_tri* t = &b->parts.tris[index];
   if (!t->is_face) {
-    for (int k = 0; k < 3; ++k) {
-      bk_corner c;
-      surface_corner(mm->root, t->origin, b->cx.points[t->v[k]], &c);
-      c.position = position_of(mm, out, t->v[k], node);
-      corners[k] = bk_mesh_add_corner(out, &c);
-    }
-    material = mm->root->materials[t->origin];
-  } else {
-    const bk_cell_face* f = &b->faces.faces[t->origin];
-    bk_vec3 u, v;
-    bk_plane_basis(f->normal, &u, &v);
-    float sign = t->reversed ? -1.0f : 1.0f;
-    double su = mm->uv_shift[0] * u.x + mm->uv_shift[1] * u.y + mm->uv_shift[2] * u.z;
-    double sv = mm->uv_shift[0] * v.x + mm->uv_shift[1] * v.y + mm->uv_shift[2] * v.z;
-    su -= floor(su), sv -= floor(sv);
-    for (int k = 0; k < 3; ++k) {
-      bk_vec3 p = b->cx.points[t->v[k]];
-      bk_corner c = {.position = position_of(mm, out, t->v[k], node)};
-      c.normal[0] = sign * (float)f->normal.x, c.normal[1] = sign * (float)f->normal.y,
-      c.normal[2] = sign * (float)f->normal.z;
-      c.uv[0] = (float)(bk_v3_dot(p, u) / mm->texture_scale + su);
-      c.uv[1] = (float)(bk_v3_dot(p, v) / mm->texture_scale + sv);
-      c.tangent[0] = (float)u.x, c.tangent[1] = (float)u.y, c.tangent[2] = (float)u.z;
-      c.tangent[3] = sign;
-      corners[k] = bk_mesh_add_corner(out, &c);
-    }
-    uint32_t source =
-        f->source_triangle != UINT32_MAX ? bk_material_source(mm->root->materials[f->source_triangle]) : 0;
-    material = bk_material_id(source, true);
-    tag = t->origin + 1;
+    for (int k = 0; k < 3; ++k)
+      surface_corner(job->root, t->origin, b->cx.points[t->v[k]], &corners[k]);
+    *material = job->root->materials[t->origin];
+    *tag = 0;
+    return;
   }
-  bk_mesh_add_triangle(out, corners[0], corners[1], corners[2], material, tag);
+  const bk_cell_face* f = &b->faces.faces[t->origin];
+  bk_vec3 u = bk_v3(0, 0, 0), v = bk_v3(0, 0, 0);
+  bk_plane_basis(f->normal, &u, &v);
+  float sign = t->reversed ? -1.0f : 1.0f;
+  double su = job->uv_shift[0] * u.x + job->uv_shift[1] * u.y + job->uv_shift[2] * u.z;
+  double sv = job->uv_shift[0] * v.x + job->uv_shift[1] * v.y + job->uv_shift[2] * v.z;
+  su -= floor(su), sv -= floor(sv);
+  for (int k = 0; k < 3; ++k) {
+    bk_vec3 p = b->cx.points[t->v[k]];
+    bk_corner c = {.position = 0};
+    c.normal[0] = sign * (float)f->normal.x, c.normal[1] = sign * (float)f->normal.y,
+    c.normal[2] = sign * (float)f->normal.z;
+    c.uv[0] = (float)(bk_v3_dot(p, u) / job->texture_scale + su);
+    c.uv[1] = (float)(bk_v3_dot(p, v) / job->texture_scale + sv);
+    c.tangent[0] = (float)u.x, c.tangent[1] = (float)u.y, c.tangent[2] = (float)u.z;
+    c.tangent[3] = sign;
+    corners[k] = c;
+  }
+  uint32_t source =
+      f->source_triangle != UINT32_MAX ? bk_material_source(job->root->materials[f->source_triangle]) : 0;
+  *material = bk_material_id(source, true);
+  *tag = t->origin + 1;
+}
+
+// bk_mesh_is_closed for a leaf, without hashing (a leaf has few positions):
+// no edge degenerate, every directed edge used once and its reverse there.
+static bool leaf_is_closed(mesh_worker* w, const bk_mesh* m) {
+  uint32_t positions = m->position_count, edges = 3 * m->triangle_count;
+  if (edges == 0) return false;
+  if (w->edge_position_capacity < positions + 1) {
+    w->edge_position_capacity = bk_grow_capacity(w->edge_position_capacity, positions + 1);
+    w->edge_start = bk_realloc(w->edge_start, sizeof(uint32_t) * w->edge_position_capacity);
+    w->edge_fill = bk_realloc(w->edge_fill, sizeof(uint32_t) * w->edge_position_capacity);
+  }
+  if (w->edge_capacity < edges) {
+    w->edge_capacity = bk_grow_capacity(w->edge_capacity, edges);
+    w->edge_to = bk_realloc(w->edge_to, sizeof(uint32_t) * w->edge_capacity);
+  }
+  uint32_t *start = w->edge_start, *fill = w->edge_fill, *to = w->edge_to;
+  memset(start, 0, sizeof(uint32_t) * (positions + 1));
+  for (uint32_t t = 0; t < m->triangle_count; ++t)
+    for (int k = 0; k < 3; ++k) {
+      uint32_t a = bk_mesh_tri_position(m, t, k), b = bk_mesh_tri_position(m, t, (k + 1) % 3);
+      if (a == b) return false;
+      start[a + 1]++;
+    }
+  for (uint32_t p = 0; p < positions; ++p)
+    start[p + 1] += start[p];
+  memcpy(fill, start, sizeof(uint32_t) * positions);
+  for (uint32_t t = 0; t < m->triangle_count; ++t)
+    for (int k = 0; k < 3; ++k)
+      to[fill[bk_mesh_tri_position(m, t, k)]++] = bk_mesh_tri_position(m, t, (k + 1) % 3);
+  for (uint32_t a = 0; a < positions; ++a)
+    for (uint32_t i = start[a]; i < start[a + 1]; ++i) {
+      uint32_t b = to[i];
+      for (uint32_t j = start[a]; j < i; ++j)
+        if (to[j] == b) return false; // used twice
+      bool back = false;
+      for (uint32_t j = start[b]; j < start[b + 1] && !back; ++j)
+        back = to[j] == a;
+      if (!back) return false; // open
+    }
+  return true;
+}
+
+// Node i's mesh: its leaves' triangles without the faces two of its leaves
+// share, positions in order of first use; then its moments, whether a leaf
+// is closed, and the mesh back in the source's coordinates. A leaf makes
+// its corners; an inner node copies them from its leaves' meshes (they are
+// the same, and making them again on every level cost most of the time).
+static void make_node(mesh_worker* w, uint32_t i) {
+  const mesh_job* job = w->job;
+  const bk_cell_parts* parts = &job->b->parts;
+  const hierarchy* h = job->h;
+  bk_mesh_tree_node* node = &job->tree->nodes[i];
+  const uint32_t* own = h->pool + h->leaf_first[i];
+  for (uint32_t k = 0; k < h->leaf_count[i]; ++k)
+    w->in_node[own[k]] = i;
+  // First the triangles and positions, to size the mesh once.
+  uint32_t kept = 0, positions = 0;
+  for (uint32_t k = 0; k < h->leaf_count[i]; ++k)
+    for (uint32_t q = job->leaf_start[own[k]]; q < job->leaf_start[own[k] + 1]; ++q) {
+      uint32_t t = job->leaf_tris[q];
+      if (parts->tris[t].is_face && w->in_node[parts->atom_leaf[parts->tri_atom[parts->twin[t]]]] == i)
+        continue;
+      if (kept == w->kept_capacity) {
+        w->kept_capacity = bk_grow_capacity(w->kept_capacity, kept + 1);
+        w->kept = bk_realloc(w->kept, sizeof(uint32_t) * w->kept_capacity);
+        w->kept_leaf = bk_realloc(w->kept_leaf, sizeof(uint32_t) * w->kept_capacity);
+      }
+      w->kept[kept] = q;
+      w->kept_leaf[kept++] = own[k];
+      for (int c = 0; c < 3; ++c) {
+        uint32_t v = parts->tris[t].v[c];
+        if (w->stamp[v] == i) continue;
+        w->stamp[v] = i;
+        w->local[v] = positions;
+        if (positions == w->order_capacity) {
+          w->order_capacity = bk_grow_capacity(w->order_capacity, positions + 1);
+          w->order = bk_realloc(w->order, sizeof(uint32_t) * w->order_capacity);
+        }
+        w->order[positions++] = v;
+      }
+    }
+  bk_mesh* m = &node->mesh;
+  bk_mesh_reserve(m, positions, 3 * kept, kept);
+  for (uint32_t p = 0; p < positions; ++p)
+    m->positions[p] = job->b->cx.points[w->order[p]];
+  m->position_count = positions;
+  for (uint32_t k = 0; k < kept; ++k) {
+    uint32_t q = w->kept[k], t = job->leaf_tris[q];
+    if (node->child_count == 0) {
+      triangle_corners(job, t, m->corners + 3 * k, &m->materials[k], &m->tags[k]);
+    } else {
+      const bk_mesh* leaf = &job->tree->nodes[job->node_of_leaf[w->kept_leaf[k]]].mesh;
+      uint32_t at = q - job->leaf_start[w->kept_leaf[k]]; // its triangle in the leaf's mesh
+      memcpy(m->corners + 3 * k, leaf->corners + 3 * at, sizeof(bk_corner) * 3);
+      m->materials[k] = leaf->materials[at];
+      m->tags[k] = leaf->tags[at];
+    }
+    for (int c = 0; c < 3; ++c) {
+      m->corners[3 * k + c].position = w->local[parts->tris[t].v[c]];
+      m->indices[3 * k + c] = 3 * k + c;
+    }
+  }
+  m->corner_count = 3 * kept;
+  m->triangle_count = kept;
+  node->moments = bk_mesh_moments(m);
+  // Inner nodes are unions of leaves without their shared faces: closed
+  // when the leaves are.
+  job->open[i] = node->child_count == 0 && !leaf_is_closed(w, m);
+  bk_tree_frame_to_world(job->frame, m);
+  node->bounds = bk_mesh_bounds(m);
+}
+
+static void* node_work(void* arg) {
+  mesh_worker* w = arg;
+  mesh_job* job = w->job;
+  // Nodes in breadth-first order: the largest meshes are taken first.
+  for (uint32_t i = atomic_fetch_add(&job->next_node, 1u); i < job->h->count;
+       i = atomic_fetch_add(&job->next_node, 1u))
+    if (i > 0 && (job->h->child_count[i] > 0) == job->inner) make_node(w, i);
+  return NULL;
 }
 
 bool bk_cell_tree_assemble(const bk_mesh* root, const bk_fracture_def* d, bk_tree_frame frame,
@@ -297,23 +429,33 @@ bool bk_cell_tree_assemble(const bk_mesh* root, const bk_fracture_def* d, bk_tre
   free(mark);
   free(scratch);
   csr_free(&adjacent);
-  // Meshes.
+  // Meshes, on every core: each node's mesh is a function of the node.
+  // Each leaf's triangles in the order the nodes list them (its atoms in
+  // order, each atom's triangles in order), without the faces between two
+  // of its own atoms.
   csr atoms_of_leaf = csr_build(parts->atom_leaf, parts->atom_count, leaf_count);
   csr tris_of_atom = csr_build(parts->tri_atom, parts->tri_count, parts->atom_count);
-  mesh_maker mm = {.b = b, .root = root, .texture_scale = ldexp(d->texture_scale, -frame.exponent)};
-  mm.uv_shift[0] = frame.origin.x / d->texture_scale;
-  mm.uv_shift[1] = frame.origin.y / d->texture_scale;
-  mm.uv_shift[2] = frame.origin.z / d->texture_scale;
-  mm.stamp = bk_alloc(sizeof(uint32_t) * (b->cx.count ? b->cx.count : 1));
-  mm.local = bk_alloc(sizeof(uint32_t) * (b->cx.count ? b->cx.count : 1));
-  memset(mm.stamp, 0xff, sizeof(uint32_t) * b->cx.count);
-  uint32_t* in_node = bk_alloc(sizeof(uint32_t) * (leaf_count ? leaf_count : 1));
-  memset(in_node, 0xff, sizeof(uint32_t) * leaf_count);
+  uint32_t* leaf_start = bk_alloc(sizeof(uint32_t) * (leaf_count + 1));
+  uint32_t* leaf_tris = bk_alloc(sizeof(uint32_t) * (parts->tri_count ? parts->tri_count : 1));
+  uint32_t listed = 0;
+  for (uint32_t l = 0; l < leaf_count; ++l) {
+    leaf_start[l] = listed;
+    for (uint32_t a = atoms_of_leaf.start[l]; a < atoms_of_leaf.start[l + 1]; ++a) {
+      uint32_t atom = atoms_of_leaf.items[a];
+      for (uint32_t q = tris_of_atom.start[atom]; q < tris_of_atom.start[atom + 1]; ++q) {
+        uint32_t t = tris_of_atom.items[q];
+        if (!parts->tris[t].is_face || parts->atom_leaf[parts->tri_atom[parts->twin[t]]] != l)
+          leaf_tris[listed++] = t;
+      }
+    }
+  }
+  leaf_start[leaf_count] = listed;
+  csr_free(&atoms_of_leaf);
+  csr_free(&tris_of_atom);
   tree->nodes = bk_calloc(h.count, sizeof(bk_mesh_tree_node));
   tree->node_count = h.count;
-  bool ok = true;
-  double leaf_volume = 0.0;
-  for (uint32_t i = 0; i < h.count && ok; ++i) {
+  uint32_t* node_of_leaf = bk_alloc(sizeof(uint32_t) * (leaf_count ? leaf_count : 1));
+  for (uint32_t i = 0; i < h.count; ++i) {
     bk_mesh_tree_node* node = &tree->nodes[i];
     node->parent = h.parent[i];
     node->first_child = h.first_child[i];
@@ -321,27 +463,62 @@ bool bk_cell_tree_assemble(const bk_mesh* root, const bk_fracture_def* d, bk_tre
     node->depth = i == 0 ? 0 : tree->nodes[node->parent].depth + 1;
     if (node->depth > tree->max_depth) tree->max_depth = node->depth;
     node->plane = (bk_plane){{0, 0, 1}, 0}; // no single plane splits a cell node
-    if (i == 0) {
-      bk_mesh_copy(&node->mesh, root); // the source itself, as in every tree
-    } else {
-      const uint32_t* own = h.pool + h.leaf_first[i];
-      for (uint32_t k = 0; k < h.leaf_count[i]; ++k)
-        in_node[own[k]] = i;
-      for (uint32_t k = 0; k < h.leaf_count[i]; ++k)
-        for (uint32_t a = atoms_of_leaf.start[own[k]]; a < atoms_of_leaf.start[own[k] + 1]; ++a) {
-          uint32_t atom = atoms_of_leaf.items[a];
-          for (uint32_t q = tris_of_atom.start[atom]; q < tris_of_atom.start[atom + 1]; ++q) {
-            uint32_t t = tris_of_atom.items[q];
-            if (parts->tris[t].is_face && in_node[parts->atom_leaf[parts->tri_atom[parts->twin[t]]]] == i)
-              continue;
-            add_triangle(&mm, &node->mesh, &parts->tris[t], i);
-          }
-        }
-    }
-    node->moments = bk_mesh_moments(&node->mesh);
-    // Inner nodes are unions of leaves without their shared faces: closed
-    // when the leaves are.
-    if (node->child_count == 0 && !bk_mesh_is_closed(&node->mesh)) {
+    if (node->child_count == 0) node_of_leaf[h.pool[h.leaf_first[i]]] = i;
+  }
+  mesh_job job = {.b = b,
+                  .root = root,
+                  .h = &h,
+                  .leaf_start = leaf_start,
+                  .leaf_tris = leaf_tris,
+                  .node_of_leaf = node_of_leaf,
+                  .texture_scale = ldexp(d->texture_scale, -frame.exponent),
+                  .uv_shift = {frame.origin.x / d->texture_scale, frame.origin.y / d->texture_scale,
+                               frame.origin.z / d->texture_scale},
+                  .frame = frame,
+                  .tree = tree,
+                  .open = bk_calloc(h.count, 1)};
+  uint32_t threads = bk_fracture_thread_count(d, h.count, 16);
+  mesh_worker* workers = bk_calloc(threads, sizeof(mesh_worker));
+  for (uint32_t t = 0; t < threads; ++t) {
+    mesh_worker* w = &workers[t];
+    w->job = &job;
+    w->stamp = bk_alloc(sizeof(uint32_t) * (b->cx.count ? b->cx.count : 1));
+    w->local = bk_alloc(sizeof(uint32_t) * (b->cx.count ? b->cx.count : 1));
+    w->in_node = bk_alloc(sizeof(uint32_t) * (leaf_count ? leaf_count : 1));
+    memset(w->stamp, 0xff, sizeof(uint32_t) * b->cx.count);
+    memset(w->in_node, 0xff, sizeof(uint32_t) * leaf_count);
+  }
+  // The leaves first: the inner nodes copy their corners.
+  for (int pass = 0; pass < 2; ++pass) {
+    job.inner = pass == 1;
+    atomic_store(&job.next_node, 0u);
+    bk_cell_run_threads(threads, node_work, workers, sizeof *workers);
+  }
+  for (uint32_t t = 0; t < threads; ++t) {
+    free(workers[t].stamp);
+    free(workers[t].local);
+    free(workers[t].in_node);
+    free(workers[t].kept);
+    free(workers[t].kept_leaf);
+    free(workers[t].order);
+    free(workers[t].edge_start);
+    free(workers[t].edge_fill);
+    free(workers[t].edge_to);
+  }
+  free(workers);
+  free(leaf_start);
+  free(leaf_tris);
+  free(node_of_leaf);
+  // The root is the source itself, as in every tree (still local here; the
+  // caller restores its coordinates).
+  bk_mesh_copy(&tree->nodes[0].mesh, root);
+  tree->nodes[0].moments = bk_mesh_moments(&tree->nodes[0].mesh);
+  if (tree->nodes[0].child_count == 0) job.open[0] = !bk_mesh_is_closed(&tree->nodes[0].mesh);
+  bool ok = true;
+  double leaf_volume = 0.0;
+  for (uint32_t i = 0; i < h.count && ok; ++i) {
+    const bk_mesh_tree_node* node = &tree->nodes[i];
+    if (job.open[i]) {
       bk_closure cl = bk_mesh_check_closure(&node->mesh);
       ok = bk_error_set(err, "fracture: cell piece %u is not closed (%u open, %u overused edges)", i,
                         cl.open_edges, cl.overused_edges);
@@ -352,17 +529,10 @@ bool bk_cell_tree_assemble(const bk_mesh* root, const bk_fracture_def* d, bk_tre
   if (ok && !(fabs(leaf_volume - source_volume) <= 1e-9 * source_volume))
     ok = bk_error_set(err, "fracture: the cells' volumes add up to %.17g, not the source's %.17g",
                       leaf_volume, source_volume);
-  free(in_node);
-  free(mm.stamp);
-  free(mm.local);
-  csr_free(&atoms_of_leaf);
-  csr_free(&tris_of_atom);
+  free(job.open);
   free_hierarchy(&h);
   free(leaves);
   if (!ok) return false;
-  // Back to the source's coordinates (the root is restored by the caller's copy).
-  for (uint32_t i = 1; i < tree->node_count; ++i)
-    bk_tree_frame_to_world(frame, &tree->nodes[i].mesh);
   bk_mesh_tree_number_leaves(tree);
   bk_fracture_def desc = *d;
   bk_fracture_def_clear_borrowed(&desc);

@@ -117,6 +117,18 @@ static bk_aabb polytope_bounds(const bk_cell_complex* cx, const bk_cell_polytope
 
 // ---------------------------------------------------------------- cells on every core
 
+void bk_cell_run_threads(uint32_t threads, void* (*work)(void*), void* workers, size_t worker_size) {
+  pthread_t* ids = bk_calloc(threads, sizeof(pthread_t));
+  uint32_t started = 1;
+  for (uint32_t t = 1; t < threads; ++t, ++started)
+    if (pthread_create(&ids[t], NULL, work, (char*)workers + t * worker_size) != 0)
+      break; // the others take its share
+  work(workers);
+  for (uint32_t t = 1; t < started; ++t)
+    pthread_join(ids[t], NULL);
+  free(ids);
+}
+
 // Cells are independent once the seeds are known: each worker builds the
 // polytopes and surfaces of the cells it takes into a vertex table of its
 // own (a vertex's coordinates follow from its name, so every table agrees
@@ -141,7 +153,8 @@ static void* cell_work(void* arg) {
   cell_worker* w = arg;
   bk_cell_build* b = w->b;
   bk_cell_builder* builder = bk_cell_builder_create();
-  uint32_t *near = NULL, near_capacity = 0, *tris = NULL, tri_capacity = 0;
+  bk_seed_near near = {0};
+  uint32_t *tris = NULL, tri_capacity = 0;
   uint32_t* stamp = bk_alloc(sizeof(uint32_t) * (w->m->triangle_count ? w->m->triangle_count : 1));
   memset(stamp, 0xff, sizeof(uint32_t) * w->m->triangle_count);
   uint32_t done = 0;
@@ -153,15 +166,20 @@ static void* cell_work(void* arg) {
     // Start from the local spacing: seeds of the radial and clustered
     // patterns are far denser in places than on average.
     double local = bk_seed_grid_spacing(w->grid, c);
+    bk_cell_polytope_begin(builder, &w->cx, c);
+    // A wider list would start with the seeds of the narrower one: only the
+    // seeds beyond it are listed, and the clipping goes on with them.
+    double inner = -1.0;
     for (double radius = 2.5 * (local < w->spacing ? local : w->spacing);;) {
-      uint32_t count = bk_seed_grid_near(w->grid, c, radius, &near, &near_capacity);
-      if (!bk_cell_polytope_build(builder, &w->cx, c, near, count, &b->polytopes[c])) {
+      uint32_t count = bk_seed_grid_near(w->grid, c, inner, radius, &near);
+      if (!bk_cell_polytope_clip(builder, &w->cx, near.seeds, count)) {
         ok = false;
         break;
       }
       // Every seed that could still cut the cell must have been in the list.
-      double reach = bk_cell_reach(&w->cx, &b->polytopes[c], c);
+      double reach = bk_cell_builder_reach(builder, &w->cx);
       if (2.0 * reach <= radius || radius > 2.0 * w->whole) break;
+      inner = radius;
       radius = 2.0 * reach * 1.0001;
     }
     if (!ok) {
@@ -169,6 +187,7 @@ static void* cell_work(void* arg) {
       bk_cell_polytope_free(&b->polytopes[c]);
       continue;
     }
+    bk_cell_polytope_store(builder, &w->cx, &b->polytopes[c]);
     uint32_t count =
         tri_grid_query(w->tg, polytope_bounds(&w->cx, &b->polytopes[c]), stamp, c, &tris, &tri_capacity);
     if (count) qsort(tris, count, sizeof(uint32_t), compare_u32);
@@ -178,7 +197,7 @@ static void* cell_work(void* arg) {
         !w->d->progress(w->d->progress_user, c / 2, b->cells))
       atomic_store(w->cancelled, true);
   }
-  free(near);
+  bk_seed_near_free(&near);
   free(tris);
   free(stamp);
   bk_cell_builder_destroy(builder);
@@ -220,14 +239,7 @@ static bool run_cells(const bk_mesh* m, const bk_fracture_def* d, bk_cell_build*
     bk_cell_complex_init(&w->cx, m, b->seeds, b->cells);
     w->cx.planar_axis = b->cx.planar_axis;
   }
-  pthread_t* ids = bk_calloc(threads, sizeof(pthread_t));
-  uint32_t started = 1;
-  for (uint32_t t = 1; t < threads; ++t, ++started)
-    if (pthread_create(&ids[t], NULL, cell_work, &workers[t]) != 0) break; // the others take its share
-  cell_work(&workers[0]);
-  for (uint32_t t = 1; t < started; ++t)
-    pthread_join(ids[t], NULL);
-  free(ids);
+  bk_cell_run_threads(threads, cell_work, workers, sizeof *workers);
   uint32_t failed = UINT32_MAX;
   for (uint32_t t = 0; t < threads; ++t)
     failed = workers[t].failed_cell < failed ? workers[t].failed_cell : failed;
@@ -264,6 +276,17 @@ static bool run_cells(const bk_mesh* m, const bk_fracture_def* d, bk_cell_build*
   return ok;
 }
 
+static void free_cells(bk_cell_build* b) {
+  for (uint32_t c = 0; b->polytopes && c < b->cells; ++c)
+    bk_cell_polytope_free(&b->polytopes[c]);
+  for (uint32_t c = 0; b->surfaces && c < b->cells; ++c)
+    bk_cell_surface_free(&b->surfaces[c]);
+  free(b->polytopes);
+  free(b->surfaces);
+  b->polytopes = NULL;
+  b->surfaces = NULL;
+}
+
 bool bk_cell_complex_run(const bk_mesh* m, const bk_fracture_def* d, bk_tree_frame frame, uint32_t attempt,
                          bk_cell_build* b, bk_error* err) {
   memset(b, 0, sizeof *b);
@@ -287,21 +310,22 @@ bool bk_cell_complex_run(const bk_mesh* m, const bk_fracture_def* d, bk_tree_fra
   // far longer than wide).
   if (d->pattern == BK_PATTERN_CUTOUT) b->cx.planar_axis = (int)d->cutout_axis;
   if (!run_cells(m, d, b, err)) return false;
-  if (!bk_cell_build_faces(&b->cx, b->polytopes, b->surfaces, b->cells, &b->faces, err)) return false;
+  if (!bk_cell_build_faces(&b->cx, b->polytopes, b->surfaces, b->cells,
+                           bk_fracture_thread_count(d, b->cells, 64), &b->faces, err))
+    return false;
   if (d->noise_amplitude > 0.0)
     bk_cell_faces_add_noise(&b->cx, &b->faces, ldexp(d->noise_amplitude, -frame.exponent),
                             ldexp(d->noise_frequency, frame.exponent), d->seed);
   uint32_t target = d->pattern == BK_PATTERN_CUTOUT || d->seed_points ? UINT32_MAX : d->pieces;
-  return bk_cell_group(b, target, b->cell_label);
+  if (!bk_cell_group(b, target, b->cell_label)) return false;
+  // The triangles are in b->parts now: the cells' polytopes and surfaces go
+  // before the nodes' meshes are made, which lowers the peak.
+  free_cells(b);
+  return true;
 }
 
 void bk_cell_build_free(bk_cell_build* b) {
-  for (uint32_t c = 0; b->polytopes && c < b->cells; ++c)
-    bk_cell_polytope_free(&b->polytopes[c]);
-  for (uint32_t c = 0; b->surfaces && c < b->cells; ++c)
-    bk_cell_surface_free(&b->surfaces[c]);
-  free(b->polytopes);
-  free(b->surfaces);
+  free_cells(b);
   bk_cell_faces_free(&b->faces);
   bk_cell_parts* p = &b->parts;
   free(p->tris);

@@ -40,6 +40,7 @@ typedef struct bk_cell_complex {
   uint32_t count, capacity;
   uint32_t* slots; ///< open addressing: vertex index + 1, 0 = empty
   uint32_t slot_mask;
+  uint32_t* source_vertex; ///< per source position: its vertex, or UINT32_MAX before first use
 } bk_cell_complex;
 
 void bk_cell_complex_init(bk_cell_complex* cx, const bk_mesh* source, const bk_vec3* seeds,
@@ -48,6 +49,9 @@ void bk_cell_complex_free(bk_cell_complex* cx);
 /// The vertex with this name (ids sorted by the caller as documented),
 /// computed and added on first use. Returns its index.
 uint32_t bk_cell_vertex(bk_cell_complex* cx, const bk_cell_key* key);
+/// The vertex of source position `position` (bk_cell_vertex without the
+/// hashing: every cell's surface asks for these again and again).
+uint32_t bk_cell_source_vertex(bk_cell_complex* cx, uint32_t position);
 /// Adds a vertex whose coordinates are given (a noisy face's point).
 uint32_t bk_cell_vertex_at(bk_cell_complex* cx, const bk_cell_key* key, bk_vec3 point);
 /// The index of a named vertex, or UINT32_MAX.
@@ -85,24 +89,30 @@ typedef struct bk_cell_polytope {
   int32_t* planes;      ///< per face
   uint32_t* face_first; ///< per face: start in `loop`
   uint32_t* face_count; ///< per face: loop length
-  uint32_t faces;
+  uint32_t faces, face_capacity;
   uint32_t* loop;
-  uint32_t loop_count;
+  uint32_t loop_count, loop_capacity;
 } bk_cell_polytope;
 
 /// Scratch for building polytopes (one per thread).
 typedef struct bk_cell_builder bk_cell_builder;
 bk_cell_builder* bk_cell_builder_create(void);
 void bk_cell_builder_destroy(bk_cell_builder* b);
-/// The Voronoi cell of seed `cell` within cx->box. `near` lists candidate
-/// neighbours by increasing distance (all seeds that can matter). Fails only
-/// when the cell degenerates (coincident seeds).
-bool bk_cell_polytope_build(bk_cell_builder* b, bk_cell_complex* cx, uint32_t cell, const uint32_t* near,
-                            uint32_t near_count, bk_cell_polytope* out);
-void bk_cell_polytope_free(bk_cell_polytope* p);
-/// How far the polytope reaches from its seed (within the seeds' plane when
+/// Starts the Voronoi cell of seed `cell`: the whole of cx->box.
+void bk_cell_polytope_begin(bk_cell_builder* b, bk_cell_complex* cx, uint32_t cell);
+/// Clips the cell begun by the bisectors of the seeds in `near`, in order
+/// (nearest first), until no farther seed can cut it. Called again with
+/// seeds farther than all before, it goes on where it stopped, so the cell
+/// is the same however its seeds were listed. Fails only when the cell
+/// degenerates (coincident seeds).
+bool bk_cell_polytope_clip(bk_cell_builder* b, bk_cell_complex* cx, const uint32_t* near,
+                           uint32_t near_count);
+/// How far the cell reaches from its seed (within the seeds' plane when
 /// they share one): no seed farther than twice this can cut it.
-double bk_cell_reach(const bk_cell_complex* cx, const bk_cell_polytope* p, uint32_t cell);
+double bk_cell_builder_reach(const bk_cell_builder* b, const bk_cell_complex* cx);
+/// Copies the cell into `out` (freed first), its vertices added to cx.
+void bk_cell_polytope_store(bk_cell_builder* b, bk_cell_complex* cx, bk_cell_polytope* out);
+void bk_cell_polytope_free(bk_cell_polytope* p);
 /// Distance between two points as the reach counts it.
 double bk_cell_distance(const bk_cell_complex* cx, bk_vec3 a, bk_vec3 b);
 
@@ -113,10 +123,25 @@ void bk_seed_grid_destroy(bk_seed_grid* g);
 /// The typical distance between seeds around seed `cell` (from the seed
 /// density of the bins around it).
 double bk_seed_grid_spacing(const bk_seed_grid* g, uint32_t cell);
-/// Seeds within `radius` of seed `cell` (itself excluded), nearest first,
-/// into *out (grown as needed). Returns the count.
-uint32_t bk_seed_grid_near(const bk_seed_grid* g, uint32_t cell, double radius, uint32_t** out,
-                           uint32_t* capacity);
+/// A seed and its squared distance, as the near lists sort them.
+typedef struct bk_near_entry {
+  double d;
+  uint32_t index;
+} bk_near_entry;
+/// A near list and its scratch (one per thread, reused).
+typedef struct bk_seed_near {
+  uint32_t* seeds; ///< nearest first
+  uint32_t count;
+  bk_near_entry* entries; ///< 2 x capacity: the list and the sort's buffer
+  uint32_t capacity;
+} bk_seed_near;
+/// Seeds farther than `inner` (< 0: any) and within `radius` of seed `cell`
+/// (itself excluded), nearest first (ties: the lower id), into out->seeds.
+/// Returns the count. The seeds within a larger radius are those within a
+/// smaller one followed by those between the two.
+uint32_t bk_seed_grid_near(const bk_seed_grid* g, uint32_t cell, double inner, double radius,
+                           bk_seed_near* out);
+void bk_seed_near_free(bk_seed_near* n);
 
 /// One piece of one source triangle inside one cell: a convex polygon.
 /// Edge k runs from vertex k to k + 1; its `support` is the bisector's other
@@ -150,6 +175,11 @@ uint32_t bk_cell_seeds(const bk_mesh* local_source, const bk_fracture_def* d, bk
 
 /// Flags, per point, whether it lies inside the closed mesh (ray parity).
 void bk_points_inside(const bk_mesh* mesh, const bk_vec3* points, uint32_t count, uint8_t* inside);
+/// bk_points_inside for many batches of points: the mesh is binned once.
+typedef struct bk_inside_test bk_inside_test;
+bk_inside_test* bk_inside_test_create(const bk_mesh* mesh);
+void bk_inside_test_run(const bk_inside_test* t, const bk_vec3* points, uint32_t count, uint8_t* inside);
+void bk_inside_test_destroy(bk_inside_test* t);
 
 /// The cut faces between cells: each the part of a Voronoi face inside the
 /// source, triangulated once and used by both cells (reversed for b).
@@ -167,10 +197,17 @@ typedef struct bk_cell_faces {
   uint32_t triangle_count, triangle_capacity;
 } bk_cell_faces;
 
-/// Builds every cut face from the cells' polytopes and surfaces. Fails when
-/// the complex is inconsistent (rounding in a near-degenerate seed layout).
+/// Runs work(workers + t * worker_size) for t < threads, the calling thread
+/// taking t = 0. The work functions must share their jobs through a counter:
+/// a thread that cannot be started leaves its share to the others.
+void bk_cell_run_threads(uint32_t threads, void* (*work)(void*), void* workers, size_t worker_size);
+
+/// Builds every cut face from the cells' polytopes and surfaces, on up to
+/// `threads` threads (the same faces for any count). Fails when the complex
+/// is inconsistent (rounding in a near-degenerate seed layout).
 bool bk_cell_build_faces(bk_cell_complex* cx, const bk_cell_polytope* polytopes,
-                         const bk_cell_surface* surfaces, uint32_t cells, bk_cell_faces* out, bk_error* err);
+                         const bk_cell_surface* surfaces, uint32_t cells, uint32_t threads,
+                         bk_cell_faces* out, bk_error* err);
 void bk_cell_faces_free(bk_cell_faces* f);
 
 /// Refinement levels of a noisy cut face at most (each splits the face

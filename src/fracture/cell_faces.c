@@ -6,6 +6,7 @@
 // and walking the Voronoi edges from them the status flips at every point
 // where an edge pierces the surface (the surface clipping names those
 // points). The loops are triangulated once per face and shared by a and b.
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -42,9 +43,34 @@ static int compare_piercings(const void* pa, const void* pb) {
   return a->vertex < b->vertex ? -1 : (a->vertex > b->vertex);
 }
 
-static int compare_pairs(const void* pa, const void* pb) {
-  const uint64_t *a = pa, *b = pb;
-  return *a < *b ? -1 : (*a > *b);
+// Sorts keys[0, count) in increasing order: least significant digit
+// first, 11 bits at a time, skipping digits all keys share (the vertex
+// numbers use far fewer than 32 bits). The edge lists are long and on the
+// one thread, where a comparison sort took most of their time.
+static void sort_keys(uint64_t* keys, uint32_t count) {
+  uint64_t* tmp = bk_alloc(sizeof(uint64_t) * (count ? count : 1));
+  uint32_t* histogram = bk_alloc(sizeof(uint32_t) * 2048);
+  uint64_t *from = keys, *to = tmp;
+  for (int shift = 0; shift < 64; shift += 11) {
+    memset(histogram, 0, sizeof(uint32_t) * 2048);
+    for (uint32_t i = 0; i < count; ++i)
+      histogram[(from[i] >> shift) & 2047]++;
+    if (count == 0 || histogram[(from[0] >> shift) & 2047] == count) continue; // one digit: already in order
+    uint32_t sum = 0;
+    for (uint32_t d = 0; d < 2048; ++d) {
+      uint32_t n = histogram[d];
+      histogram[d] = sum;
+      sum += n;
+    }
+    for (uint32_t i = 0; i < count; ++i)
+      to[histogram[(from[i] >> shift) & 2047]++] = from[i];
+    uint64_t* t = from;
+    from = to;
+    to = t;
+  }
+  if (from != keys) memcpy(keys, from, sizeof(uint64_t) * count);
+  free(tmp);
+  free(histogram);
 }
 
 typedef struct graph {
@@ -108,7 +134,7 @@ static bool classify(const bk_cell_complex* cx, const bk_cell_polytope* polys,
         pairs[pair_count++] = bk_edge_key(u, v);
       }
   }
-  qsort(pairs, pair_count, sizeof(uint64_t), compare_pairs);
+  sort_keys(pairs, pair_count);
   uint32_t unique = 0;
   for (uint32_t i = 0; i < pair_count; ++i)
     if (unique == 0 || pairs[i] != pairs[unique - 1]) pairs[unique++] = pairs[i];
@@ -263,64 +289,92 @@ static void push_face(bk_cell_faces* out, bk_cell_face face, const face_scratch*
   out->faces[out->count++] = face;
 }
 
-bool bk_cell_build_faces(bk_cell_complex* cx, const bk_cell_polytope* polys, const bk_cell_surface* surfaces,
-                         uint32_t cells, bk_cell_faces* out, bk_error* err) {
-  memset(out, 0, sizeof *out);
-  graph g = {0};
-  if (!classify(cx, polys, surfaces, cells, &g, err)) {
-    free(g.piercings);
-    free(g.status);
-    return false;
+// The faces of a run of cells on one thread. Cells are taken in increasing
+// order from a shared counter, each cell's faces kept together, so joining
+// them in cell order gives the same faces for any number of threads.
+typedef struct face_worker {
+  const bk_cell_complex* cx;
+  const graph* g;
+  const bk_cell_polytope* polys;
+  const bk_cell_surface* surfaces;
+  uint32_t cells;
+  atomic_uint* next;
+  atomic_bool* failed;
+  uint32_t index;
+  uint32_t* cell_worker; // per cell: the worker that built its faces
+  uint32_t* cell_first;  // per cell: its first face in that worker's list
+  uint32_t* cell_count;  // per cell: how many faces it built
+  bk_cell_faces out;
+  uint32_t failed_cell; // the lowest cell whose faces failed, or UINT32_MAX
+  bk_error error;       // why
+} face_worker;
+
+// The faces cell c builds (those towards higher cells) into w->out.
+static bool cell_faces(face_worker* w, bk_cap* cap, face_scratch* s, uint32_t c) {
+  const bk_cell_complex* cx = w->cx;
+  const bk_cell_polytope* p = &w->polys[c];
+  const bk_cell_surface* sf = &w->surfaces[c];
+  for (uint32_t f = 0; f < p->faces; ++f) {
+    int32_t other = p->planes[f];
+    if (other <= (int32_t)c) continue; // box faces, and faces the lower cell builds
+    bk_vec3 n = bk_v3_normalize(bk_v3_sub(cx->seeds[other], cx->seeds[c]));
+    bk_vec3 u = bk_v3(0, 0, 0), v = bk_v3(0, 0, 0);
+    bk_plane_basis(n, &u, &v);
+    s->edge_count = s->vertex_count = 0;
+    bk_index_map_clear(&s->local);
+    const uint32_t* loop = p->loop + p->face_first[f];
+    uint32_t count = p->face_count[f];
+    bool ok = true;
+    for (uint32_t k = 0; k < count && ok; ++k)
+      ok = add_voronoi_edge(s, cx, w->g, loop[k], loop[(k + 1) % count], u, v);
+    uint32_t source_triangle = UINT32_MAX;
+    for (uint32_t q = 0; q < sf->polygon_count && ok; ++q) {
+      const bk_cell_polygon* poly = &sf->polygons[q];
+      for (uint32_t k = 0; k < poly->count; ++k)
+        if (sf->supports[poly->first + k] == other) {
+          // The surface runs a -> b here; the cut face runs back along it.
+          uint32_t a = sf->vertices[poly->first + k], b = sf->vertices[poly->first + (k + 1) % poly->count];
+          add_edge(s, cx, b, a, u, v);
+          if (source_triangle == UINT32_MAX) source_triangle = poly->triangle;
+        }
+    }
+    if (!ok)
+      return bk_error_set(
+          &w->error, "fracture: a Voronoi edge between cells %u and %d crosses the surface inconsistently", c,
+          other);
+    if (s->edge_count == 0) continue; // the face lies outside the source
+    const uint32_t* tris = NULL;
+    uint32_t tri_count = 0;
+    bk_error inner = {0};
+    if (!bk_cap_triangulate(cap, s->edges, s->edge_count / 2, s->xy, s->vertex_count, &tris, &tri_count,
+                            &inner))
+      return bk_error_set(&w->error,
+                          "fracture: the cut face between cells %u and %d cannot be triangulated (%s)", c,
+                          other, inner.message);
+    push_face(&w->out,
+              (bk_cell_face){.a = c, .b = (uint32_t)other, .source_triangle = source_triangle, .normal = n},
+              s, tris, tri_count);
   }
+  return true;
+}
+
+static void* face_work(void* arg) {
+  face_worker* w = arg;
   bk_cap* cap = bk_cap_create();
   face_scratch s = {0};
   bk_index_map_init(&s.local, 64);
-  bool ok = true;
-  for (uint32_t c = 0; c < cells && ok; ++c) {
-    const bk_cell_polytope* p = &polys[c];
-    const bk_cell_surface* sf = &surfaces[c];
-    for (uint32_t f = 0; f < p->faces && ok; ++f) {
-      int32_t other = p->planes[f];
-      if (other <= (int32_t)c) continue; // box faces, and faces the lower cell builds
-      bk_vec3 n = bk_v3_normalize(bk_v3_sub(cx->seeds[other], cx->seeds[c])), u, w;
-      bk_plane_basis(n, &u, &w);
-      s.edge_count = s.vertex_count = 0;
-      bk_index_map_clear(&s.local);
-      const uint32_t* loop = p->loop + p->face_first[f];
-      uint32_t count = p->face_count[f];
-      for (uint32_t k = 0; k < count && ok; ++k)
-        ok = add_voronoi_edge(&s, cx, &g, loop[k], loop[(k + 1) % count], u, w);
-      uint32_t source_triangle = UINT32_MAX;
-      for (uint32_t q = 0; q < sf->polygon_count && ok; ++q) {
-        const bk_cell_polygon* poly = &sf->polygons[q];
-        for (uint32_t k = 0; k < poly->count; ++k)
-          if (sf->supports[poly->first + k] == other) {
-            // The surface runs a -> b here; the cut face runs back along it.
-            uint32_t a = sf->vertices[poly->first + k], b = sf->vertices[poly->first + (k + 1) % poly->count];
-            add_edge(&s, cx, b, a, u, w);
-            if (source_triangle == UINT32_MAX) source_triangle = poly->triangle;
-          }
-      }
-      if (!ok) {
-        bk_error_set(err,
-                     "fracture: a Voronoi edge between cells %u and %d crosses the surface inconsistently", c,
-                     other);
-        break;
-      }
-      if (s.edge_count == 0) continue; // the face lies outside the source
-      const uint32_t* tris = NULL;
-      uint32_t tri_count = 0;
-      bk_error inner = {0};
-      if (!bk_cap_triangulate(cap, s.edges, s.edge_count / 2, s.xy, s.vertex_count, &tris, &tri_count,
-                              &inner)) {
-        ok = bk_error_set(err, "fracture: the cut face between cells %u and %d cannot be triangulated (%s)",
-                          c, other, inner.message);
-        break;
-      }
-      push_face(out,
-                (bk_cell_face){.a = c, .b = (uint32_t)other, .source_triangle = source_triangle, .normal = n},
-                &s, tris, tri_count);
+  for (;;) {
+    // After a failure only lower cells matter: they were all handed out already.
+    if (atomic_load(w->failed)) break;
+    uint32_t c = atomic_fetch_add(w->next, 1u);
+    if (c >= w->cells) break;
+    w->cell_worker[c] = w->index;
+    w->cell_first[c] = w->out.count;
+    if (!cell_faces(w, cap, &s, c)) {
+      w->failed_cell = c;
+      atomic_store(w->failed, true);
     }
+    w->cell_count[c] = w->out.count - w->cell_first[c];
   }
   bk_cap_destroy(cap);
   bk_index_map_free(&s.local);
@@ -328,6 +382,72 @@ bool bk_cell_build_faces(bk_cell_complex* cx, const bk_cell_polytope* polys, con
   free(s.global);
   free(s.xy);
   free(s.params);
+  return NULL;
+}
+
+bool bk_cell_build_faces(bk_cell_complex* cx, const bk_cell_polytope* polys, const bk_cell_surface* surfaces,
+                         uint32_t cells, uint32_t threads, bk_cell_faces* out, bk_error* err) {
+  memset(out, 0, sizeof *out);
+  graph g = {0};
+  if (!classify(cx, polys, surfaces, cells, &g, err)) {
+    free(g.piercings);
+    free(g.status);
+    return false;
+  }
+  threads = threads ? threads : 1;
+  face_worker* workers = bk_calloc(threads, sizeof(face_worker));
+  uint32_t* cell_worker = bk_alloc(sizeof(uint32_t) * (cells ? cells : 1));
+  uint32_t* cell_first = bk_alloc(sizeof(uint32_t) * (cells ? cells : 1));
+  uint32_t* cell_count = bk_alloc(sizeof(uint32_t) * (cells ? cells : 1));
+  atomic_uint next = 0;
+  atomic_bool failed = false;
+  for (uint32_t t = 0; t < threads; ++t)
+    workers[t] = (face_worker){.cx = cx,
+                               .g = &g,
+                               .polys = polys,
+                               .surfaces = surfaces,
+                               .cells = cells,
+                               .next = &next,
+                               .failed = &failed,
+                               .index = t,
+                               .cell_worker = cell_worker,
+                               .cell_first = cell_first,
+                               .cell_count = cell_count,
+                               .failed_cell = UINT32_MAX};
+  bk_cell_run_threads(threads, face_work, workers, sizeof *workers);
+  const face_worker* first_failure = NULL;
+  for (uint32_t t = 0; t < threads; ++t)
+    if (workers[t].failed_cell != UINT32_MAX &&
+        (!first_failure || workers[t].failed_cell < first_failure->failed_cell))
+      first_failure = &workers[t];
+  bool ok = first_failure == NULL;
+  if (!ok && err) *err = first_failure->error;
+  // Join the workers' faces in cell order.
+  for (uint32_t t = 0; t < threads && ok; ++t) {
+    out->capacity += workers[t].out.count;
+    out->triangle_capacity += workers[t].out.triangle_count;
+  }
+  if (ok) {
+    out->faces = bk_alloc(sizeof(bk_cell_face) * (out->capacity ? out->capacity : 1));
+    out->triangles = bk_alloc(sizeof(uint32_t) * 3 * (out->triangle_capacity ? out->triangle_capacity : 1));
+  }
+  for (uint32_t c = 0; c < cells && ok; ++c) {
+    const bk_cell_faces* from = &workers[cell_worker[c]].out;
+    for (uint32_t i = cell_first[c]; i < cell_first[c] + cell_count[c]; ++i) {
+      bk_cell_face face = from->faces[i];
+      memcpy(out->triangles + 3 * out->triangle_count, from->triangles + 3 * face.first,
+             sizeof(uint32_t) * 3 * face.count);
+      face.first = out->triangle_count;
+      out->triangle_count += face.count;
+      out->faces[out->count++] = face;
+    }
+  }
+  for (uint32_t t = 0; t < threads; ++t)
+    bk_cell_faces_free(&workers[t].out);
+  free(workers);
+  free(cell_worker);
+  free(cell_first);
+  free(cell_count);
   free(g.piercings);
   free(g.status);
   if (!ok) bk_cell_faces_free(out);

@@ -124,7 +124,8 @@ static bool accept(const draw_def* dd, bk_vec3 p) {
 // Draws `want` points inside the source into `out`; false when too few of
 // the candidates land inside (a source that fills almost none of its box, or
 // an impact far away from it).
-static bool draw_inside(const bk_mesh* m, bk_rng* rng, const draw_def* dd, uint32_t want, seed_list* out) {
+static bool draw_inside(const bk_mesh* m, const bk_inside_test* test, bk_rng* rng, const draw_def* dd,
+                        uint32_t want, seed_list* out) {
   bk_aabb box = bk_mesh_bounds(m);
   uint32_t batch = want < 64 ? 256 : want * 4;
   bk_vec3* pts = bk_alloc(sizeof(bk_vec3) * batch);
@@ -136,12 +137,18 @@ static bool draw_inside(const bk_mesh* m, bk_rng* rng, const draw_def* dd, uint3
   double gap = dd->gap;
   gap_reset(&grid, gap, out);
   while (out->count < target && drawn < limit) {
-    for (uint32_t i = 0; i < batch; ++i)
-      pts[i] = candidate(rng, box, dd);
+    // Candidates the pattern refuses (most of them for a thin border band)
+    // are dropped before the costlier inside test; the order of the rest
+    // is kept, so the same seeds are chosen.
+    uint32_t tested = 0;
+    for (uint32_t i = 0; i < batch; ++i) {
+      bk_vec3 p = candidate(rng, box, dd);
+      if (accept(dd, p)) pts[tested++] = p;
+    }
     drawn += batch;
-    bk_points_inside(m, pts, batch, inside);
-    for (uint32_t i = 0; i < batch && out->count < target; ++i)
-      if (inside[i] && accept(dd, pts[i]) && gap_clear(&grid, out, pts[i])) {
+    bk_inside_test_run(test, pts, tested, inside);
+    for (uint32_t i = 0; i < tested && out->count < target; ++i)
+      if (inside[i] && gap_clear(&grid, out, pts[i])) {
         push(out, pts[i]);
         if (gap > 0.0) gap_add(&grid, out->points, out->count - 1);
       }
@@ -217,6 +224,8 @@ uint32_t bk_cell_seeds(const bk_mesh* m, const bk_fracture_def* d, bk_vec3 origi
   // that a physics engine cannot rest them (they jitter awake for ever).
   double gap = BK_CELL_SEED_GAP * cbrt(fmax(bk_mesh_volume(m), 0.0) / d->pieces);
   if (!(gap > 1e-9 * largest)) gap = 0.0; // a sliver of a source: no gap to keep
+  // The source is binned for the inside test once, for every batch of candidates.
+  bk_inside_test* test = bk_inside_test_create(m);
   bool ok = true;
   switch (d->pattern) {
   case BK_PATTERN_CLUSTERED: {
@@ -231,7 +240,7 @@ uint32_t bk_cell_seeds(const bk_mesh* m, const bk_fracture_def* d, bk_vec3 origi
     seed_list centres = {0}, candidates = {0};
     for (uint32_t c = 0; c < chunks && ok; ++c) {
       candidates.count = 0;
-      ok = draw_inside(m, &rng, &uniform, 16, &candidates);
+      ok = draw_inside(m, test, &rng, &uniform, 16, &candidates);
       uint32_t best = 0;
       double best_d = -1.0;
       for (uint32_t i = 0; i < candidates.count && c; ++i) {
@@ -246,7 +255,7 @@ uint32_t bk_cell_seeds(const bk_mesh* m, const bk_fracture_def* d, bk_vec3 origi
     uint32_t cores = 0;
     if (ok && chunks > 1) {
       draw_def core = {.kind = DRAW_CORE, .centres = centres.points, .centre_count = chunks, .border = band};
-      ok = draw_inside(m, &rng, &core, 8 * chunks, &list);
+      ok = draw_inside(m, test, &rng, &core, 8 * chunks, &list);
       cores = list.count;
       // Chunks whose core drew no seed are all border: the pieces left go
       // to the border cells.
@@ -259,7 +268,7 @@ uint32_t bk_cell_seeds(const bk_mesh* m, const bk_fracture_def* d, bk_vec3 origi
       }
       draw_def border = {
           .gap = gap, .kind = DRAW_BORDER, .centres = centres.points, .centre_count = chunks, .border = band};
-      if (ok && d->pieces > cored) ok = draw_inside(m, &rng, &border, d->pieces - cored, &list);
+      if (ok && d->pieces > cored) ok = draw_inside(m, test, &rng, &border, d->pieces - cored, &list);
     } else if (ok) { // one chunk: no borders, it stays whole
       push(&list, centres.points[0]);
       cores = 1;
@@ -291,21 +300,23 @@ uint32_t bk_cell_seeds(const bk_mesh* m, const bk_fracture_def* d, bk_vec3 origi
                        .reach = reach,
                        .exponent = 3.0 - 2.0 * d->radial_falloff,
                        .min_radius = 0.01 * largest};
-    ok = draw_inside(m, &rng, &radial, d->pieces, &list);
+    ok = draw_inside(m, test, &rng, &radial, d->pieces, &list);
     break;
   }
   default:
     if (d->seed_points) {
       if (!user_seeds(m, d, origin, exponent, &list, err)) {
         free(list.points);
+        bk_inside_test_destroy(test);
         return 0;
       }
     } else {
       draw_def uniform = {.kind = DRAW_UNIFORM, .gap = gap};
-      ok = draw_inside(m, &rng, &uniform, d->pieces, &list);
+      ok = draw_inside(m, test, &rng, &uniform, d->pieces, &list);
     }
     break;
   }
+  bk_inside_test_destroy(test);
   if (!ok) {
     free(list.points);
     free(*cluster_of);

@@ -80,10 +80,8 @@ void bk_cell_clip_surface(bk_cell_complex* cx, uint32_t cell, const bk_cell_poly
         hi.y < bounds.min.y || hi.z < bounds.min.z)
       continue;
     a.count = 0;
-    for (int k = 0; k < 3; ++k) {
-      bk_cell_key key = {.kind = BK_CELL_SOURCE, .a = bk_mesh_tri_position(cx->source, t, k)};
-      poly_push(&a, bk_cell_vertex(cx, &key), -1 - k);
-    }
+    for (int k = 0; k < 3; ++k)
+      poly_push(&a, bk_cell_source_vertex(cx, bk_mesh_tri_position(cx->source, t, k)), -1 - k);
     for (uint32_t f = 0; f < cp->faces && a.count; ++f) {
       int32_t m = cp->planes[f];
       if (m < 0) continue; // box planes lie outside the source
@@ -151,73 +149,125 @@ void bk_cell_surface_free(bk_cell_surface* s) {
 
 // ---------------------------------------------------------------- inside test
 
-// Parity of the crossings of a ray from each point towards +z, with the
-// points binned on an x-y grid so each triangle only meets the points under
-// it. A point exactly on a projected edge counts for one side only (the
-// half-open rule), so shared edges are not counted twice.
+// Parity of the crossings of a ray from each point towards +z. The
+// triangles are binned once on an x-y grid, so each point only meets the
+// triangles over its bin. A point exactly on a projected edge counts for one
+// side only (the half-open rule), so shared edges are not counted twice.
 static bool covers(double ax, double ay, double bx, double by, double px, double py) {
   double e = (bx - ax) * (py - ay) - (by - ay) * (px - ax);
   if (e != 0.0) return e > 0.0;
   return bx < ax || (bx == ax && by < ay);
 }
 
-void bk_points_inside(const bk_mesh* m, const bk_vec3* pts, uint32_t count, uint8_t* inside) {
-  memset(inside, 0, count);
-  if (!count) return;
-  bk_aabb box = bk_mesh_bounds(m);
-  int n = (int)fmin(fmax(sqrt((double)count) / 2.0, 1.0), 512.0);
-  double sx = (box.max.x - box.min.x) / n, sy = (box.max.y - box.min.y) / n;
-  if (!(sx > 0.0) || !(sy > 0.0)) return;
-  uint32_t* start = bk_calloc((size_t)n * n + 1, sizeof(uint32_t));
-  uint32_t* order = bk_alloc(sizeof(uint32_t) * count);
-  int32_t* bin = bk_alloc(sizeof(int32_t) * count);
-  for (uint32_t i = 0; i < count; ++i) {
-    // Compared as doubles first: a point far away (or not finite) has no bin.
-    double fx = floor((pts[i].x - box.min.x) / sx), fy = floor((pts[i].y - box.min.y) / sy);
-    bin[i] = !(fx >= 0.0 && fy >= 0.0 && fx < n && fy < n) ? -1 : (int32_t)fy * n + (int32_t)fx;
-    if (bin[i] >= 0) start[bin[i] + 1]++;
-  }
-  for (int b = 0; b < n * n; ++b)
-    start[b + 1] += start[b];
-  uint32_t* fill = bk_alloc(sizeof(uint32_t) * ((size_t)n * n));
-  memcpy(fill, start, sizeof(uint32_t) * (size_t)n * n);
-  for (uint32_t i = 0; i < count; ++i)
-    if (bin[i] >= 0) order[fill[bin[i]]++] = i;
-  for (uint32_t t = 0; t < m->triangle_count; ++t) {
-    bk_vec3 p[3];
+typedef struct inside_triangle {
+  bk_vec3 p[3]; // counter-clockwise seen from +z
+  double area;  // twice the projected area, > 0
+} inside_triangle;
+
+struct bk_inside_test {
+  bk_aabb box;
+  int n;
+  double sx, sy; // bin size; not > 0 for a flat source (nothing is inside)
+  inside_triangle* triangles;
+  uint32_t *start, *items; // per bin, the triangles over it
+};
+
+static int inside_bin(double v, double lo, double size, int n) {
+  double c = floor((v - lo) / size);
+  return c >= 0.0 ? (c < n ? (int)c : n - 1) : 0;
+}
+
+bk_inside_test* bk_inside_test_create(const bk_mesh* m) {
+  bk_inside_test* t = bk_calloc(1, sizeof *t);
+  t->box = bk_mesh_bounds(m);
+  // About two triangles per bin.
+  t->n = (int)fmin(fmax(sqrt((double)m->triangle_count / 2.0), 1.0), 512.0);
+  t->sx = (t->box.max.x - t->box.min.x) / t->n, t->sy = (t->box.max.y - t->box.min.y) / t->n;
+  t->triangles = bk_alloc(sizeof(inside_triangle) * (m->triangle_count ? m->triangle_count : 1));
+  t->start = bk_calloc((size_t)t->n * t->n + 1, sizeof(uint32_t));
+  if (!(t->sx > 0.0) || !(t->sy > 0.0)) return t;
+  uint32_t kept = 0;
+  for (uint32_t i = 0; i < m->triangle_count; ++i) {
+    inside_triangle* tri = &t->triangles[kept];
     for (int k = 0; k < 3; ++k)
-      p[k] = m->positions[bk_mesh_tri_position(m, t, k)];
-    double area = (p[1].x - p[0].x) * (p[2].y - p[0].y) - (p[1].y - p[0].y) * (p[2].x - p[0].x);
-    if (area == 0.0) continue; // seen edge-on: no ray goes through it
-    if (area < 0.0) {
-      bk_vec3 s = p[1];
+      tri->p[k] = m->positions[bk_mesh_tri_position(m, i, k)];
+    bk_vec3* p = tri->p;
+    tri->area = (p[1].x - p[0].x) * (p[2].y - p[0].y) - (p[1].y - p[0].y) * (p[2].x - p[0].x);
+    if (tri->area == 0.0) continue; // seen edge-on: no ray goes through it
+    if (tri->area < 0.0) {
+      bk_vec3 swap = p[1];
       p[1] = p[2];
-      p[2] = s;
-      area = -area;
+      p[2] = swap;
+      tri->area = -tri->area;
     }
-    double minx = fmin(p[0].x, fmin(p[1].x, p[2].x)), maxx = fmax(p[0].x, fmax(p[1].x, p[2].x));
-    double miny = fmin(p[0].y, fmin(p[1].y, p[2].y)), maxy = fmax(p[0].y, fmax(p[1].y, p[2].y));
-    int x0 = (int)fmax(floor((minx - box.min.x) / sx), 0),
-        x1 = (int)fmin(floor((maxx - box.min.x) / sx), n - 1);
-    int y0 = (int)fmax(floor((miny - box.min.y) / sy), 0),
-        y1 = (int)fmin(floor((maxy - box.min.y) / sy), n - 1);
-    for (int y = y0; y <= y1; ++y)
-      for (int x = x0; x <= x1; ++x)
-        for (uint32_t k = start[y * n + x]; k < start[y * n + x + 1]; ++k) {
-          uint32_t i = order[k];
-          double px = pts[i].x, py = pts[i].y;
-          if (!covers(p[0].x, p[0].y, p[1].x, p[1].y, px, py) ||
-              !covers(p[1].x, p[1].y, p[2].x, p[2].y, px, py) ||
-              !covers(p[2].x, p[2].y, p[0].x, p[0].y, px, py))
-            continue;
-          double w0 = ((p[1].x - px) * (p[2].y - py) - (p[1].y - py) * (p[2].x - px)) / area;
-          double w1 = ((p[2].x - px) * (p[0].y - py) - (p[2].y - py) * (p[0].x - px)) / area;
-          double z = w0 * p[0].z + w1 * p[1].z + (1.0 - w0 - w1) * p[2].z;
-          if (z > pts[i].z) inside[i] ^= 1;
-        }
+    kept++;
   }
-  free(fill);
-  free(start);
-  free(order);
-  free(bin);
+  // Two passes over the triangles' bins: count, then fill.
+  for (int pass = 0; pass < 2; ++pass) {
+    uint32_t* fill = NULL;
+    if (pass == 1) {
+      for (int b = 0; b < t->n * t->n; ++b)
+        t->start[b + 1] += t->start[b];
+      t->items = bk_alloc(sizeof(uint32_t) * (t->start[t->n * t->n] ? t->start[t->n * t->n] : 1));
+      fill = bk_alloc(sizeof(uint32_t) * ((size_t)t->n * t->n));
+      memcpy(fill, t->start, sizeof(uint32_t) * (size_t)t->n * t->n);
+    }
+    for (uint32_t i = 0; i < kept; ++i) {
+      const bk_vec3* p = t->triangles[i].p;
+      double minx = fmin(p[0].x, fmin(p[1].x, p[2].x)), maxx = fmax(p[0].x, fmax(p[1].x, p[2].x));
+      double miny = fmin(p[0].y, fmin(p[1].y, p[2].y)), maxy = fmax(p[0].y, fmax(p[1].y, p[2].y));
+      int x0 = inside_bin(minx, t->box.min.x, t->sx, t->n), x1 = inside_bin(maxx, t->box.min.x, t->sx, t->n);
+      int y0 = inside_bin(miny, t->box.min.y, t->sy, t->n), y1 = inside_bin(maxy, t->box.min.y, t->sy, t->n);
+      for (int y = y0; y <= y1; ++y)
+        for (int x = x0; x <= x1; ++x) {
+          if (pass == 0)
+            t->start[y * t->n + x + 1]++;
+          else
+            t->items[fill[y * t->n + x]++] = i;
+        }
+    }
+    free(fill);
+  }
+  return t;
+}
+
+void bk_inside_test_destroy(bk_inside_test* t) {
+  if (!t) return;
+  free(t->triangles);
+  free(t->start);
+  free(t->items);
+  free(t);
+}
+
+void bk_inside_test_run(const bk_inside_test* t, const bk_vec3* pts, uint32_t count, uint8_t* inside) {
+  memset(inside, 0, count);
+  if (!count || !(t->sx > 0.0) || !(t->sy > 0.0)) return;
+  // Points outside the grid a batch of `count` points was binned on are
+  // outside, as they always were (compared as doubles: a point far away or
+  // not finite has no bin).
+  int n = (int)fmin(fmax(sqrt((double)count) / 2.0, 1.0), 512.0);
+  double sx = (t->box.max.x - t->box.min.x) / n, sy = (t->box.max.y - t->box.min.y) / n;
+  for (uint32_t i = 0; i < count; ++i) {
+    double px = pts[i].x, py = pts[i].y;
+    double fx = floor((px - t->box.min.x) / sx), fy = floor((py - t->box.min.y) / sy);
+    if (!(fx >= 0.0 && fy >= 0.0 && fx < n && fy < n)) continue;
+    int b = inside_bin(py, t->box.min.y, t->sy, t->n) * t->n + inside_bin(px, t->box.min.x, t->sx, t->n);
+    for (uint32_t k = t->start[b]; k < t->start[b + 1]; ++k) {
+      const inside_triangle* tri = &t->triangles[t->items[k]];
+      const bk_vec3* p = tri->p;
+      if (!covers(p[0].x, p[0].y, p[1].x, p[1].y, px, py) ||
+          !covers(p[1].x, p[1].y, p[2].x, p[2].y, px, py) || !covers(p[2].x, p[2].y, p[0].x, p[0].y, px, py))
+        continue;
+      double w0 = ((p[1].x - px) * (p[2].y - py) - (p[1].y - py) * (p[2].x - px)) / tri->area;
+      double w1 = ((p[2].x - px) * (p[0].y - py) - (p[2].y - py) * (p[0].x - px)) / tri->area;
+      double z = w0 * p[0].z + w1 * p[1].z + (1.0 - w0 - w1) * p[2].z;
+      if (z > pts[i].z) inside[i] ^= 1;
+    }
+  }
+}
+
+void bk_points_inside(const bk_mesh* m, const bk_vec3* pts, uint32_t count, uint8_t* inside) {
+  bk_inside_test* t = bk_inside_test_create(m);
+  bk_inside_test_run(t, pts, count, inside);
+  bk_inside_test_destroy(t);
 }

@@ -342,12 +342,12 @@ bool bk_cell_tree_build(const bk_mesh* source, const bk_fracture_def* d, bk_mesh
   }
   bk_mesh_free(&root);
   if (!ok) return false;
-  for (uint32_t i = 0; i < tree->node_count; ++i) {
-    bk_mesh_tree_node* node = &tree->nodes[i];
-    if (i == 0) memcpy(node->mesh.positions, source->positions, sizeof(bk_vec3) * source->position_count);
-    node->bounds = bk_mesh_bounds(&node->mesh);
-    node->moments = bk_tree_frame_moments_to_world(frame, node->moments);
-  }
+  // The root gets the source's own positions back; the other nodes' bounds
+  // were taken as their meshes were made.
+  memcpy(tree->nodes[0].mesh.positions, source->positions, sizeof(bk_vec3) * source->position_count);
+  tree->nodes[0].bounds = bk_mesh_bounds(&tree->nodes[0].mesh);
+  for (uint32_t i = 0; i < tree->node_count; ++i)
+    tree->nodes[i].moments = bk_tree_frame_moments_to_world(frame, tree->nodes[i].moments);
   tree->source_hash = bk_mesh_hash(source);
   bk_cell_tree_compute_bonds(tree);
   return true;

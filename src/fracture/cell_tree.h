@@ -44,14 +44,15 @@ typedef struct bk_cell_build {
   uint32_t* cell_label; ///< cut-out: each seed's region; clustered: each seed's piece
   uint32_t cells;
   bk_cell_complex cx;
-  bk_cell_polytope* polytopes;
-  bk_cell_surface* surfaces;
+  bk_cell_polytope* polytopes; ///< NULL once the cells are grouped
+  bk_cell_surface* surfaces;   ///< NULL once the cells are grouped
   bk_cell_faces faces;
   bk_cell_parts parts;
 } bk_cell_build;
 
 /// Seeds, polytopes, surfaces, faces and the grouping into leaves, for a
-/// source already in the local frame.
+/// source already in the local frame (the polytopes and surfaces are freed
+/// once their triangles are grouped).
 /// A retry (`attempt` > 0) moves every seed by a tiny deterministic amount,
 /// which takes a near-degenerate layout apart.
 bool bk_cell_complex_run(const bk_mesh* local_source, const bk_fracture_def* d, bk_tree_frame frame,
@@ -60,7 +61,9 @@ bool bk_cell_complex_run(const bk_mesh* local_source, const bk_fracture_def* d, 
 /// that touch become one leaf first; then the smallest are merged into
 /// their neighbours while there are more than `target`.
 bool bk_cell_group(bk_cell_build* b, uint32_t target, const uint32_t* cell_label);
-/// The tree's nodes from the grouped build (the root a copy of `root`).
+/// The tree's nodes from the grouped build, their meshes made on every core:
+/// the root a copy of `root` (still in the local frame), every other node
+/// in the source's coordinates with its bounds; moments local.
 bool bk_cell_tree_assemble(const bk_mesh* root, const bk_fracture_def* d, bk_tree_frame frame,
                            bk_cell_build* b, bk_mesh_tree* tree, bk_error* err);
 void bk_cell_build_free(bk_cell_build* b);

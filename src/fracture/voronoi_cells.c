@@ -10,9 +10,17 @@
 
 // ---------------------------------------------------------------- vertex table
 
+// Word by word: cheaper than hashing the key's bytes one at a time, and
+// every clipped edge looks a key up. The hash only places keys in slots;
+// vertex numbers follow the order of insertion.
 static uint64_t key_hash(const bk_cell_key* k) {
-  uint64_t h = bk_hash_bytes(BK_FNV_OFFSET, k, sizeof *k);
-  return h ^ (h >> 29);
+  const uint64_t mul = 0x9e3779b97f4a7c15ull;
+  uint64_t h = k->kind;
+  h = (h ^ k->a) * mul;
+  h = (h ^ k->b) * mul;
+  for (int i = 0; i < 4; ++i)
+    h = (h ^ (uint32_t)k->s[i]) * mul;
+  return h ^ (h >> 32);
 }
 
 static bool key_equal(const bk_cell_key* a, const bk_cell_key* b) { return memcmp(a, b, sizeof *a) == 0; }
@@ -39,12 +47,15 @@ void bk_cell_complex_init(bk_cell_complex* cx, const bk_mesh* source, const bk_v
   cx->box = (bk_aabb){bk_v3_sub(box.min, margin), bk_v3_add(box.max, margin)};
   cx->slot_mask = 1023;
   cx->slots = bk_calloc(cx->slot_mask + 1, sizeof(uint32_t));
+  cx->source_vertex = bk_alloc(sizeof(uint32_t) * (source->position_count ? source->position_count : 1));
+  memset(cx->source_vertex, 0xff, sizeof(uint32_t) * source->position_count);
 }
 
 void bk_cell_complex_free(bk_cell_complex* cx) {
   free(cx->keys);
   free(cx->points);
   free(cx->slots);
+  free(cx->source_vertex);
   memset(cx, 0, sizeof *cx);
 }
 
@@ -182,6 +193,14 @@ static uint32_t insert(bk_cell_complex* cx, const bk_cell_key* key, const bk_vec
 
 uint32_t bk_cell_vertex(bk_cell_complex* cx, const bk_cell_key* key) { return insert(cx, key, NULL); }
 
+uint32_t bk_cell_source_vertex(bk_cell_complex* cx, uint32_t position) {
+  if (cx->source_vertex[position] == UINT32_MAX) {
+    bk_cell_key key = {.kind = BK_CELL_SOURCE, .a = position};
+    cx->source_vertex[position] = insert(cx, &key, NULL);
+  }
+  return cx->source_vertex[position];
+}
+
 uint32_t bk_cell_vertex_at(bk_cell_complex* cx, const bk_cell_key* key, bk_vec3 point) {
   return insert(cx, key, &point);
 }
@@ -202,11 +221,33 @@ bool bk_cell_belongs(const bk_cell_complex* cx, bk_vec3 p, int32_t a, int32_t b)
 // ---------------------------------------------------------------- polytopes
 
 struct bk_cell_builder {
+  // The cell's vertices while it is clipped: most are cut away again, so
+  // they are named in a small table of the cell's own (the same names give
+  // the same coordinates) and only the final ones go into the complex.
+  bk_cell_complex local;
+  uint32_t* remap; // per local vertex: its index in the complex, when stored
+  uint32_t remap_capacity;
   bk_cell_polytope work, next;
   uint8_t* keep; // per loop entry of `work`: on the cell's side of the plane being cut
   uint32_t keep_capacity;
   uint32_t (*segments)[2]; // new face's edges: entry -> exit
   uint32_t segment_capacity;
+  uint32_t* scratch; // one face's clipped loop, then the new face's loop
+  uint32_t scratch_capacity;
+  // The points of the distinct vertices of `work` (each sits in three or
+  // more of its loops): most bisectors near a cell miss it, and that is seen
+  // testing each vertex once.
+  bk_vec3* corner_points;
+  uint32_t corner_count, corner_capacity;
+  uint32_t* seen; // per local vertex: the epoch it was last listed in
+  uint32_t seen_capacity, epoch;
+  bk_vec3 lo, hi; // the vertices' bounds, relative to the seed
+  double scale;   // the largest coordinate in the box, for rounding bounds
+  // The clipping in progress (bk_cell_polytope_begin): it goes on where the
+  // last list of near seeds ended.
+  uint32_t cell;
+  double radius; // the cell's reach, or an upper bound when `stale`
+  bool stale, done;
 };
 
 bk_cell_builder* bk_cell_builder_create(void) { return bk_calloc(1, sizeof(bk_cell_builder)); }
@@ -225,6 +266,13 @@ void bk_cell_builder_destroy(bk_cell_builder* b) {
   bk_cell_polytope_free(&b->next);
   free(b->segments);
   free(b->keep);
+  free(b->scratch);
+  free(b->corner_points);
+  free(b->seen);
+  free(b->local.keys);
+  free(b->local.points);
+  free(b->local.slots);
+  free(b->remap);
   free(b);
 }
 
@@ -238,19 +286,66 @@ static void sort_ids(int32_t* s, int n) {
 }
 
 static void add_face(bk_cell_polytope* p, int32_t plane, const uint32_t* loop, uint32_t count) {
-  p->planes = bk_realloc(p->planes, sizeof(int32_t) * (p->faces + 1));
-  p->face_first = bk_realloc(p->face_first, sizeof(uint32_t) * (p->faces + 1));
-  p->face_count = bk_realloc(p->face_count, sizeof(uint32_t) * (p->faces + 1));
+  // The builder's polytopes keep their arrays from cut to cut: they grow, never shrink.
+  if (p->faces == p->face_capacity) {
+    p->face_capacity = bk_grow_capacity(p->face_capacity, p->faces + 1);
+    p->planes = bk_realloc(p->planes, sizeof(int32_t) * p->face_capacity);
+    p->face_first = bk_realloc(p->face_first, sizeof(uint32_t) * p->face_capacity);
+    p->face_count = bk_realloc(p->face_count, sizeof(uint32_t) * p->face_capacity);
+  }
+  if (p->loop_count + count > p->loop_capacity) {
+    p->loop_capacity = bk_grow_capacity(p->loop_capacity, p->loop_count + count);
+    p->loop = bk_realloc(p->loop, sizeof(uint32_t) * p->loop_capacity);
+  }
   p->planes[p->faces] = plane;
   p->face_first[p->faces] = p->loop_count;
   p->face_count[p->faces] = count;
   p->faces++;
-  p->loop = bk_realloc(p->loop, sizeof(uint32_t) * (p->loop_count + count));
   memcpy(p->loop + p->loop_count, loop, sizeof(uint32_t) * count);
   p->loop_count += count;
 }
 
 static void reset(bk_cell_polytope* p) { p->faces = p->loop_count = 0; }
+
+static uint32_t* scratch_of(bk_cell_builder* b, uint32_t count) {
+  if (b->scratch_capacity < count) {
+    b->scratch_capacity = bk_grow_capacity(b->scratch_capacity, count);
+    b->scratch = bk_realloc(b->scratch, sizeof(uint32_t) * b->scratch_capacity);
+  }
+  return b->scratch;
+}
+
+// Lists the distinct vertices of `work` (indices into cx, the cell's own
+// table) and their bounds.
+static void list_corners(bk_cell_builder* b, const bk_cell_complex* cx) {
+  if (b->seen_capacity < cx->count) {
+    uint32_t old = b->seen_capacity;
+    b->seen_capacity = bk_grow_capacity(b->seen_capacity, cx->count);
+    b->seen = bk_realloc(b->seen, sizeof(uint32_t) * b->seen_capacity);
+    memset(b->seen + old, 0, sizeof(uint32_t) * (b->seen_capacity - old));
+  }
+  if (++b->epoch == 0) { // wrapped: no stamp may look current
+    memset(b->seen, 0, sizeof(uint32_t) * b->seen_capacity);
+    b->epoch = 1;
+  }
+  const bk_cell_polytope* p = &b->work;
+  b->corner_count = 0;
+  bk_vec3 seed = cx->seeds[b->cell];
+  b->lo = bk_v3(INFINITY, INFINITY, INFINITY);
+  b->hi = bk_v3(-INFINITY, -INFINITY, -INFINITY);
+  for (uint32_t i = 0; i < p->loop_count; ++i) {
+    uint32_t v = p->loop[i];
+    if (b->seen[v] == b->epoch) continue;
+    b->seen[v] = b->epoch;
+    if (b->corner_count == b->corner_capacity) {
+      b->corner_capacity = bk_grow_capacity(b->corner_capacity, b->corner_count + 1);
+      b->corner_points = bk_realloc(b->corner_points, sizeof(bk_vec3) * b->corner_capacity);
+    }
+    b->corner_points[b->corner_count++] = cx->points[v];
+    b->lo = bk_v3_min(b->lo, bk_v3_sub(cx->points[v], seed));
+    b->hi = bk_v3_max(b->hi, bk_v3_sub(cx->points[v], seed));
+  }
+}
 
 static void init_box(bk_cell_complex* cx, uint32_t cell, bk_cell_polytope* p) {
   static const uint8_t loops[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4},
@@ -288,34 +383,35 @@ static bool crossing_vertex(bk_cell_complex* cx, uint32_t u, uint32_t v, int32_t
   return true;
 }
 
-// Cuts the polytope by the bisector of `cell` and seed m, keeping cell's side.
-static bool clip(bk_cell_builder* b, bk_cell_complex* cx, uint32_t cell, int32_t m) {
+// Cuts the polytope by the bisector of `cell` and seed m, keeping cell's
+// side; *cut tells whether it lost anything.
+static bool clip(bk_cell_builder* b, bk_cell_complex* cx, uint32_t cell, int32_t m, bool* cut) {
   bk_cell_polytope* p = &b->work;
+  bk_cell_side side = bk_cell_side_of(cx, (int32_t)cell, m);
+  *cut = false;
   bool any_out = false, any_in = false;
+  for (uint32_t i = 0; i < b->corner_count && !any_out; ++i)
+    any_out = !bk_cell_side_keeps(&side, b->corner_points[i]);
+  if (!any_out) return true;
   if (b->keep_capacity < p->loop_count) {
     b->keep_capacity = bk_grow_capacity(b->keep_capacity, p->loop_count);
     b->keep = bk_realloc(b->keep, b->keep_capacity);
   }
-  bk_cell_side side = bk_cell_side_of(cx, (int32_t)cell, m);
+  any_out = false;
   for (uint32_t i = 0; i < p->loop_count; ++i) {
     bool in = bk_cell_side_keeps(&side, cx->points[p->loop[i]]);
     b->keep[i] = in;
     any_out |= !in;
     any_in |= in;
   }
-  if (!any_out) return true;
   if (!any_in) return false; // the seed itself would be cut away: coincident seeds
   bk_cell_polytope* q = &b->next;
   reset(q);
   uint32_t segments = 0;
-  uint32_t scratch_capacity = 0, *scratch = NULL;
   for (uint32_t f = 0; f < p->faces; ++f) {
     const uint32_t* loop = p->loop + p->face_first[f];
     uint32_t count = p->face_count[f], out = 0;
-    if (scratch_capacity < 2 * count + 2) {
-      scratch_capacity = 2 * count + 2;
-      scratch = bk_realloc(scratch, sizeof(uint32_t) * scratch_capacity);
-    }
+    uint32_t* scratch = scratch_of(b, 2 * count + 2);
     uint32_t exit_vertex = UINT32_MAX, entry_vertex = UINT32_MAX;
     const uint8_t* keep = b->keep + p->face_first[f];
     for (uint32_t k = 0; k < count; ++k) {
@@ -324,10 +420,7 @@ static bool clip(bk_cell_builder* b, bk_cell_complex* cx, uint32_t cell, int32_t
       if (iu) scratch[out++] = u;
       if (iu != iv) {
         uint32_t x = 0;
-        if (!crossing_vertex(cx, u, v, m, &x)) {
-          free(scratch);
-          return false;
-        }
+        if (!crossing_vertex(cx, u, v, m, &x)) return false;
         scratch[out++] = x;
         if (iu)
           exit_vertex = x;
@@ -336,10 +429,7 @@ static bool clip(bk_cell_builder* b, bk_cell_complex* cx, uint32_t cell, int32_t
       }
     }
     if (exit_vertex != UINT32_MAX) {
-      if (entry_vertex == UINT32_MAX) {
-        free(scratch);
-        return false;
-      }
+      if (entry_vertex == UINT32_MAX) return false;
       if (segments == b->segment_capacity) {
         b->segment_capacity = bk_grow_capacity(b->segment_capacity, segments + 1);
         b->segments = bk_realloc(b->segments, sizeof *b->segments * b->segment_capacity);
@@ -351,10 +441,9 @@ static bool clip(bk_cell_builder* b, bk_cell_complex* cx, uint32_t cell, int32_t
     }
     if (out >= 3) add_face(q, p->planes[f], scratch, out);
   }
-  free(scratch);
   if (segments < 3) return false;
   // Chain the segments into the new face's loop.
-  uint32_t* loop = bk_alloc(sizeof(uint32_t) * segments);
+  uint32_t* loop = scratch_of(b, segments);
   uint32_t at = 0, n = 0;
   for (; n < segments; ++n) {
     loop[n] = b->segments[at][0];
@@ -368,13 +457,13 @@ static bool clip(bk_cell_builder* b, bk_cell_complex* cx, uint32_t cell, int32_t
       break;
     }
   }
-  bool closed = n == segments && at == 0;
-  if (closed) add_face(q, m, loop, segments);
-  free(loop);
-  if (!closed) return false;
+  if (n != segments || at != 0) return false;
+  add_face(q, m, loop, segments);
   bk_cell_polytope t = b->work;
   b->work = b->next;
   b->next = t;
+  list_corners(b, cx);
+  *cut = true;
   return true;
 }
 
@@ -386,171 +475,96 @@ double bk_cell_distance(const bk_cell_complex* cx, bk_vec3 a, bk_vec3 b) {
   return bk_v3_length(d);
 }
 
-double bk_cell_reach(const bk_cell_complex* cx, const bk_cell_polytope* p, uint32_t cell) {
+double bk_cell_builder_reach(const bk_cell_builder* b, const bk_cell_complex* cx) {
   double r = 0.0;
-  for (uint32_t i = 0; i < p->loop_count; ++i)
-    r = fmax(r, bk_cell_distance(cx, cx->points[p->loop[i]], cx->seeds[cell]));
+  for (uint32_t i = 0; i < b->corner_count; ++i)
+    r = fmax(r, bk_cell_distance(cx, b->corner_points[i], cx->seeds[b->cell]));
   return r;
 }
 
-bool bk_cell_polytope_build(bk_cell_builder* b, bk_cell_complex* cx, uint32_t cell, const uint32_t* near,
-                            uint32_t near_count, bk_cell_polytope* out) {
-  init_box(cx, cell, &b->work);
-  bk_vec3 seed = cx->seeds[cell];
-  double radius = bk_cell_reach(cx, &b->work, cell);
-  bool stale = false; // clipping only shrinks the cell, so a stale reach is an upper bound
-  for (uint32_t i = 0; i < near_count; ++i) {
-    // Past twice the cell's reach no bisector can cut it any more.
-    double d = bk_v3_length(bk_v3_sub(cx->seeds[near[i]], seed));
-    if (d > 2.0 * radius && stale) radius = bk_cell_reach(cx, &b->work, cell), stale = false;
-    if (d > 2.0 * radius) break;
-    if (!clip(b, cx, cell, (int32_t)near[i])) return false;
-    stale = true;
+// True when the bisector with the seed at `e` from the cell's seed surely
+// misses the cell: the bisector is where e.(p - seed) = |e|^2 / 2, and over
+// the cell's bounds e.(p - seed) stays below that by more than any rounding
+// in bk_cell_side_keeps could make up. Most seeds near a cell are ruled out
+// so, without testing every vertex.
+static bool misses_bounds(const bk_cell_builder* b, bk_vec3 e) {
+  double support = fmax(e.x * b->lo.x, e.x * b->hi.x) + fmax(e.y * b->lo.y, e.y * b->hi.y) +
+                   fmax(e.z * b->lo.z, e.z * b->hi.z);
+  double length = bk_v3_length(e);
+  return support < 0.5 * bk_v3_dot(e, e) - length * (1e-9 * length + 1e-12 * b->scale);
+}
+
+// Empties the cell's own vertex table, which names vertices as cx does.
+static void reset_local(bk_cell_builder* b, const bk_cell_complex* cx) {
+  bk_cell_complex* l = &b->local;
+  l->source = cx->source;
+  l->seeds = cx->seeds;
+  l->seed_count = cx->seed_count;
+  l->box = cx->box;
+  l->planar_axis = cx->planar_axis;
+  l->count = 0;
+  if (!l->slots) {
+    l->slot_mask = 255;
+    l->slots = bk_alloc(sizeof(uint32_t) * (l->slot_mask + 1));
   }
-  bk_cell_polytope_free(out);
-  out->planes = bk_alloc(sizeof(int32_t) * b->work.faces);
-  out->face_first = bk_alloc(sizeof(uint32_t) * b->work.faces);
-  out->face_count = bk_alloc(sizeof(uint32_t) * b->work.faces);
-  out->loop = bk_alloc(sizeof(uint32_t) * b->work.loop_count);
-  memcpy(out->planes, b->work.planes, sizeof(int32_t) * b->work.faces);
-  memcpy(out->face_first, b->work.face_first, sizeof(uint32_t) * b->work.faces);
-  memcpy(out->face_count, b->work.face_count, sizeof(uint32_t) * b->work.faces);
-  memcpy(out->loop, b->work.loop, sizeof(uint32_t) * b->work.loop_count);
-  out->faces = b->work.faces;
-  out->loop_count = b->work.loop_count;
+  memset(l->slots, 0, sizeof(uint32_t) * (l->slot_mask + 1));
+}
+
+void bk_cell_polytope_begin(bk_cell_builder* b, bk_cell_complex* cx, uint32_t cell) {
+  reset_local(b, cx);
+  init_box(&b->local, cell, &b->work);
+  b->cell = cell;
+  list_corners(b, &b->local);
+  bk_vec3 low = cx->box.min, high = cx->box.max;
+  b->scale = fmax(fmax(fmax(fabs(low.x), fabs(low.y)), fmax(fabs(low.z), fabs(high.x))),
+                  fmax(fabs(high.y), fabs(high.z)));
+  b->radius = bk_cell_builder_reach(b, cx);
+  b->stale = b->done = false;
+}
+
+bool bk_cell_polytope_clip(bk_cell_builder* b, bk_cell_complex* cx, const uint32_t* near,
+                           uint32_t near_count) {
+  bk_vec3 seed = cx->seeds[b->cell];
+  for (uint32_t i = 0; i < near_count && !b->done; ++i) {
+    // Past twice the cell's reach no bisector can cut it any more. Clipping
+    // only shrinks the cell, so a stale reach is an upper bound, brought up
+    // to date only when it no longer rules a seed out.
+    bk_vec3 e = bk_v3_sub(cx->seeds[near[i]], seed);
+    double d = bk_v3_length(e);
+    if (d > 2.0 * b->radius && b->stale) b->radius = bk_cell_builder_reach(b, cx), b->stale = false;
+    if (d > 2.0 * b->radius) {
+      b->done = true;
+      break;
+    }
+    if (misses_bounds(b, e)) continue; // clipping would change nothing
+    bool cut = false;
+    if (!clip(b, &b->local, b->cell, (int32_t)near[i], &cut)) return false;
+    b->stale |= cut;
+  }
   return true;
 }
 
-// ---------------------------------------------------------------- seed grid
-
-struct bk_seed_grid {
-  const bk_vec3* seeds;
-  bk_aabb box;
-  int n[3];
-  double cell;
-  uint32_t* start; // per bin, into order (n0*n1*n2 + 1)
-  uint32_t* order;
-};
-
-static int bin_coord(const bk_seed_grid* g, double v, double lo, int n) {
-  double c = floor((v - lo) / g->cell);
-  return c >= 0.0 ? (c < n ? (int)c : n - 1) : 0; // NaN too lands in bin 0
-}
-
-bk_seed_grid* bk_seed_grid_create(const bk_vec3* seeds, uint32_t count, bk_aabb box) {
-  bk_seed_grid* g = bk_calloc(1, sizeof *g);
-  g->seeds = seeds;
-  g->box = box;
-  bk_vec3 size = bk_v3_sub(box.max, box.min);
-  // About two seeds per bin.
-  double volume = fmax(size.x * size.y * size.z, 1e-300);
-  g->cell = cbrt(volume * 2.0 / (count ? count : 1));
-  g->n[0] = (int)fmin(fmax(ceil(size.x / g->cell), 1), 1024);
-  g->n[1] = (int)fmin(fmax(ceil(size.y / g->cell), 1), 1024);
-  g->n[2] = (int)fmin(fmax(ceil(size.z / g->cell), 1), 1024);
-  g->cell = fmax(fmax(size.x / g->n[0], size.y / g->n[1]), size.z / g->n[2]);
-  size_t bins = (size_t)g->n[0] * g->n[1] * g->n[2];
-  g->start = bk_calloc(bins + 1, sizeof(uint32_t));
-  g->order = bk_alloc(sizeof(uint32_t) * (count ? count : 1));
-  uint32_t* bin_of = bk_alloc(sizeof(uint32_t) * (count ? count : 1));
-  for (uint32_t i = 0; i < count; ++i) {
-    int x = bin_coord(g, seeds[i].x, box.min.x, g->n[0]), y = bin_coord(g, seeds[i].y, box.min.y, g->n[1]),
-        z = bin_coord(g, seeds[i].z, box.min.z, g->n[2]);
-    bin_of[i] = (uint32_t)(((size_t)z * g->n[1] + y) * g->n[0] + x);
-    g->start[bin_of[i] + 1]++;
+void bk_cell_polytope_store(bk_cell_builder* b, bk_cell_complex* cx, bk_cell_polytope* out) {
+  const bk_cell_polytope* w = &b->work;
+  const bk_cell_complex* l = &b->local;
+  if (b->remap_capacity < l->count) {
+    b->remap_capacity = bk_grow_capacity(b->remap_capacity, l->count);
+    b->remap = bk_realloc(b->remap, sizeof(uint32_t) * b->remap_capacity);
   }
-  for (size_t b = 0; b < bins; ++b)
-    g->start[b + 1] += g->start[b];
-  uint32_t* fill = bk_alloc(sizeof(uint32_t) * bins);
-  memcpy(fill, g->start, sizeof(uint32_t) * bins);
-  for (uint32_t i = 0; i < count; ++i)
-    g->order[fill[bin_of[i]]++] = i;
-  free(fill);
-  free(bin_of);
-  return g;
-}
-
-void bk_seed_grid_destroy(bk_seed_grid* g) {
-  if (!g) return;
-  free(g->start);
-  free(g->order);
-  free(g);
-}
-
-typedef struct near_entry {
-  double d;
-  uint32_t index;
-} near_entry;
-
-static inline int compare_near(const near_entry* a, const near_entry* b) {
-  if (a->d != b->d) return a->d < b->d ? -1 : 1;
-  return a->index < b->index ? -1 : (a->index > b->index);
-}
-
-double bk_seed_grid_spacing(const bk_seed_grid* g, uint32_t cell) {
-  bk_vec3 p = g->seeds[cell];
-  int x = bin_coord(g, p.x, g->box.min.x, g->n[0]), y = bin_coord(g, p.y, g->box.min.y, g->n[1]),
-      z = bin_coord(g, p.z, g->box.min.z, g->n[2]);
-  // Seeds in the 3 x 3 x 3 bins around: their density gives the spacing here.
-  uint32_t count = 0, bins = 0;
-  for (int dz = -1; dz <= 1; ++dz)
-    for (int dy = -1; dy <= 1; ++dy)
-      for (int dx = -1; dx <= 1; ++dx) {
-        int bx = x + dx, by = y + dy, bz = z + dz;
-        if (bx < 0 || by < 0 || bz < 0 || bx >= g->n[0] || by >= g->n[1] || bz >= g->n[2]) continue;
-        size_t b = ((size_t)bz * g->n[1] + by) * g->n[0] + bx;
-        count += g->start[b + 1] - g->start[b];
-        bins++;
-      }
-  return cbrt(bins * g->cell * g->cell * g->cell / (count ? count : 1));
-}
-
-uint32_t bk_seed_grid_near(const bk_seed_grid* g, uint32_t cell, double radius, uint32_t** out,
-                           uint32_t* capacity) {
-  bk_vec3 p = g->seeds[cell];
-  int lo[3] = {bin_coord(g, p.x - radius, g->box.min.x, g->n[0]),
-               bin_coord(g, p.y - radius, g->box.min.y, g->n[1]),
-               bin_coord(g, p.z - radius, g->box.min.z, g->n[2])};
-  int hi[3] = {bin_coord(g, p.x + radius, g->box.min.x, g->n[0]),
-               bin_coord(g, p.y + radius, g->box.min.y, g->n[1]),
-               bin_coord(g, p.z + radius, g->box.min.z, g->n[2])};
-  near_entry* list = NULL;
-  uint32_t count = 0, cap = 0;
-  for (int z = lo[2]; z <= hi[2]; ++z)
-    for (int y = lo[1]; y <= hi[1]; ++y)
-      for (int x = lo[0]; x <= hi[0]; ++x) {
-        size_t b = ((size_t)z * g->n[1] + y) * g->n[0] + x;
-        for (uint32_t k = g->start[b]; k < g->start[b + 1]; ++k) {
-          uint32_t j = g->order[k];
-          if (j == cell) continue;
-          bk_vec3 e = bk_v3_sub(g->seeds[j], p);
-          double d = bk_v3_dot(e, e); // squared: same order
-          if (d > radius * radius) continue;
-          if (count == cap) {
-            cap = bk_grow_capacity(cap, count + 1);
-            list = bk_realloc(list, sizeof(near_entry) * cap);
-          }
-          list[count++] = (near_entry){d, j};
-        }
-      }
-  // Shell sort, inline: these lists are short and sorted once per cell.
-  static const uint32_t gaps[] = {57, 23, 10, 4, 1};
-  for (int gi = 0; gi < 5; ++gi) {
-    uint32_t gap = gaps[gi];
-    for (uint32_t i = gap; i < count; ++i) {
-      near_entry e = list[i];
-      uint32_t j = i;
-      for (; j >= gap && compare_near(&list[j - gap], &e) > 0; j -= gap)
-        list[j] = list[j - gap];
-      list[j] = e;
-    }
+  memset(b->remap, 0xff, sizeof(uint32_t) * l->count);
+  bk_cell_polytope_free(out);
+  out->planes = bk_alloc(sizeof(int32_t) * (w->faces ? w->faces : 1));
+  out->face_first = bk_alloc(sizeof(uint32_t) * (w->faces ? w->faces : 1));
+  out->face_count = bk_alloc(sizeof(uint32_t) * (w->faces ? w->faces : 1));
+  out->loop = bk_alloc(sizeof(uint32_t) * (w->loop_count ? w->loop_count : 1));
+  memcpy(out->planes, w->planes, sizeof(int32_t) * w->faces);
+  memcpy(out->face_first, w->face_first, sizeof(uint32_t) * w->faces);
+  memcpy(out->face_count, w->face_count, sizeof(uint32_t) * w->faces);
+  for (uint32_t i = 0; i < w->loop_count; ++i) {
+    uint32_t v = w->loop[i];
+    if (b->remap[v] == UINT32_MAX) b->remap[v] = bk_cell_vertex_at(cx, &l->keys[v], l->points[v]);
+    out->loop[i] = b->remap[v];
   }
-  if (*capacity < count) {
-    *capacity = count;
-    *out = bk_realloc(*out, sizeof(uint32_t) * count);
-  }
-  for (uint32_t i = 0; i < count; ++i)
-    (*out)[i] = list[i].index;
-  free(list);
-  return count;
+  out->faces = out->face_capacity = w->faces;
+  out->loop_count = out->loop_capacity = w->loop_count;
 }
