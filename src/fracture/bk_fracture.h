@@ -23,6 +23,10 @@ bool bk_mesh_tree_load_memory(const void* data, size_t size, const char* name, b
 double bk_mesh_winding_number(const bk_mesh* mesh, const uint32_t* tri_component, uint32_t component,
                               bk_vec3 q);
 
+/// True when the triangles of `mesh` form one connected piece (then
+/// bk_mesh_split_hulls would return it as it is); `scratch` is reused storage.
+bool bk_mesh_is_connected_with(const bk_mesh* mesh, bk_topology_scratch* scratch);
+
 /// Splits a closed mesh into the parts bk_mesh_tree_build fractures on their
 /// own when some of its solid shells (bk_mesh_split_hulls: cavities stay with
 /// their solid) overlap or touch another (along a line or over an area):
@@ -78,6 +82,10 @@ static inline uint32_t bk_fracture_thread_count(const bk_fracture_def* d, uint64
   n = n < most ? n : most;
   return (uint32_t)(n < 64 ? n : 64);
 }
+/// Runs work(jobs + j * job_size) for every j < count: job 0 on the calling
+/// thread, each other on a thread of its own (or on the calling thread when
+/// none can be started); returns when all are done.
+void bk_fracture_run_jobs(void* (*work)(void*), void* jobs, size_t job_size, uint32_t count);
 /// Clears what a tree's desc must not keep (callbacks, borrowed arrays).
 static inline void bk_fracture_def_clear_borrowed(bk_fracture_def* d) {
   d->progress = NULL;

@@ -9,19 +9,13 @@
 // both sides' triangles are pieces of the same tilted triangles: each
 // overlap is measured in the plane, then lifted onto its triangle (area
 // over the cosine of its tilt, centroid onto its plane), so the contact is
-// the rough surface the leaves share.
-#include <pthread.h>
+// the rough surface the leaves share. The cap triangles come ordered by cut
+// with their plane coordinates (bond_caps.c).
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "bk_fracture.h"
-
-typedef struct cap_entry {
-  uint32_t cut;  // node whose split made the cap
-  uint32_t side; // 0: leaf lies below the cut (cap faces +n), 1: above
-  uint32_t leaf;
-  uint32_t triangle;
-} cap_entry;
+#include "bond_caps.h"
 
 // A convex polygon, counter-clockwise in the cut plane's (u, v) coordinates.
 typedef struct piece {
@@ -46,16 +40,9 @@ typedef struct scratch {
   uint32_t* edges; // outline building: directed position edges of one group
   uint32_t edge_capacity;
   double (*clip[2])[2];
+  double* side; // per clipped vertex
   uint32_t clip_capacity;
 } scratch;
-
-static int compare_entries(const void* pa, const void* pb) {
-  const cap_entry *a = pa, *b = pb;
-  if (a->cut != b->cut) return a->cut < b->cut ? -1 : 1;
-  if (a->side != b->side) return a->side < b->side ? -1 : 1;
-  if (a->leaf != b->leaf) return a->leaf < b->leaf ? -1 : 1;
-  return a->triangle < b->triangle ? -1 : (a->triangle > b->triangle);
-}
 
 static int compare_groups_by_min_x(const void* pa, const void* pb) {
   const leaf_group *a = pa, *b = pb;
@@ -63,27 +50,32 @@ static int compare_groups_by_min_x(const void* pa, const void* pb) {
   return a->leaf < b->leaf ? -1 : (a->leaf > b->leaf);
 }
 
-static int compare_bonds(const void* pa, const void* pb) {
-  const bk_bond *a = pa, *b = pb;
-  if (a->leaf_a != b->leaf_a) return a->leaf_a < b->leaf_a ? -1 : 1;
-  return a->leaf_b < b->leaf_b ? -1 : (a->leaf_b > b->leaf_b);
-}
-
 static bool boxes_overlap(const double amin[2], const double amax[2], const double bmin[2],
                           const double bmax[2]) {
   return amin[0] <= bmax[0] && bmin[0] <= amax[0] && amin[1] <= bmax[1] && bmin[1] <= amax[1];
 }
 
-// Clips polygon `in` (n vertices) to the left of the directed line a->b.
+// Clips polygon `in` (n vertices) to the left of the directed line a->b
+// into `out`; `side` holds each vertex's side, measured once. A polygon
+// wholly on the left is left where it is (*kept: `out` unused).
 static uint32_t clip_half_plane(const double (*in)[2], uint32_t n, const double a[2], const double b[2],
-                                double (*out)[2]) {
-  uint32_t m = 0;
+                                double (*out)[2], double* side, bool* kept) {
   double ex = b[0] - a[0], ey = b[1] - a[1];
+  bool all_in = true, all_out = true;
   for (uint32_t i = 0; i < n; ++i) {
+    side[i] = ex * (in[i][1] - a[1]) - ey * (in[i][0] - a[0]);
+    all_in &= side[i] >= 0.0;
+    all_out &= !(side[i] >= 0.0);
+  }
+  *kept = all_in;
+  if (all_in) return n;
+  if (all_out) return 0;
+  uint32_t m = 0;
+  for (uint32_t i = 0; i < n; ++i) {
+    uint32_t j = i + 1 == n ? 0 : i + 1;
     const double* p = in[i];
-    const double* q = in[(i + 1) % n];
-    double dp = ex * (p[1] - a[1]) - ey * (p[0] - a[0]);
-    double dq = ex * (q[1] - a[1]) - ey * (q[0] - a[0]);
+    const double* q = in[j];
+    double dp = side[i], dq = side[j];
     if (dp >= 0.0) out[m][0] = p[0], out[m][1] = p[1], m++;
     if ((dp >= 0.0) != (dq >= 0.0)) {
       double t = dp / (dp - dq);
@@ -103,20 +95,26 @@ static double overlap(scratch* s, const piece* a, const piece* b, double* mx, do
     s->clip_capacity = bk_grow_capacity(s->clip_capacity, need);
     for (int k = 0; k < 2; ++k)
       s->clip[k] = bk_realloc(s->clip[k], sizeof(double[2]) * s->clip_capacity);
+    s->side = bk_realloc(s->side, sizeof(double) * s->clip_capacity);
   }
-  memcpy(s->clip[0], s->points[a->first], sizeof(double[2]) * a->count);
+  // The polygon clipped so far: a's own points until an edge of b cuts it.
+  const double(*poly)[2] = (const double(*)[2])s->points[a->first];
   uint32_t n = a->count;
-  int cur = 0;
+  int next = 0; // the clip buffer written next
   for (uint32_t e = 0; e < b->count && n >= 3; ++e) {
-    n = clip_half_plane((const double(*)[2])s->clip[cur], n, s->points[b->first + e],
-                        s->points[b->first + (e + 1) % b->count], s->clip[1 - cur]);
-    cur = 1 - cur;
+    bool kept = false;
+    n = clip_half_plane(poly, n, s->points[b->first + e],
+                        s->points[b->first + (e + 1 == b->count ? 0 : e + 1)], s->clip[next], s->side, &kept);
+    if (!kept) {
+      poly = (const double(*)[2])s->clip[next];
+      next = 1 - next;
+    }
   }
   if (n < 3) return 0.0;
   double area2 = 0.0, sx = 0.0, sy = 0.0;
   for (uint32_t i = 0; i < n; ++i) {
-    const double* p = s->clip[cur][i];
-    const double* q = s->clip[cur][(i + 1) % n];
+    const double* p = poly[i];
+    const double* q = poly[i + 1 == n ? 0 : i + 1];
     double cross = p[0] * q[1] - q[0] * p[1];
     area2 += cross;
     sx += (p[0] + q[0]) * cross;
@@ -147,21 +145,17 @@ static void close_piece(scratch* s, uint32_t first, bk_vec3 normal, double level
   *p = (piece){first, s->point_count - first, {INFINITY, INFINITY}, {-INFINITY, -INFINITY}, normal, level};
   for (uint32_t i = first; i < s->point_count; ++i)
     for (int a = 0; a < 2; ++a)
-      p->min[a] = fmin(p->min[a], s->points[i][a]), p->max[a] = fmax(p->max[a], s->points[i][a]);
+      p->min[a] = bk_min(p->min[a], s->points[i][a]), p->max[a] = bk_max(p->max[a], s->points[i][a]);
 }
 
 // The outline of a group's triangles as one convex loop, if it is one.
 // Above-side caps face -n, so their loops are reversed to run CCW.
-static bool add_convex_outline(scratch* s, const bk_mesh* mesh, const cap_entry* entries, uint32_t count,
-                               bool flip, bk_vec3 origin, bk_vec3 u, bk_vec3 v, bk_vec3 cut_normal,
-                               double height, double flat) {
+static bool add_convex_outline(scratch* s, const bk_cap_entry* entries, uint32_t count, bool flip,
+                               bk_vec3 cut_normal, double height) {
   enum { MAX_TRIANGLES = 32 };
   if (count > MAX_TRIANGLES) return false;
   for (uint32_t i = 0; i < count; ++i) // a noisy cap goes triangle by triangle
-    for (uint32_t k = 0; k < 3; ++k) {
-      bk_vec3 p = bk_v3_sub(mesh->positions[bk_mesh_tri_position(mesh, entries[i].triangle, k)], origin);
-      if (!(fabs(bk_v3_dot(p, cut_normal) - height) <= flat)) return false;
-    }
+    if (!entries[i].flat) return false;
   uint32_t edge_count = 0;
   if (12u * count > s->edge_capacity) { // all edges, then the outline after them
     s->edge_capacity = bk_grow_capacity(s->edge_capacity, 12u * count);
@@ -169,11 +163,13 @@ static bool add_convex_outline(scratch* s, const bk_mesh* mesh, const cap_entry*
   }
   for (uint32_t i = 0; i < count; ++i)
     for (uint32_t k = 0; k < 3; ++k) {
-      s->edges[2 * edge_count] = bk_mesh_tri_position(mesh, entries[i].triangle, k);
-      s->edges[2 * edge_count + 1] = bk_mesh_tri_position(mesh, entries[i].triangle, (k + 1) % 3);
+      s->edges[2 * edge_count] = entries[i].position[k];
+      s->edges[2 * edge_count + 1] = entries[i].position[(k + 1) % 3];
       edge_count++;
     }
-  // Keep the outline: edges whose reverse is not among them (few edges: quadratic is fine).
+  // Keep the outline: edges whose reverse is not among them (few edges:
+  // quadratic is fine), each with the edge it is (3 i + k: where its start
+  // point's plane coordinates are).
   uint32_t outline = 0;
   uint32_t* out = s->edges + 2u * edge_count;
   for (uint32_t e = 0; e < edge_count; ++e) {
@@ -181,7 +177,7 @@ static bool add_convex_outline(scratch* s, const bk_mesh* mesh, const cap_entry*
     for (uint32_t f = 0; f < edge_count && !inner; ++f)
       inner = s->edges[2 * f] == s->edges[2 * e + 1] && s->edges[2 * f + 1] == s->edges[2 * e];
     if (inner) continue;
-    out[2 * outline] = s->edges[2 * e], out[2 * outline + 1] = s->edges[2 * e + 1];
+    out[2 * outline] = e, out[2 * outline + 1] = s->edges[2 * e + 1];
     outline++;
   }
   // Every edge cancelled (triangles folded onto each other): the caps cover
@@ -189,14 +185,15 @@ static bool add_convex_outline(scratch* s, const bk_mesh* mesh, const cap_entry*
   if (outline < 3) return true;
   // Follow it from the first edge; it must be one loop using every edge.
   uint32_t first_point = s->point_count, used = 0, at = 0;
+  uint32_t start = s->edges[2 * out[0]];
   for (;;) {
-    bk_vec3 p = bk_v3_sub(mesh->positions[out[2 * at]], origin);
-    add_point(s, bk_v3_dot(p, u), bk_v3_dot(p, v));
+    const double* uv = entries[out[2 * at] / 3].uv[out[2 * at] % 3];
+    add_point(s, uv[0], uv[1]);
     used++;
     uint32_t next_vertex = out[2 * at + 1], next = UINT32_MAX;
-    if (next_vertex == out[0]) break;
+    if (next_vertex == start) break;
     for (uint32_t e = 0; e < outline && next == UINT32_MAX; ++e)
-      if (out[2 * e] == next_vertex) next = e;
+      if (s->edges[2 * out[2 * e]] == next_vertex) next = e;
     if (next == UINT32_MAX || used > outline) break;
     at = next;
   }
@@ -213,10 +210,12 @@ static bool add_convex_outline(scratch* s, const bk_mesh* mesh, const cap_entry*
       pts[n - 1 - i][0] = tx, pts[n - 1 - i][1] = ty;
     }
   double scale = 0.0;
-  for (uint32_t i = 0; i < n; ++i)
-    scale = fmax(scale, fmax(fabs(pts[(i + 1) % n][0] - pts[i][0]), fabs(pts[(i + 1) % n][1] - pts[i][1])));
   for (uint32_t i = 0; i < n; ++i) {
-    const double *a = pts[(i + n - 1) % n], *b = pts[i], *c = pts[(i + 1) % n];
+    const double* q = pts[i + 1 == n ? 0 : i + 1];
+    scale = bk_max(scale, bk_max(fabs(q[0] - pts[i][0]), fabs(q[1] - pts[i][1])));
+  }
+  for (uint32_t i = 0; i < n; ++i) {
+    const double *a = pts[i == 0 ? n - 1 : i - 1], *b = pts[i], *c = pts[i + 1 == n ? 0 : i + 1];
     if ((b[0] - a[0]) * (c[1] - b[1]) - (b[1] - a[1]) * (c[0] - b[0]) < -1e-12 * scale * scale) {
       s->point_count = first_point; // reflex corner: not convex
       return false;
@@ -226,7 +225,7 @@ static bool add_convex_outline(scratch* s, const bk_mesh* mesh, const cap_entry*
   return true;
 }
 
-static void add_triangles(scratch* s, const bk_mesh* mesh, const cap_entry* entries, uint32_t count,
+static void add_triangles(scratch* s, const bk_mesh* mesh, const bk_cap_entry* entries, uint32_t count,
                           bool flip, bk_vec3 origin, bk_vec3 u, bk_vec3 v, bk_vec3 n, double height) {
   for (uint32_t i = 0; i < count; ++i) {
     uint32_t first = s->point_count;
@@ -246,47 +245,79 @@ static void add_triangles(scratch* s, const bk_mesh* mesh, const cap_entry* entr
   }
 }
 
+// Contacts as met, cut by cut (a pair twice only in degenerate trees).
 typedef struct bond_list {
   bk_bond* items;
   uint32_t count, capacity;
-  bk_index_map index_of_pair;
-  bool raw; // every contact kept as met (a thread's share), merged later in cut order
 } bond_list;
-
-static void append_bond(bond_list* list, bk_bond bond) {
-  if (list->count == list->capacity) {
-    list->capacity = bk_grow_capacity(list->capacity, list->count + 1);
-    list->items = bk_realloc(list->items, sizeof(bk_bond) * list->capacity);
-  }
-  list->items[list->count++] = bond;
-}
 
 static void add_contact(bond_list* list, uint32_t below_leaf, uint32_t above_leaf, double area,
                         bk_vec3 centroid, bk_vec3 n) {
   uint32_t a = below_leaf < above_leaf ? below_leaf : above_leaf;
   uint32_t b = below_leaf < above_leaf ? above_leaf : below_leaf;
-  bk_bond bond = {a, b, area, centroid, a == below_leaf ? n : bk_v3_scale(n, -1.0)};
-  if (list->raw) {
-    append_bond(list, bond);
-    return;
+  if (list->count == list->capacity) {
+    list->capacity = bk_grow_capacity(list->capacity, list->count + 1);
+    list->items = bk_realloc(list->items, sizeof(bk_bond) * list->capacity);
   }
-  bool inserted = false;
-  uint32_t* slot = bk_index_map_insert(&list->index_of_pair, bk_edge_key(a, b), list->count, &inserted);
-  if (inserted) {
-    append_bond(list, bond);
-    return;
+  list->items[list->count++] = (bk_bond){a, b, area, centroid, a == below_leaf ? n : bk_v3_scale(n, -1.0)};
+}
+
+// The bonds in (leaf_a, leaf_b) order, a pair met on several cuts merged by
+// area in the order of its cuts (the lists hold the contacts in cut order
+// and the sort is stable). Returns the count.
+static uint32_t merge_contacts(const bond_list* lists, uint32_t list_count, uint32_t leaf_count,
+                               bk_bond** out) {
+  uint32_t* start = bk_calloc(leaf_count + 1u, sizeof(uint32_t));
+  uint32_t count = 0;
+  for (uint32_t k = 0; k < list_count; ++k) {
+    count += lists[k].count;
+    for (uint32_t i = 0; i < lists[k].count; ++i)
+      start[lists[k].items[i].leaf_a + 1]++;
   }
-  // Same pair over a second cut (only in degenerate trees): merge by area.
-  bk_bond* kept = &list->items[*slot];
-  double total = kept->area + area;
-  kept->centroid =
-      bk_v3_add(bk_v3_scale(kept->centroid, kept->area / total), bk_v3_scale(centroid, area / total));
-  kept->area = total;
+  for (uint32_t l = 0; l < leaf_count; ++l)
+    start[l + 1] += start[l];
+  bk_bond* sorted = bk_alloc(sizeof(bk_bond) * (count + 1u));
+  for (uint32_t k = 0; k < list_count; ++k)
+    for (uint32_t i = 0; i < lists[k].count; ++i)
+      sorted[start[lists[k].items[i].leaf_a]++] = lists[k].items[i];
+  // Each leaf's few bonds by leaf_b (insertion sort: stable), then equal pairs merged.
+  uint32_t kept = 0, first = 0;
+  for (uint32_t l = 0; l < leaf_count; ++l) {
+    uint32_t end = start[l];
+    for (uint32_t i = first + 1; i < end; ++i) {
+      bk_bond bond = sorted[i];
+      uint32_t j = i;
+      for (; j > first && sorted[j - 1].leaf_b > bond.leaf_b; --j)
+        sorted[j] = sorted[j - 1];
+      sorted[j] = bond;
+    }
+    for (uint32_t i = first; i < end; ++i) {
+      const bk_bond* c = &sorted[i];
+      bk_bond* last = kept > 0 ? &sorted[kept - 1] : NULL;
+      if (!last || last->leaf_a != c->leaf_a || last->leaf_b != c->leaf_b) {
+        sorted[kept++] = *c;
+        continue;
+      }
+      // Same pair over a second cut: merge by area.
+      double total = last->area + c->area;
+      last->centroid = bk_v3_add(bk_v3_scale(last->centroid, last->area / total),
+                                 bk_v3_scale(c->centroid, c->area / total));
+      last->area = total;
+    }
+    first = end;
+  }
+  free(start);
+  if (kept == 0) {
+    free(sorted);
+    sorted = NULL;
+  }
+  *out = sorted;
+  return kept;
 }
 
 // The bonds made by the caps of entries [first, last) (whole cuts), into `list`.
-static void bond_cuts(const bk_mesh_tree* tree, const cap_entry* entries, uint32_t first, uint32_t last,
-                      bond_list* list) {
+static void bond_cuts(const bk_mesh_tree* tree, const bk_cut_frame* frames, const bk_cap_entry* entries,
+                      uint32_t first, uint32_t last, bond_list* list) {
   // Plane coordinates are taken relative to the tree's origin, so a mesh far
   // from the world origin measures its contacts as precisely as one at it.
   bk_vec3 origin = bk_mesh_tree_origin(tree);
@@ -294,7 +325,6 @@ static void bond_cuts(const bk_mesh_tree* tree, const cap_entry* entries, uint32
   bk_aabb root_box = tree->nodes[0].bounds;
   bk_vec3 diag = bk_v3_sub(root_box.max, root_box.min);
   double min_area = 1e-12 * bk_v3_dot(diag, diag); // below this an overlap is rounding noise
-  double flat = 1e-9 * bk_v3_length(diag);         // a cap this close to its cut's plane is flat
   scratch s = {0};
   uint32_t most = 1; // entries of one cut at most
   for (uint32_t begin = first, end = first; begin < last; begin = end) {
@@ -309,9 +339,8 @@ static void bond_cuts(const bk_mesh_tree* tree, const cap_entry* entries, uint32
     uint32_t cut = entries[begin].cut, end = begin;
     while (end < last && entries[end].cut == cut)
       end++;
-    bk_vec3 n = tree->nodes[cut].plane.normal, u, v;
-    bk_plane_basis(n, &u, &v);
-    double height = tree->nodes[cut].plane.offset - bk_v3_dot(n, origin);
+    bk_vec3 n = tree->nodes[cut].plane.normal, u = frames[cut].u, v = frames[cut].v;
+    double height = frames[cut].height;
     // One group of convex pieces per (side, leaf).
     s.point_count = s.piece_count = 0;
     uint32_t group_count = 0, below_groups = 0;
@@ -319,11 +348,11 @@ static void bond_cuts(const bk_mesh_tree* tree, const cap_entry* entries, uint32
       uint32_t j = i;
       while (j < end && entries[j].leaf == entries[i].leaf && entries[j].side == entries[i].side)
         j++;
-      const bk_mesh* mesh = &bk_mesh_tree_leaf(tree, entries[i].leaf)->mesh;
       bool flip = entries[i].side == 1;
       uint32_t first_piece = s.piece_count;
-      if (!add_convex_outline(&s, mesh, &entries[i], j - i, flip, origin, u, v, n, height, flat))
-        add_triangles(&s, mesh, &entries[i], j - i, flip, origin, u, v, n, height);
+      if (!add_convex_outline(&s, &entries[i], j - i, flip, n, height))
+        add_triangles(&s, &bk_mesh_tree_leaf(tree, entries[i].leaf)->mesh, &entries[i], j - i, flip, origin,
+                      u, v, n, height);
       leaf_group* g = &groups[group_count++];
       *g = (leaf_group){entries[i].leaf,
                         first_piece,
@@ -332,7 +361,8 @@ static void bond_cuts(const bk_mesh_tree* tree, const cap_entry* entries, uint32
                         {-INFINITY, -INFINITY}};
       for (uint32_t k = first_piece; k < s.piece_count; ++k)
         for (int a = 0; a < 2; ++a)
-          g->min[a] = fmin(g->min[a], s.pieces[k].min[a]), g->max[a] = fmax(g->max[a], s.pieces[k].max[a]);
+          g->min[a] = bk_min(g->min[a], s.pieces[k].min[a]),
+          g->max[a] = bk_max(g->max[a], s.pieces[k].max[a]);
       if (!flip) below_groups = group_count;
       i = j;
     }
@@ -395,68 +425,68 @@ static void bond_cuts(const bk_mesh_tree* tree, const cap_entry* entries, uint32
   free(s.edges);
   free(s.clip[0]);
   free(s.clip[1]);
+  free(s.side);
   free(groups);
   free(active[0]);
   free(active[1]);
 }
 
-// One thread's share of the cuts.
+// A run of whole cuts and the contacts found on it.
 typedef struct bond_job {
   const bk_mesh_tree* tree;
-  const cap_entry* entries;
+  const bk_cut_frame* frames;
+  const bk_cap_entry* entries;
   uint32_t first, last;
   bond_list list;
 } bond_job;
 
+// The runs, taken by the threads one at a time as they finish the last.
+typedef struct bond_runs {
+  bond_job* runs;
+  uint32_t count;
+  atomic_uint next; // the first run nobody took
+} bond_runs;
+
 static void* bond_work(void* arg) {
-  bond_job* job = arg;
-  bond_cuts(job->tree, job->entries, job->first, job->last, &job->list);
+  bond_runs* r = *(bond_runs**)arg;
+  for (uint32_t i = atomic_fetch_add(&r->next, 1u); i < r->count; i = atomic_fetch_add(&r->next, 1u)) {
+    bond_job* job = &r->runs[i];
+    bond_cuts(job->tree, job->frames, job->entries, job->first, job->last, &job->list);
+  }
   return NULL;
 }
 
-// Bonds of every cut, on the tree's threads: each takes a run of whole cuts
-// (about equal entry counts) and keeps its contacts as met; they are joined
-// in cut order, so a pair met on several cuts is merged in the same order as
-// on one thread and the bonds are the same bit for bit.
-static void bond_all_cuts(const bk_mesh_tree* tree, const cap_entry* entries, uint32_t entry_count,
-                          bond_list* list) {
+// Contacts of every cut, on the tree's threads. The cuts are cut into runs
+// of whole cuts, many more than threads (the first cuts, whose caps are
+// shared by the most leaves, cost the most), each thread taking the next
+// run when done; each run keeps its contacts as met, so the runs' lists in
+// order hold every contact in cut order, the same bit for bit on any
+// thread count. Returns the lists and their count.
+static bond_list* bond_all_cuts(const bk_mesh_tree* tree, const bk_cut_frame* frames,
+                                const bk_cap_entry* entries, uint32_t entry_count, uint32_t* list_count) {
   uint32_t threads = bk_fracture_thread_count(&tree->desc, entry_count, 4096);
-  if (threads <= 1) {
-    bond_cuts(tree, entries, 0, entry_count, list);
-    return;
-  }
-  bond_job* jobs = bk_calloc(threads, sizeof(bond_job));
-  pthread_t* ids = bk_calloc(threads, sizeof(pthread_t));
-  bool* started = bk_calloc(threads, sizeof(bool));
-  uint32_t at = 0;
-  for (uint32_t t = 0; t < threads; ++t) {
-    uint32_t end = t + 1 == threads ? entry_count : (uint32_t)((uint64_t)entry_count * (t + 1) / threads);
+  uint32_t runs = threads > 1 ? 16u * threads : 1u;
+  bond_runs r = {bk_calloc(runs, sizeof(bond_job)), 0, 0};
+  for (uint32_t at = 0; r.count < runs && (at < entry_count || r.count == 0);) {
+    uint32_t end =
+        r.count + 1 == runs ? entry_count : (uint32_t)((uint64_t)entry_count * (r.count + 1) / runs);
     end = end < at ? at : end;
     while (end > at && end < entry_count && entries[end].cut == entries[end - 1].cut)
       end++; // whole cuts only
-    jobs[t] = (bond_job){tree, entries, at, end, {.raw = true}};
+    r.runs[r.count++] = (bond_job){tree, frames, entries, at, end, {0}};
     at = end;
   }
-  for (uint32_t t = 1; t < threads; ++t)
-    started[t] = pthread_create(&ids[t], NULL, bond_work, &jobs[t]) == 0;
-  bond_work(&jobs[0]);
-  for (uint32_t t = 1; t < threads; ++t)
-    if (started[t])
-      pthread_join(ids[t], NULL);
-    else
-      bond_work(&jobs[t]); // no thread: made here
-  for (uint32_t t = 0; t < threads; ++t) {
-    for (uint32_t i = 0; i < jobs[t].list.count; ++i) {
-      const bk_bond* b = &jobs[t].list.items[i];
-      // add_contact's pair is (below, above); giving it (leaf_a, leaf_b) with
-      // the normal seen from leaf_a keeps the bond's orientation.
-      add_contact(list, b->leaf_a, b->leaf_b, b->area, b->centroid, b->normal);
-    }
-    free(jobs[t].list.items);
-  }
-  free(jobs);
-  free(ids);
-  free(started);
+  bond_runs** pullers = bk_alloc(sizeof(bond_runs*) * threads);
+  for (uint32_t t = 0; t < threads; ++t)
+    pullers[t] = &r;
+  bk_fracture_run_jobs(bond_work, pullers, sizeof(bond_runs*), threads);
+  free(pullers);
+  bond_list* lists = bk_alloc(sizeof(bond_list) * r.count);
+  for (uint32_t i = 0; i < r.count; ++i)
+    lists[i] = r.runs[i].list;
+  free(r.runs);
+  *list_count = r.count;
+  return lists;
 }
 
 void bk_mesh_tree_compute_bonds(bk_mesh_tree* tree) {
@@ -468,33 +498,27 @@ void bk_mesh_tree_compute_bonds(bk_mesh_tree* tree) {
     bk_cell_tree_compute_bonds(tree);
     return;
   }
-
-  // Gather every cap triangle of every leaf, keyed by its cut and side.
-  uint32_t entry_count = 0, entry_capacity = 0;
-  cap_entry* entries = NULL;
-  for (uint32_t leaf = 0; leaf < tree->leaf_count; ++leaf) {
-    const bk_mesh* mesh = &bk_mesh_tree_leaf(tree, leaf)->mesh;
-    for (uint32_t t = 0; t < mesh->triangle_count; ++t) {
-      uint32_t tag = mesh->tags[t];
-      if (!bk_material_is_interior(mesh->materials[t]) || tag == 0 || tag > tree->node_count) continue;
-      bk_vec3 n = tree->nodes[tag - 1].plane.normal;
-      bk_vec3 a = mesh->positions[bk_mesh_tri_position(mesh, t, 0)];
-      bk_vec3 e = bk_v3_cross(bk_v3_sub(mesh->positions[bk_mesh_tri_position(mesh, t, 1)], a),
-                              bk_v3_sub(mesh->positions[bk_mesh_tri_position(mesh, t, 2)], a));
-      if (entry_count == entry_capacity) {
-        entry_capacity = bk_grow_capacity(entry_capacity, entry_count + 1);
-        entries = bk_realloc(entries, sizeof(cap_entry) * entry_capacity);
-      }
-      entries[entry_count++] = (cap_entry){tag - 1, bk_v3_dot(e, n) > 0.0 ? 0u : 1u, leaf, t};
-    }
+  // Each cut's plane basis and height above the tree's origin: plane
+  // coordinates are taken relative to the origin, so a mesh far from the
+  // world origin measures its contacts as precisely as one at it.
+  bk_vec3 origin = bk_mesh_tree_origin(tree);
+  bk_cut_frame* frames = bk_alloc(sizeof(bk_cut_frame) * tree->node_count);
+  for (uint32_t i = 0; i < tree->node_count; ++i) {
+    bk_vec3 n = tree->nodes[i].plane.normal;
+    bk_plane_basis(n, &frames[i].u, &frames[i].v);
+    frames[i].height = tree->nodes[i].plane.offset - bk_v3_dot(n, origin);
   }
-  if (entry_count > 1) qsort(entries, entry_count, sizeof(cap_entry), compare_entries);
-  bond_list list = {0};
-  bk_index_map_init(&list.index_of_pair, tree->leaf_count * 4u);
-  bond_all_cuts(tree, entries, entry_count, &list);
+  bk_aabb root_box = tree->nodes[0].bounds;
+  double flat = 1e-9 * bk_v3_length(bk_v3_sub(root_box.max, root_box.min)); // a cap this close is flat
+  // Every cap triangle of every leaf, by cut and side.
+  bk_cap_entry* entries = NULL;
+  uint32_t entry_count = bk_gather_cap_entries(tree, frames, flat, &entries);
+  uint32_t list_count = 0;
+  bond_list* lists = bond_all_cuts(tree, frames, entries, entry_count, &list_count);
   free(entries);
-  bk_index_map_free(&list.index_of_pair);
-  if (list.count > 1) qsort(list.items, list.count, sizeof(bk_bond), compare_bonds);
-  tree->bonds = list.items;
-  tree->bond_count = list.count;
+  free(frames);
+  tree->bond_count = merge_contacts(lists, list_count, tree->leaf_count, &tree->bonds);
+  for (uint32_t k = 0; k < list_count; ++k)
+    free(lists[k].items);
+  free(lists);
 }

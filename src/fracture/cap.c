@@ -27,7 +27,14 @@ struct bk_cap {
   uint32_t pending[3];
   uint32_t pending_count;
   bool failed;
-  bk_index_map edge_set;
+  uint32_t* ring; // the convex loop being clipped
+  // closes_exactly: triangle half-edges (h = 3t + k) by start vertex, marks per vertex.
+  uint32_t* tri_start;
+  uint32_t* mark;
+  uint32_t* slot;
+  uint32_t* tri_around;
+  uint8_t* outer;
+  uint32_t half_capacity;
 };
 
 static void push_triangle(bk_cap* cap, uint32_t a, uint32_t b, uint32_t c) {
@@ -94,7 +101,6 @@ bk_cap* bk_cap_create(void) {
   gluTessCallback(cap->tess, GLU_TESS_COMBINE_DATA, (_GLUfuncptr)tess_combine);
   gluTessCallback(cap->tess, GLU_TESS_ERROR_DATA, (_GLUfuncptr)tess_error);
   gluTessNormal(cap->tess, 0.0, 0.0, 1.0);
-  bk_index_map_init(&cap->edge_set, 64);
   return cap;
 }
 
@@ -108,7 +114,12 @@ void bk_cap_destroy(bk_cap* cap) {
   free(cap->loop_vertices);
   free(cap->loop_start);
   free(cap->tris);
-  bk_index_map_free(&cap->edge_set);
+  free(cap->ring);
+  free(cap->tri_start);
+  free(cap->mark);
+  free(cap->slot);
+  free(cap->tri_around);
+  free(cap->outer);
   free(cap);
 }
 
@@ -116,11 +127,15 @@ static void reserve(bk_cap* cap, uint32_t vertices, uint32_t edges) {
   if (vertices + 1 > cap->vertex_capacity) {
     cap->vertex_capacity = bk_grow_capacity(cap->vertex_capacity, vertices + 1);
     cap->out_start = bk_realloc(cap->out_start, sizeof(uint32_t) * cap->vertex_capacity);
+    cap->tri_start = bk_realloc(cap->tri_start, sizeof(uint32_t) * cap->vertex_capacity);
+    cap->mark = bk_realloc(cap->mark, sizeof(uint32_t) * cap->vertex_capacity);
+    cap->slot = bk_realloc(cap->slot, sizeof(uint32_t) * cap->vertex_capacity);
   }
   if (edges > cap->edge_capacity) {
     cap->edge_capacity = bk_grow_capacity(cap->edge_capacity, edges);
     cap->out_edges = bk_realloc(cap->out_edges, sizeof(uint32_t) * cap->edge_capacity);
     cap->edge_used = bk_realloc(cap->edge_used, cap->edge_capacity);
+    cap->ring = bk_realloc(cap->ring, sizeof(uint32_t) * cap->edge_capacity);
   }
   if (3u * edges > cap->coord_capacity) {
     cap->coord_capacity = bk_grow_capacity(cap->coord_capacity, 3u * edges);
@@ -132,27 +147,56 @@ static void reserve(bk_cap* cap, uint32_t vertices, uint32_t edges) {
 
 // Outer edges of the triangles must be exactly the input edges, each once,
 // in the input direction; every other edge must be shared by two triangles.
-static bool closes_exactly(bk_cap* cap, const uint32_t* edges, uint32_t edge_count) {
-  bk_index_map_clear(&cap->edge_set);
-  for (uint32_t t = 0; t < cap->tri_count; ++t)
-    for (int k = 0; k < 3; ++k) {
-      bool inserted = false;
-      uint32_t a = cap->tris[3 * t + k], b = cap->tris[3 * t + (k + 1) % 3];
-      bk_index_map_insert(&cap->edge_set, bk_directed_edge_key(a, b), t, &inserted);
-      if (!inserted) return false; // a directed edge used twice: overlapping triangles
-    }
+// Triangle half-edges are grouped by start vertex: a vertex marks where its
+// half-edges go (twice to one place: overlapping triangles), and a half-edge
+// arriving there is outer when the way back is unmarked. Input edges are
+// grouped by start vertex too (out_start, out_edges).
+static bool closes_exactly(bk_cap* cap, const uint32_t* edges, uint32_t edge_count, uint32_t vertex_count) {
+  uint32_t half_count = 3u * cap->tri_count;
+  if (half_count > cap->half_capacity) {
+    cap->half_capacity = bk_grow_capacity(cap->half_capacity, half_count);
+    cap->tri_around = bk_realloc(cap->tri_around, sizeof(uint32_t) * cap->half_capacity);
+    cap->outer = bk_realloc(cap->outer, cap->half_capacity);
+  }
+  const uint32_t* tris = cap->tris;
+  uint32_t* start = cap->tri_start;
+  memset(start, 0, sizeof(uint32_t) * (vertex_count + 1u));
+  for (uint32_t h = 0; h < half_count; ++h)
+    start[tris[h] + 1]++;
+  for (uint32_t v = 0; v < vertex_count; ++v)
+    start[v + 1] += start[v];
+  for (uint32_t h = 0; h < half_count; ++h)
+    cap->tri_around[start[tris[h]]++] = h;
+  for (uint32_t v = vertex_count; v > 0; --v)
+    start[v] = start[v - 1];
+  start[0] = 0;
   uint32_t outer = 0;
-  for (uint32_t s = 0; s < cap->edge_set.capacity; ++s) {
-    uint64_t key = cap->edge_set.keys[s];
-    if (key == UINT64_MAX) continue;
-    if (!bk_index_map_find(&cap->edge_set, bk_directed_edge_key((uint32_t)key, (uint32_t)(key >> 32))))
-      ++outer;
+  memset(cap->mark, 0xff, sizeof(uint32_t) * vertex_count);
+  for (uint32_t b = 0; b < vertex_count; ++b) {
+    for (uint32_t i = start[b]; i < start[b + 1]; ++i) {
+      uint32_t x = tris[bk_half_next(cap->tri_around[i])];
+      if (cap->mark[x] == b) return false; // a directed edge used twice: overlapping triangles
+      cap->mark[x] = b;
+    }
+    for (uint32_t i = start[b]; i < start[b + 1]; ++i) {
+      uint32_t h = bk_half_prev(cap->tri_around[i]);
+      cap->outer[h] = cap->mark[tris[h]] != b;
+      outer += cap->outer[h];
+    }
   }
   if (outer != edge_count) return false;
-  for (uint32_t e = 0; e < edge_count; ++e) {
-    uint32_t a = edges[2 * e], b = edges[2 * e + 1];
-    if (!bk_index_map_find(&cap->edge_set, bk_directed_edge_key(a, b))) return false;
-    if (bk_index_map_find(&cap->edge_set, bk_directed_edge_key(b, a))) return false;
+  // Every input edge a -> b is an outer triangle edge.
+  memset(cap->mark, 0xff, sizeof(uint32_t) * vertex_count);
+  for (uint32_t a = 0; a < vertex_count; ++a) {
+    for (uint32_t i = start[a]; i < start[a + 1]; ++i) {
+      uint32_t h = cap->tri_around[i], x = tris[bk_half_next(h)];
+      cap->mark[x] = a;
+      cap->slot[x] = h;
+    }
+    for (uint32_t i = cap->out_start[a]; i < cap->out_start[a + 1]; ++i) {
+      uint32_t b = edges[2 * cap->out_edges[i] + 1];
+      if (cap->mark[b] != a || !cap->outer[cap->slot[b]]) return false;
+    }
   }
   return true;
 }
@@ -171,23 +215,23 @@ static double turn2(const double* xy, uint32_t a, uint32_t b, uint32_t c) {
 static bool clip_convex_loop(bk_cap* cap, const double* xy) {
   uint32_t n = cap->loop_start[1];
   if (n < 3) return false;
-  // Work on a copy (the outgoing-edge lists are free once loops are linked)
-  // so a give-up leaves the loop intact for the tessellator.
-  uint32_t* ring = cap->out_edges;
+  // Work on a copy so a give-up leaves the loop intact for the tessellator.
+  uint32_t* ring = cap->ring;
   memcpy(ring, cap->loop_vertices, sizeof(uint32_t) * n);
   double area2 = 0.0, scale = 0.0;
   for (uint32_t i = 0; i < n; ++i) {
-    const double *p = &xy[2 * ring[i]], *q = &xy[2 * ring[(i + 1) % n]];
+    const double *p = &xy[2 * ring[i]], *q = &xy[2 * ring[i + 1 == n ? 0 : i + 1]];
     area2 += p[0] * q[1] - q[0] * p[1];
-    scale = fmax(scale, fmax(fabs(q[0] - p[0]), fabs(q[1] - p[1])));
+    scale = bk_max(scale, bk_max(fabs(q[0] - p[0]), fabs(q[1] - p[1])));
   }
   double orientation = area2 > 0.0 ? 1.0 : -1.0;
   double eps = 1e-12 * scale * scale;
   for (uint32_t i = 0; i < n; ++i)
-    if (orientation * turn2(xy, ring[(i + n - 1) % n], ring[i], ring[(i + 1) % n]) < -eps) return false;
+    if (orientation * turn2(xy, ring[i == 0 ? n - 1 : i - 1], ring[i], ring[i + 1 == n ? 0 : i + 1]) < -eps)
+      return false;
   uint32_t i = 0, misses = 0;
   while (n > 3) {
-    uint32_t prev = (i + n - 1) % n, next = (i + 1) % n;
+    uint32_t prev = i == 0 ? n - 1 : i - 1, next = i + 1 == n ? 0 : i + 1;
     if (orientation * turn2(xy, ring[prev], ring[i], ring[next]) > eps) {
       push_triangle(cap, ring[prev], ring[i], ring[next]);
       memmove(&ring[i], &ring[i + 1], sizeof(uint32_t) * (n - i - 1));
@@ -195,7 +239,7 @@ static bool clip_convex_loop(bk_cap* cap, const double* xy) {
       if (i >= n) i = 0;
       misses = 0;
     } else {
-      i = (i + 1) % n;
+      i = i + 1 == n ? 0 : i + 1;
       if (++misses > n) break; // only collinear vertices left: give up
     }
   }
@@ -204,6 +248,22 @@ static bool clip_convex_loop(bk_cap* cap, const double* xy) {
     return false;
   }
   push_triangle(cap, ring[0], ring[1], ring[2]);
+  return true;
+}
+
+// Ear clipping a loop that visits no vertex twice closes it exactly, by
+// construction: each ear's triangle runs along two ring edges and back
+// along the diagonal that replaces them, which joins two vertices not
+// adjacent on the ring (and never adjacent before), so the triangles' outer
+// edges are the loop's edges, each once, and every diagonal is used once
+// each way. Only a loop through a vertex twice needs closes_exactly.
+static bool loop_is_simple(bk_cap* cap, uint32_t vertex_count) {
+  memset(cap->mark, 0, sizeof(uint32_t) * vertex_count);
+  for (uint32_t i = 0; i < cap->loop_start[1]; ++i) {
+    uint32_t v = cap->loop_vertices[i];
+    if (cap->mark[v]) return false;
+    cap->mark[v] = 1;
+  }
   return true;
 }
 
@@ -296,7 +356,7 @@ bool bk_cap_triangulate(bk_cap* cap, const uint32_t* edges, uint32_t edge_count,
   cap->tri_count = 0;
   cap->failed = false;
   if (cap->loop_count == 1 && clip_convex_loop(cap, xy)) {
-    if (closes_exactly(cap, edges, edge_count)) {
+    if (loop_is_simple(cap, vertex_count) || closes_exactly(cap, edges, edge_count, vertex_count)) {
       *triangles = cap->tris;
       *triangle_count = cap->tri_count;
       return true;
@@ -329,14 +389,10 @@ bool bk_cap_triangulate(bk_cap* cap, const uint32_t* edges, uint32_t edge_count,
 
   // GLU orients every triangle the same way (counter-clockwise about its
   // normal); flip all if that disagrees with the direction of the loops.
-  bool inserted = false;
-  bk_index_map_clear(&cap->edge_set);
-  for (uint32_t t = 0; t < kept; ++t)
-    for (int k = 0; k < 3; ++k)
-      bk_index_map_insert(&cap->edge_set,
-                          bk_directed_edge_key(cap->tris[3 * t + k], cap->tris[3 * t + (k + 1) % 3]), t,
-                          &inserted);
-  if (!bk_index_map_find(&cap->edge_set, bk_directed_edge_key(edges[0], edges[1]))) {
+  bool along = false;
+  for (uint32_t h = 0; h < 3u * kept && !along; ++h)
+    along = cap->tris[h] == edges[0] && cap->tris[bk_half_next(h)] == edges[1];
+  if (!along) {
     for (uint32_t t = 0; t < kept; ++t) {
       uint32_t tmp = cap->tris[3 * t + 1];
       cap->tris[3 * t + 1] = cap->tris[3 * t + 2];
@@ -346,10 +402,10 @@ bool bk_cap_triangulate(bk_cap* cap, const uint32_t* edges, uint32_t edge_count,
   double scale = 0.0;
   for (uint32_t e = 0; e < edge_count; ++e) {
     const double *p = &xy[2 * edges[2 * e]], *q = &xy[2 * edges[2 * e + 1]];
-    scale = fmax(scale, fmax(fabs(q[0] - p[0]), fabs(q[1] - p[1])));
+    scale = bk_max(scale, bk_max(fabs(q[0] - p[0]), fabs(q[1] - p[1])));
   }
   repair_zero_area(cap, xy, 1e-12 * scale * scale);
-  if (!closes_exactly(cap, edges, edge_count))
+  if (!closes_exactly(cap, edges, edge_count, vertex_count))
     return bk_error_set(err, "cap triangulation does not close the cut (%u loop edges, %u triangles)",
                         edge_count, kept);
   *triangles = cap->tris;

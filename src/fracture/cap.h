@@ -9,6 +9,11 @@ typedef struct bk_cap bk_cap;
 bk_cap* bk_cap_create(void);
 void bk_cap_destroy(bk_cap* cap);
 
+/// bk_slicer_slice into meshes whose storage is kept and reused (their
+/// contents are replaced; free them with bk_mesh_free when done).
+bool bk_slicer_slice_reuse(bk_slicer* slicer, const bk_mesh* mesh, const bk_slice_def* def, bk_mesh* below,
+                           bk_mesh* above, bk_error* err);
+
 /// Triangulates the region bounded by closed loops given as directed edges
 /// between local vertices 0..vertex_count-1 (2D coordinates in `xy`). Loops
 /// may be nested (polygons, holes, islands in holes: ODD winding). The
@@ -63,11 +68,12 @@ void bk_face_simplifier_destroy(bk_face_simplifier* fs);
 /// Leaves the faces of cuts (tags below BK_SOURCE_FACE_TAG) as they are:
 /// noisy cut faces are not planar (default: false, every face is redone).
 void bk_face_simplifier_keep_cuts(bk_face_simplifier* fs, bool keep);
-/// Replaces the triangles of each planar face of a closed mesh by a
-/// triangulation of its outline, dropping vertices inside faces and on straight
-/// edges between two faces. Returns false, leaving the mesh untouched, when a
-/// face cannot be re-triangulated.
-bool bk_face_simplifier_run(bk_face_simplifier* fs, bk_mesh* mesh);
+/// Writes `mesh` to `out` (overwritten; its arrays allocated to the sizes it
+/// needs) with the triangles of each planar face replaced by a
+/// triangulation of the face's outline, dropping vertices inside faces and
+/// on straight edges between two faces. Returns false, writing `mesh` as it
+/// is, when a face cannot be re-triangulated.
+bool bk_face_simplifier_run(bk_face_simplifier* fs, const bk_mesh* mesh, bk_mesh* out);
 
 /// Tags of source-mesh faces start here, above any cut id (cut ids are node
 /// index + 1), so a tag names either one cut or one planar source face.

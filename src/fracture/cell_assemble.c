@@ -492,7 +492,7 @@ bool bk_cell_tree_assemble(const bk_mesh* root, const bk_fracture_def* d, bk_tre
   for (int pass = 0; pass < 2; ++pass) {
     job.inner = pass == 1;
     atomic_store(&job.next_node, 0u);
-    bk_cell_run_threads(threads, node_work, workers, sizeof *workers);
+    bk_fracture_run_jobs(node_work, workers, sizeof *workers, threads);
   }
   for (uint32_t t = 0; t < threads; ++t) {
     free(workers[t].stamp);

@@ -117,18 +117,6 @@ static bk_aabb polytope_bounds(const bk_cell_complex* cx, const bk_cell_polytope
 
 // ---------------------------------------------------------------- cells on every core
 
-void bk_cell_run_threads(uint32_t threads, void* (*work)(void*), void* workers, size_t worker_size) {
-  pthread_t* ids = bk_calloc(threads, sizeof(pthread_t));
-  uint32_t started = 1;
-  for (uint32_t t = 1; t < threads; ++t, ++started)
-    if (pthread_create(&ids[t], NULL, work, (char*)workers + t * worker_size) != 0)
-      break; // the others take its share
-  work(workers);
-  for (uint32_t t = 1; t < started; ++t)
-    pthread_join(ids[t], NULL);
-  free(ids);
-}
-
 // Cells are independent once the seeds are known: each worker builds the
 // polytopes and surfaces of the cells it takes into a vertex table of its
 // own (a vertex's coordinates follow from its name, so every table agrees
@@ -239,7 +227,7 @@ static bool run_cells(const bk_mesh* m, const bk_fracture_def* d, bk_cell_build*
     bk_cell_complex_init(&w->cx, m, b->seeds, b->cells);
     w->cx.planar_axis = b->cx.planar_axis;
   }
-  bk_cell_run_threads(threads, cell_work, workers, sizeof *workers);
+  bk_fracture_run_jobs(cell_work, workers, sizeof *workers, threads);
   uint32_t failed = UINT32_MAX;
   for (uint32_t t = 0; t < threads; ++t)
     failed = workers[t].failed_cell < failed ? workers[t].failed_cell : failed;

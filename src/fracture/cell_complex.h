@@ -197,11 +197,6 @@ typedef struct bk_cell_faces {
   uint32_t triangle_count, triangle_capacity;
 } bk_cell_faces;
 
-/// Runs work(workers + t * worker_size) for t < threads, the calling thread
-/// taking t = 0. The work functions must share their jobs through a counter:
-/// a thread that cannot be started leaves its share to the others.
-void bk_cell_run_threads(uint32_t threads, void* (*work)(void*), void* workers, size_t worker_size);
-
 /// Builds every cut face from the cells' polytopes and surfaces, on up to
 /// `threads` threads (the same faces for any count). Fails when the complex
 /// is inconsistent (rounding in a near-degenerate seed layout).

@@ -414,7 +414,7 @@ bool bk_cell_build_faces(bk_cell_complex* cx, const bk_cell_polytope* polys, con
                                .cell_first = cell_first,
                                .cell_count = cell_count,
                                .failed_cell = UINT32_MAX};
-  bk_cell_run_threads(threads, face_work, workers, sizeof *workers);
+  bk_fracture_run_jobs(face_work, workers, sizeof *workers, threads);
   const face_worker* first_failure = NULL;
   for (uint32_t t = 0; t < threads; ++t)
     if (workers[t].failed_cell != UINT32_MAX &&

@@ -30,18 +30,39 @@ double bk_mesh_winding_number(const bk_mesh* m, const uint32_t* tri_component, u
   return total / (4.0 * 3.14159265358979323846);
 }
 
-uint32_t bk_mesh_split_hulls(bk_mesh* m, bk_mesh** out) {
-  uint32_t* parent = bk_alloc(sizeof(uint32_t) * (m->position_count + 1u));
+// parent[] (one per position) joins the positions of every triangle: the
+// roots name the connected components; the smaller index wins, so the roots
+// do not depend on the order of the unions.
+static void union_triangles(const bk_mesh* m, uint32_t* parent) {
   for (uint32_t i = 0; i < m->position_count; ++i)
     parent[i] = i;
   for (uint32_t t = 0; t < m->triangle_count; ++t) {
     uint32_t r0 = find_root(parent, bk_mesh_tri_position(m, t, 0));
     for (int k = 1; k < 3; ++k) {
       uint32_t r = find_root(parent, bk_mesh_tri_position(m, t, k));
-      if (r != r0) parent[r > r0 ? r : r0] = r < r0 ? r : r0; // smaller index wins: deterministic
+      if (r != r0) parent[r > r0 ? r : r0] = r < r0 ? r : r0;
       r0 = r < r0 ? r : r0;
     }
   }
+}
+
+bool bk_mesh_is_connected_with(const bk_mesh* m, bk_topology_scratch* s) {
+  if (m->position_count + 1u > s->position_capacity) {
+    s->position_capacity = bk_grow_capacity(s->position_capacity, m->position_count + 1u);
+    s->start = bk_realloc(s->start, sizeof(uint32_t) * s->position_capacity);
+    s->mark = bk_realloc(s->mark, sizeof(uint32_t) * s->position_capacity);
+  }
+  uint32_t* parent = s->mark;
+  union_triangles(m, parent);
+  uint32_t root = m->triangle_count ? find_root(parent, bk_mesh_tri_position(m, 0, 0)) : 0;
+  for (uint32_t t = 1; t < m->triangle_count; ++t)
+    if (find_root(parent, bk_mesh_tri_position(m, t, 0)) != root) return false;
+  return true;
+}
+
+uint32_t bk_mesh_split_hulls(bk_mesh* m, bk_mesh** out) {
+  uint32_t* parent = bk_alloc(sizeof(uint32_t) * (m->position_count + 1u));
+  union_triangles(m, parent);
   // Number components in order of first triangle.
   uint32_t* component_of_root = bk_alloc(sizeof(uint32_t) * (m->position_count + 1u));
   memset(component_of_root, 0xff, sizeof(uint32_t) * m->position_count);

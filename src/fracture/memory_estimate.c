@@ -1,24 +1,26 @@
 // How much memory a fracture will need, known before it starts, so that a
 // request that cannot fit is refused up front instead of exhausting the
-// machine half-way (a cube into 1,048,576 pieces peaks at 8.3 GB).
+// machine half-way (a cube into 1,048,576 pieces peaks at 6.0 GB).
 //
 // The models are fitted (least squares on relative error) to the peak
 // resident memory of `breakables fracture` (Release build, x86-64, glibc).
 // With T source triangles, N pieces and L = log2 N:
 //
 // Planes and brick, fitted over 7 built-in meshes (12 to 3,674 triangles)
-// and icospheres of 5,120 to 327,680 triangles, from 1 to 262,144 pieces
-// (133 runs). The peak is the larger of
+// and spheres of 5,120 to 327,680 triangles, from 2 to 65,536 pieces (75
+// runs; a cube into 262,144 and 1,048,576 pieces checked). The peak is the
+// larger of
 //   - the first cut's working set (N > 1): slicing, capping and checking a
-//     copy of the whole source, 660 bytes per source triangle;
+//     copy of the whole source, 414 bytes per source triangle over a fixed
+//     11.1 MB;
 //   - the finished tree, the sum of
-//       a fixed part: the process itself (8.6 MB, 10.3 MB measured for the
-//         command line tool with the libraries it links; 5.75 MB when the
-//         rest was fitted);
+//       a fixed part: the process itself (10.8 MB; 10.3 MB measured for the
+//         command line tool with the libraries it links);
 //       T: the source mesh and its loading;
 //       T L: every level of the tree holds the whole source surface again;
-//       N: each fragment and its parent node (about 14 triangles each, with
-//          their caps, bounds, moments and bonds), 8.4 KB per piece;
+//       N: each fragment and its parent node (about 14 triangles each, held
+//          in arrays of exactly their size, with their caps, bounds, moments
+//          and bonds), 5.85 KB per piece;
 //       sqrt(T) N^(1/3): curved surfaces are cut into more triangles as the
 //          pieces along them grow in number.
 // The cell patterns (voronoi, clustered, radial, cut-out) hold every cell's
@@ -32,17 +34,19 @@
 //   - planes: each cap gets the nodes of a grid BK_CAP_NOISE_SPACING waves
 //     apart (at most BK_CAP_NOISE_MAX_NODES), and every tree level below the
 //     cut holds them again; besides, noisy caps are never re-triangulated,
-//     so later cuts leave more triangles on them (24 KB per piece);
+//     so later cuts leave more triangles on them (26.5 KB per piece);
 //   - cell patterns: cut faces are refined by up to BK_CELL_NOISE_MAX_LEVELS
 //     levels within the mesher's budget.
-// Measured on the cube, bunny, torus, eggshell, wall, pillar and the two
-// spheres at 2 to 4,096 pieces, flat and with noise at frequencies 2, 8 and
-// 24 (390 runs, peaks of 11 to 860 MiB), the estimate, the fit times 1.25, is
-// 0.89 to 1.53 times the peak for planes and brick, flat or noisy; 1.15 to
-// 1.42 times for the cell patterns flat and 0.70 to 2.04 times noisy (on
-// the cube and the bunny 0.91 to 1.94): how many levels the refinement
-// budget lets through makes their peak jump by up to 2x between nearby
-// requests, and the estimate stays between the two outcomes.
+// The estimate, the fit times 1.25, is 1.19 to 1.32 times the peak for
+// planes and brick flat (the runs above, and brick on the wall) and 0.92 to
+// 1.50 times with noise (the cube and the bunny at 64, 1,024 and 4,096
+// pieces, frequencies 2, 8 and 24). Measured on the cube, bunny, torus,
+// eggshell, wall, pillar and the two spheres at 2 to 4,096 pieces, flat and
+// with noise at frequencies 2, 8 and 24 (peaks of 11 to 860 MiB), it is
+// 1.15 to 1.42 times the peak for the cell patterns flat and 0.70 to 2.04
+// times noisy (on the cube and the bunny 0.91 to 1.94): how many levels the
+// refinement budget lets through makes their peak jump by up to 2x between
+// nearby requests, and the estimate stays between the two outcomes.
 #include <math.h>
 
 #include "bk_fracture.h"
@@ -96,11 +100,11 @@ static double planes_noise_point_levels(double volume, double n, double frequenc
   return sum;
 }
 
-// Bytes noisy caps add to a planes tree: 355 per point and level, and the
-// cut faces left whole (24 KB per piece).
+// Bytes noisy caps add to a planes tree: 367 per point and level, and the
+// cut faces left whole (26.5 KB per piece).
 static double planes_noise_bytes(double volume, double n, double frequency) {
   if (!(n > 1.0) || !(frequency > 0.0) || !(volume > 0.0)) return 0.0;
-  return 24000.0 * n + 355.0 * planes_noise_point_levels(volume, n, frequency);
+  return 26500.0 * n + 367.0 * planes_noise_point_levels(volume, n, frequency);
 }
 
 // Cut-face triangles of a cell pattern before noise: about 24 per cell, and
@@ -143,13 +147,13 @@ uint64_t bk_mesh_tree_estimate_bytes(const bk_mesh* source, const bk_fracture_de
   double t = source ? (double)source->triangle_count : 0.0, n = pieces_of(desc);
   double levels = log2(n), frequency = noise_frequency_of(desc);
   double volume = source && frequency > 0.0 ? bk_mesh_volume(source) : 0.0;
-  double first_cut = n > 1.0 ? 5.75e6 + 660.0 * t : 0.0;
+  double first_cut = n > 1.0 ? (cell_pattern(desc) ? 5.75e6 + 660.0 * t : 11.1e6 + 414.0 * t) : 0.0;
   double tree = 0.0;
   if (cell_pattern(desc))
     tree = 11.75e6 + 235.0 * t + 4440.0 * n * levels + 24300.0 * sqrt(t) * cbrt(n) + 160.0 * t * levels +
            cell_noise_bytes_per_triangle(levels) * cell_noise_triangles(t, volume, n, frequency);
   else
-    tree = 8.6e6 + 190.0 * t + 72.0 * t * levels + 8420.0 * n + 16100.0 * sqrt(t) * cbrt(n) +
+    tree = 10.8e6 + 270.0 * t + 63.0 * t * levels + 5850.0 * n + 9100.0 * sqrt(t) * cbrt(n) +
            planes_noise_bytes(volume, n, frequency);
   return to_bytes(BUILD_MARGIN * fmax(first_cut, tree));
 }

@@ -11,12 +11,14 @@
 struct bk_plane_splitter {
   bk_slicer* slicer;
   bk_face_simplifier* simplifier;
+  bk_topology_scratch topology; // hull and closure tests
+  bk_mesh sides[2];             // what the slicer makes, kept between cuts
 };
 
 bk_plane_splitter* bk_plane_splitter_create(void) {
   bk_slicer* slicer = bk_slicer_create();
   if (!slicer) return NULL;
-  bk_plane_splitter* s = bk_alloc(sizeof *s);
+  bk_plane_splitter* s = bk_calloc(1, sizeof *s);
   s->slicer = slicer;
   s->simplifier = bk_face_simplifier_create();
   return s;
@@ -26,6 +28,9 @@ void bk_plane_splitter_destroy(bk_plane_splitter* s) {
   if (!s) return;
   bk_slicer_destroy(s->slicer);
   bk_face_simplifier_destroy(s->simplifier);
+  bk_topology_scratch_free(&s->topology);
+  bk_mesh_free(&s->sides[0]);
+  bk_mesh_free(&s->sides[1]);
   free(s);
 }
 
@@ -50,10 +55,10 @@ void bk_plane_split_free(bk_plane_split* split) {
 // after snapping to the plane is far above it. A tree is at most a few dozen
 // levels deep, so its leaves add up to the source within 1e-9.
 bool bk_plane_pieces_hold(const bk_mesh_tree_node* node, const bk_mesh* pieces, uint32_t count,
-                          bk_moments* moments, bk_split_failure* why) {
+                          bk_moments* moments, bk_split_failure* why, bk_topology_scratch* scratch) {
   double sum = 0.0;
   for (uint32_t i = 0; i < count; ++i) {
-    if (!bk_mesh_is_closed(&pieces[i])) {
+    if (!bk_mesh_is_closed_with(&pieces[i], scratch)) {
       *why = BK_SPLIT_NOT_CLOSED;
       return false;
     }
@@ -70,6 +75,30 @@ bool bk_plane_pieces_hold(const bk_mesh_tree_node* node, const bk_mesh* pieces, 
     return false;
   }
   return true;
+}
+
+// The solid shells of one side of a cut, their faces re-triangulated, after
+// the `*count` pieces of `*pieces` (room for `*capacity`). Nearly every side
+// is one piece, simplified straight from the slicer's storage.
+static void add_side(bk_plane_splitter* s, const bk_mesh* side, bk_mesh** pieces, uint32_t* count,
+                     uint32_t* capacity) {
+  bk_mesh* hulls = NULL;
+  uint32_t hull_count = 0;
+  if (!bk_mesh_is_connected_with(side, &s->topology)) {
+    bk_mesh copy = {0}; // taken by bk_mesh_split_hulls
+    bk_mesh_copy(&copy, side);
+    hull_count = bk_mesh_split_hulls(&copy, &hulls);
+  }
+  uint32_t add = hull_count ? hull_count : 1;
+  if (*count + add > *capacity) {
+    *capacity = bk_grow_capacity(*capacity, *count + add);
+    *pieces = bk_realloc(*pieces, sizeof(bk_mesh) * *capacity);
+  }
+  for (uint32_t i = 0; i < add; ++i)
+    bk_face_simplifier_run(s->simplifier, hull_count ? &hulls[i] : side, &(*pieces)[(*count)++]);
+  for (uint32_t i = 0; i < hull_count; ++i)
+    bk_mesh_free(&hulls[i]);
+  free(hulls);
 }
 
 // Cuts a node by one plane (local frame) into the solid shells on each side,
@@ -96,30 +125,24 @@ static uint32_t cut_node(bk_plane_splitter* s, const bk_plane_split_context* ctx
                         .noise_amplitude = ldexp(d->noise_amplitude, -frame->exponent),
                         .noise_frequency = ldexp(d->noise_frequency, frame->exponent),
                         .noise_seed = d->seed * 0x9e3779b97f4a7c15ull + node_index};
-  bk_mesh below = {0}, above = {0};
-  if (!bk_slicer_slice(s->slicer, &node->mesh, &slice, &below, &above, NULL)) {
+  bk_mesh *below = &s->sides[0], *above = &s->sides[1];
+  if (!bk_slicer_slice_reuse(s->slicer, &node->mesh, &slice, below, above, NULL)) {
     *why = BK_SPLIT_CAP_FAILED;
     return 0;
   }
-  if (below.triangle_count == 0 || above.triangle_count == 0) {
-    bk_mesh_free(&below);
-    bk_mesh_free(&above);
+  if (below->triangle_count == 0 || above->triangle_count == 0) {
     *why = BK_SPLIT_MISSED;
     return 0;
   }
-  bk_mesh *below_hulls = NULL, *above_hulls = NULL;
-  *below_count = bk_mesh_split_hulls(&below, &below_hulls);
-  uint32_t above_count = bk_mesh_split_hulls(&above, &above_hulls);
-  uint32_t count = *below_count + above_count;
-  *pieces = bk_realloc(below_hulls, sizeof(bk_mesh) * count);
-  memcpy(*pieces + *below_count, above_hulls, sizeof(bk_mesh) * above_count);
-  free(above_hulls);
   // Noisy cut faces are not planar: only the source's planar faces are redone.
   bk_face_simplifier_keep_cuts(s->simplifier, d->noise_amplitude > 0.0);
-  for (uint32_t i = 0; i < count; ++i)
-    bk_face_simplifier_run(s->simplifier, &(*pieces)[i]);
+  uint32_t count = 0, capacity = 2;
+  *pieces = bk_alloc(sizeof(bk_mesh) * capacity);
+  add_side(s, below, pieces, &count, &capacity);
+  *below_count = count;
+  add_side(s, above, pieces, &count, &capacity);
   *moments = bk_realloc(*moments, sizeof(bk_moments) * count);
-  if (bk_plane_pieces_hold(node, *pieces, count, *moments, why)) return count;
+  if (bk_plane_pieces_hold(node, *pieces, count, *moments, why, &s->topology)) return count;
   free_pieces(*pieces, count);
   *pieces = NULL;
   return 0;

@@ -51,5 +51,6 @@ void bk_plane_split_free(bk_plane_split* split);
 
 /// True when `count` pieces of `node` are closed and keep its volume within
 /// BK_FRACTURE_SPLIT_VOLUME_TOLERANCE; fills their moments, else sets *why.
+/// `scratch` is storage for the closure test, reused between calls.
 bool bk_plane_pieces_hold(const bk_mesh_tree_node* node, const bk_mesh* pieces, uint32_t count,
-                          bk_moments* moments, bk_split_failure* why);
+                          bk_moments* moments, bk_split_failure* why, bk_topology_scratch* scratch);

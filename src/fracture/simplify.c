@@ -13,36 +13,56 @@
 #include "cap.h"
 
 #define NONE UINT32_MAX
+#define MANY (UINT32_MAX - 1)
 
+// Topology is looked up through half-edges grouped by the position they
+// start at (h = 3t + k runs from corner k of triangle t to corner k + 1),
+// listed in increasing h: a vertex has a handful of them, so a lookup scans
+// a few entries instead of hashing, and "the first half-edge that matches"
+// is the one a first-wins map keyed in triangle order would hold.
 struct bk_face_simplifier {
-  uint32_t* group;     // per triangle: face id (union-find, then compacted)
-  bk_vec3* normal;     // per triangle: cross product of its edges
-  uint32_t* face_a;    // per position: first face touching it
-  uint32_t* face_b;    // per position: second face, NONE, or MANY
-  uint32_t* new_index; // per position / corner remap
-  uint32_t* corner_new;
-  uint32_t tri_capacity, position_capacity, corner_capacity;
-  bk_index_map tri_of_edge;    // directed position edge -> triangle
-  bk_index_map corner_of_face; // (face, position) -> corner
-  bk_index_map next_on_face;   // (face, position) -> next boundary position
-  uint32_t* face_edges;        // boundary edges of one face (local ids)
-  uint32_t* face_global;       // local id -> position
-  double* xy;
-  uint32_t edge_capacity;
-  bk_index_map local_of_position;
-  uint8_t* face_redo; // per face: re-triangulate
-  uint32_t face_capacity;
+  // Per triangle (faces are numbered below the triangle count).
+  uint32_t* group; // face id (union-find, then compacted)
+  bk_vec3* normal; // cross product of its edges
+  uint8_t* face_redo;
   uint32_t* face_first_tri; // per face: one triangle (material and tag)
   bk_vec3* face_normal;     // per face: unit area-weighted normal
-  uint32_t* outline;        // outline edges (face, a, b), bucketed by face
+  uint32_t* face_outline_start;
+  uint32_t tri_capacity;
+  // Per half-edge.
+  uint32_t* from;    // the position it starts at
+  uint32_t* to;      // the position it ends at
+  uint32_t* face;    // its triangle's face
+  uint32_t* twin;    // the first half-edge running the other way, or NONE
+  uint32_t* around;  // half-edges by start position
+  uint32_t* outline; // outline half-edges, then bucketed by face
   uint32_t* outline_sorted;
-  uint32_t* face_outline_start; // per face + 1: start in outline_sorted
-  uint32_t outline_capacity;
+  uint32_t half_capacity;
+  // Per position.
+  uint32_t* around_start;    // + 1: start of its half-edges in `around`
+  uint32_t* face_a;          // first face touching it
+  uint32_t* face_b;          // second face, NONE, or MANY
+  uint32_t* position_face;   // 3 per position: its first faces (NONE past the last)
+  uint32_t* position_corner; // 3 per position: those faces' first corners there
+  uint8_t* more_faces;       // per position: more than three faces
+  uint8_t* removable;
+  uint32_t* new_index;
+  uint32_t* local_of; // local id in the face being redone, or NONE
+  uint32_t* stamp;    // scratch marks (which position or face set `slot`)
+  uint32_t* slot;
+  uint32_t position_capacity;
+  uint32_t* corner_new;
+  uint32_t corner_capacity;
+  // One face being redone.
+  uint32_t* face_edges;  // boundary edges (local ids)
+  uint32_t* face_global; // local id -> position
+  uint32_t* face_corner; // local id -> the face's corner there
+  double* xy;
+  uint32_t edge_capacity;
+  bk_mesh out; // the simplified mesh, copied out at its exact size
   bk_cap* cap;
   bool keep_cuts;
 };
-
-#define MANY (UINT32_MAX - 1)
 
 static uint32_t find(uint32_t* parent, uint32_t i) {
   while (parent[i] != i) {
@@ -55,10 +75,6 @@ static uint32_t find(uint32_t* parent, uint32_t i) {
 bk_face_simplifier* bk_face_simplifier_create(void) {
   bk_face_simplifier* fs = bk_calloc(1, sizeof *fs);
   fs->cap = bk_cap_create();
-  bk_index_map_init(&fs->tri_of_edge, 64);
-  bk_index_map_init(&fs->corner_of_face, 64);
-  bk_index_map_init(&fs->next_on_face, 64);
-  bk_index_map_init(&fs->local_of_position, 64);
   return fs;
 }
 
@@ -66,24 +82,35 @@ void bk_face_simplifier_destroy(bk_face_simplifier* fs) {
   if (!fs) return;
   free(fs->group);
   free(fs->normal);
-  free(fs->face_a);
-  free(fs->face_b);
-  free(fs->new_index);
-  free(fs->corner_new);
-  free(fs->face_edges);
-  free(fs->face_global);
-  free(fs->xy);
   free(fs->face_redo);
   free(fs->face_first_tri);
   free(fs->face_normal);
+  free(fs->face_outline_start);
+  free(fs->from);
+  free(fs->to);
+  free(fs->face);
+  free(fs->twin);
+  free(fs->around);
   free(fs->outline);
   free(fs->outline_sorted);
-  free(fs->face_outline_start);
+  free(fs->around_start);
+  free(fs->face_a);
+  free(fs->face_b);
+  free(fs->position_face);
+  free(fs->position_corner);
+  free(fs->more_faces);
+  free(fs->removable);
+  free(fs->new_index);
+  free(fs->local_of);
+  free(fs->stamp);
+  free(fs->slot);
+  free(fs->corner_new);
+  free(fs->face_edges);
+  free(fs->face_global);
+  free(fs->face_corner);
+  free(fs->xy);
+  bk_mesh_free(&fs->out);
   bk_cap_destroy(fs->cap);
-  bk_index_map_free(&fs->tri_of_edge);
-  bk_index_map_free(&fs->corner_of_face);
-  bk_index_map_free(&fs->next_on_face);
-  bk_index_map_free(&fs->local_of_position);
   free(fs);
 }
 
@@ -97,21 +124,36 @@ static void reserve(bk_face_simplifier* fs, const bk_mesh* m) {
     fs->face_normal = bk_realloc(fs->face_normal, sizeof(bk_vec3) * fs->tri_capacity);
     fs->face_outline_start = bk_realloc(fs->face_outline_start, sizeof(uint32_t) * (fs->tri_capacity + 1u));
   }
-  if (3u * m->triangle_count > fs->outline_capacity) {
-    fs->outline_capacity = bk_grow_capacity(fs->outline_capacity, 3u * m->triangle_count);
-    fs->outline = bk_realloc(fs->outline, sizeof(uint32_t) * 3u * fs->outline_capacity);
-    fs->outline_sorted = bk_realloc(fs->outline_sorted, sizeof(uint32_t) * 3u * fs->outline_capacity);
+  if (3u * m->triangle_count > fs->half_capacity) {
+    fs->half_capacity = bk_grow_capacity(fs->half_capacity, 3u * m->triangle_count);
+    fs->from = bk_realloc(fs->from, sizeof(uint32_t) * fs->half_capacity);
+    fs->to = bk_realloc(fs->to, sizeof(uint32_t) * fs->half_capacity);
+    fs->face = bk_realloc(fs->face, sizeof(uint32_t) * fs->half_capacity);
+    fs->twin = bk_realloc(fs->twin, sizeof(uint32_t) * fs->half_capacity);
+    fs->around = bk_realloc(fs->around, sizeof(uint32_t) * fs->half_capacity);
+    fs->outline = bk_realloc(fs->outline, sizeof(uint32_t) * fs->half_capacity);
+    fs->outline_sorted = bk_realloc(fs->outline_sorted, sizeof(uint32_t) * fs->half_capacity);
   }
   if (m->position_count > fs->position_capacity) {
     fs->position_capacity = bk_grow_capacity(fs->position_capacity, m->position_count);
+    fs->around_start = bk_realloc(fs->around_start, sizeof(uint32_t) * (fs->position_capacity + 1u));
     fs->face_a = bk_realloc(fs->face_a, sizeof(uint32_t) * fs->position_capacity);
     fs->face_b = bk_realloc(fs->face_b, sizeof(uint32_t) * fs->position_capacity);
+    fs->position_face = bk_realloc(fs->position_face, sizeof(uint32_t) * 3u * fs->position_capacity);
+    fs->position_corner = bk_realloc(fs->position_corner, sizeof(uint32_t) * 3u * fs->position_capacity);
+    fs->more_faces = bk_realloc(fs->more_faces, fs->position_capacity);
+    fs->removable = bk_realloc(fs->removable, fs->position_capacity);
     fs->new_index = bk_realloc(fs->new_index, sizeof(uint32_t) * fs->position_capacity);
+    fs->local_of = bk_realloc(fs->local_of, sizeof(uint32_t) * fs->position_capacity);
+    fs->stamp = bk_realloc(fs->stamp, sizeof(uint32_t) * fs->position_capacity);
+    fs->slot = bk_realloc(fs->slot, sizeof(uint32_t) * fs->position_capacity);
   }
   if (m->corner_count > fs->corner_capacity) {
     fs->corner_capacity = bk_grow_capacity(fs->corner_capacity, m->corner_count);
     fs->corner_new = bk_realloc(fs->corner_new, sizeof(uint32_t) * fs->corner_capacity);
   }
+  bk_mesh_reserve(&fs->out, m->position_count, m->corner_count, m->triangle_count);
+  fs->out.position_count = fs->out.corner_count = fs->out.triangle_count = 0;
 }
 
 static void reserve_face_edges(bk_face_simplifier* fs, uint32_t edges) {
@@ -119,59 +161,117 @@ static void reserve_face_edges(bk_face_simplifier* fs, uint32_t edges) {
   fs->edge_capacity = bk_grow_capacity(fs->edge_capacity, edges);
   fs->face_edges = bk_realloc(fs->face_edges, sizeof(uint32_t) * 2u * fs->edge_capacity);
   fs->face_global = bk_realloc(fs->face_global, sizeof(uint32_t) * 2u * fs->edge_capacity);
+  fs->face_corner = bk_realloc(fs->face_corner, sizeof(uint32_t) * 2u * fs->edge_capacity);
   fs->xy = bk_realloc(fs->xy, sizeof(double) * 4u * fs->edge_capacity);
 }
 
-static inline uint64_t face_key(uint32_t face, uint32_t position) {
-  return ((uint64_t)face << 32) | position;
+// Half-edges grouped by start position, each group in increasing h, and
+// each one's twin. Returns false when a directed edge is used twice (an
+// open or folded mesh; the twins are then only the first of several).
+static bool group_half_edges(bk_face_simplifier* fs, const bk_mesh* m, uint32_t half_count) {
+  uint32_t* start = fs->around_start;
+  memset(start, 0, sizeof(uint32_t) * (m->position_count + 1u));
+  for (uint32_t h = 0; h < half_count; ++h) {
+    fs->from[h] = m->corners[m->indices[h]].position;
+    start[fs->from[h] + 1]++;
+  }
+  for (uint32_t h = 0; h < half_count; h += 3) {
+    fs->to[h] = fs->from[h + 1];
+    fs->to[h + 1] = fs->from[h + 2];
+    fs->to[h + 2] = fs->from[h];
+  }
+  for (uint32_t p = 0; p < m->position_count; ++p)
+    start[p + 1] += start[p];
+  for (uint32_t h = 0; h < half_count; ++h)
+    fs->around[start[fs->from[h]]++] = h;
+  for (uint32_t p = m->position_count; p > 0; --p)
+    start[p] = start[p - 1];
+  start[0] = 0;
+  // The half-edges ending at b are the predecessors of those leaving it: mark
+  // where b's half-edges go (last to first, so the first wins), then look
+  // each incoming one's start up.
+  bool single = true;
+  memset(fs->stamp, 0xff, sizeof(uint32_t) * m->position_count);
+  for (uint32_t b = 0; b < m->position_count; ++b) {
+    for (uint32_t i = start[b + 1]; i > start[b]; --i) {
+      uint32_t h = fs->around[i - 1], x = fs->to[h];
+      single &= fs->stamp[x] != b;
+      fs->stamp[x] = b;
+      fs->slot[x] = h;
+    }
+    for (uint32_t i = start[b]; i < start[b + 1]; ++i) {
+      uint32_t h = bk_half_prev(fs->around[i]), a = fs->from[h];
+      fs->twin[h] = fs->stamp[a] == b ? fs->slot[a] : NONE;
+    }
+  }
+  return single;
 }
 
-// A position can go when it lies inside one face, or on the edge between two
-// faces that are not parallel (then it is on their line of intersection,
-// between its neighbours on that line).
-static bool removable(const bk_face_simplifier* fs, const bk_mesh* m, uint32_t p) {
-  (void)m;
-  uint32_t a = fs->face_a[p], b = fs->face_b[p];
-  if (b == MANY) return false;
-  if (b == NONE) return true;
-  return fabs(bk_v3_dot(fs->face_normal[a], fs->face_normal[b])) < 1.0 - 1e-6;
+// The corner of face f at position p: that of its first half-edge from p.
+static uint32_t corner_of_face(const bk_face_simplifier* fs, const bk_mesh* m, uint32_t f, uint32_t p) {
+  for (uint32_t k = 0; k < 3; ++k)
+    if (fs->position_face[3 * p + k] == f) return fs->position_corner[3 * p + k];
+  if (!fs->more_faces[p]) return NONE;
+  for (uint32_t i = fs->around_start[p]; i < fs->around_start[p + 1]; ++i) {
+    uint32_t h = fs->around[i];
+    if (fs->face[h] == f) return m->indices[h];
+  }
+  return NONE;
+}
+
+// Appends a copy of input corner `corner` (and its position) once.
+static uint32_t keep_corner(bk_face_simplifier* fs, const bk_mesh* m, uint32_t corner) {
+  if (fs->corner_new[corner] != NONE) return fs->corner_new[corner];
+  bk_mesh* out = &fs->out;
+  bk_corner copy = m->corners[corner];
+  uint32_t p = copy.position;
+  if (fs->new_index[p] == NONE) {
+    fs->new_index[p] = out->position_count;
+    out->positions[out->position_count++] = m->positions[p];
+  }
+  copy.position = fs->new_index[p];
+  fs->corner_new[corner] = out->corner_count;
+  out->corners[out->corner_count++] = copy;
+  return fs->corner_new[corner];
 }
 
 void bk_face_simplifier_keep_cuts(bk_face_simplifier* fs, bool keep) { fs->keep_cuts = keep; }
 
-bool bk_face_simplifier_run(bk_face_simplifier* fs, bk_mesh* m) {
+// 1. Faces: union triangles across edges whose corners are shared (no
+//    attribute seam) with the same material and tag. The tag names the
+//    planar face a triangle came from (a cut, or a planar region of the
+//    source), so such triangles are coplanar by construction; comparing
+//    normals instead would fail on slivers, whose normals are noise.
+//    Returns the face count.
+static uint32_t find_faces(bk_face_simplifier* fs, const bk_mesh* m, bool single) {
   uint32_t tri_count = m->triangle_count;
-  if (tri_count < 4) return true;
-  reserve(fs, m);
-
-  // 1. Faces: union triangles across edges whose corners are shared (no
-  //    attribute seam) with the same material and tag. The tag names the
-  //    planar face a triangle came from (a cut, or a planar region of the
-  //    source), so such triangles are coplanar by construction; comparing
-  //    normals instead would fail on slivers, whose normals are noise.
   for (uint32_t t = 0; t < tri_count; ++t) {
-    bk_vec3 a = m->positions[bk_mesh_tri_position(m, t, 0)];
-    bk_vec3 e = bk_v3_cross(bk_v3_sub(m->positions[bk_mesh_tri_position(m, t, 1)], a),
-                            bk_v3_sub(m->positions[bk_mesh_tri_position(m, t, 2)], a));
+    bk_vec3 a = m->positions[fs->from[3 * t]];
+    bk_vec3 e = bk_v3_cross(bk_v3_sub(m->positions[fs->from[3 * t + 1]], a),
+                            bk_v3_sub(m->positions[fs->from[3 * t + 2]], a));
     fs->normal[t] = e; // twice the area times the unit normal
     fs->group[t] = t;
   }
-  bk_index_map_clear(&fs->tri_of_edge);
-  bool inserted = false;
-  for (uint32_t t = 0; t < tri_count; ++t)
-    for (int k = 0; k < 3; ++k)
-      bk_index_map_insert(&fs->tri_of_edge,
-                          bk_directed_edge_key(m->indices[3 * t + k], m->indices[3 * t + (k + 1) % 3]), t,
-                          &inserted);
+  static const uint32_t next_k[3] = {1, 2, 0};
   for (uint32_t t = 0; t < tri_count; ++t) {
     if (fs->normal[t].x == 0.0 && fs->normal[t].y == 0.0 && fs->normal[t].z == 0.0) continue;
-    for (int k = 0; k < 3; ++k) {
-      uint32_t* other = bk_index_map_find(
-          &fs->tri_of_edge, bk_directed_edge_key(m->indices[3 * t + (k + 1) % 3], m->indices[3 * t + k]));
-      if (!other || *other <= t) continue;
-      uint32_t o = *other;
-      if (m->materials[o] != m->materials[t] || m->tags[o] != m->tags[t] || m->tags[t] == 0) continue;
-      if (fs->keep_cuts && m->tags[t] < BK_SOURCE_FACE_TAG) continue;
+    if (m->tags[t] == 0 || (fs->keep_cuts && m->tags[t] < BK_SOURCE_FACE_TAG)) continue;
+    for (uint32_t k = 0; k < 3; ++k) {
+      // The first half-edge running corner c1 -> c0 against this one's c0 -> c1:
+      // the twin when no directed edge repeats, else searched for.
+      uint32_t h = 3u * t + k, c0 = m->indices[h], c1 = m->indices[3u * t + next_k[k]], o = NONE;
+      if (single) {
+        uint32_t r = fs->twin[h];
+        if (r != NONE && m->indices[r] == c1 && m->indices[bk_half_next(r)] == c0) o = r / 3u;
+      } else {
+        uint32_t p1 = fs->to[h];
+        for (uint32_t i = fs->around_start[p1]; i < fs->around_start[p1 + 1] && o == NONE; ++i) {
+          uint32_t r = fs->around[i];
+          if (m->indices[r] == c1 && m->indices[bk_half_next(r)] == c0) o = r / 3u;
+        }
+      }
+      if (o == NONE || o <= t) continue;
+      if (m->materials[o] != m->materials[t] || m->tags[o] != m->tags[t]) continue;
       uint32_t ra = find(fs->group, t), rb = find(fs->group, o);
       if (ra != rb) fs->group[ra > rb ? ra : rb] = ra < rb ? ra : rb;
     }
@@ -188,164 +288,188 @@ bool bk_face_simplifier_run(bk_face_simplifier* fs, bk_mesh* m) {
     } else {
       fs->group[t] = fs->group[r]; // r < t was numbered already
     }
+    fs->face[3 * t] = fs->face[3 * t + 1] = fs->face[3 * t + 2] = fs->group[t];
   }
-  if (face_count == tri_count) return true; // nothing to merge
+  return face_count;
+}
+
+// 2. Faces around each position, and which positions can go: one inside a
+//    single face, or on the edge between two faces that are not parallel
+//    (then it is on their line of intersection, between its neighbours on
+//    that line).
+static void find_removable(bk_face_simplifier* fs, const bk_mesh* m, uint32_t face_count) {
   memset(fs->face_normal, 0, sizeof(bk_vec3) * face_count);
-  for (uint32_t t = 0; t < tri_count; ++t)
+  for (uint32_t t = 0; t < m->triangle_count; ++t)
     fs->face_normal[fs->group[t]] = bk_v3_add(fs->face_normal[fs->group[t]], fs->normal[t]);
   for (uint32_t f = 0; f < face_count; ++f)
     fs->face_normal[f] = bk_v3_normalize(fs->face_normal[f]);
-
-  // 2. Faces around each position.
-  memset(fs->face_a, 0xff, sizeof(uint32_t) * m->position_count);
-  memset(fs->face_b, 0xff, sizeof(uint32_t) * m->position_count);
-  for (uint32_t t = 0; t < tri_count; ++t) {
-    uint32_t f = fs->group[t];
-    for (int k = 0; k < 3; ++k) {
-      uint32_t p = bk_mesh_tri_position(m, t, k);
-      if (fs->face_a[p] == NONE || fs->face_a[p] == f)
-        fs->face_a[p] = f;
-      else if (fs->face_b[p] == NONE || fs->face_b[p] == f)
-        fs->face_b[p] = f;
-      else
-        fs->face_b[p] = MANY;
+  // A position's half-edges in h order are its triangle corners in order:
+  // its first three faces, each with the corner it has there first.
+  for (uint32_t p = 0; p < m->position_count; ++p) {
+    uint32_t* faces = &fs->position_face[3 * p];
+    uint32_t* corners = &fs->position_corner[3 * p];
+    uint32_t distinct = 0;
+    faces[0] = faces[1] = faces[2] = NONE;
+    for (uint32_t i = fs->around_start[p]; i < fs->around_start[p + 1]; ++i) {
+      uint32_t h = fs->around[i], f = fs->face[h];
+      if (f == faces[0] || f == faces[1] || f == faces[2]) continue;
+      if (distinct < 3) faces[distinct] = f, corners[distinct] = m->indices[h];
+      distinct++;
     }
+    fs->face_a[p] = faces[0];
+    fs->face_b[p] = distinct >= 3 ? MANY : faces[1];
+    fs->more_faces[p] = distinct > 3;
   }
+  for (uint32_t p = 0; p < m->position_count; ++p) {
+    uint32_t a = fs->face_a[p], b = fs->face_b[p];
+    fs->removable[p] =
+        b == MANY ? 0 : (b == NONE || fabs(bk_v3_dot(fs->face_normal[a], fs->face_normal[b])) < 1.0 - 1e-6);
+  }
+}
 
-  // 3. Boundary edges of each face (by position), and which faces change: a
-  //    face changes when it loses a vertex or has more triangles than its
-  //    outline needs.
-  bk_index_map_clear(&fs->tri_of_edge); // now: directed position edge -> triangle
-  for (uint32_t t = 0; t < tri_count; ++t)
-    for (int k = 0; k < 3; ++k)
-      bk_index_map_insert(
-          &fs->tri_of_edge,
-          bk_directed_edge_key(bk_mesh_tri_position(m, t, k), bk_mesh_tri_position(m, t, (k + 1) % 3)), t,
-          &inserted);
-  bk_index_map_clear(&fs->next_on_face);
-  bk_index_map_clear(&fs->corner_of_face);
+// 3. Outline half-edges of each face, bucketed by face (in h order), and
+//    which faces change: a face changes when it loses a vertex or has more
+//    triangles than its outline needs. False when a face touches itself at
+//    a vertex (the mesh is then left as it is).
+static bool find_outlines(bk_face_simplifier* fs, const bk_mesh* m, uint32_t face_count) {
+  uint32_t half_count = 3u * m->triangle_count, outline_count = 0;
   memset(fs->face_redo, 0, face_count);
-  uint32_t outline_count = 0;
-  for (uint32_t t = 0; t < tri_count; ++t) {
-    uint32_t f = fs->group[t];
-    for (int k = 0; k < 3; ++k) {
-      uint32_t a = bk_mesh_tri_position(m, t, k), b = bk_mesh_tri_position(m, t, (k + 1) % 3);
-      bk_index_map_insert(&fs->corner_of_face, face_key(f, a), m->indices[3 * t + k], &inserted);
-      uint32_t* across = bk_index_map_find(&fs->tri_of_edge, bk_directed_edge_key(b, a));
-      if (across && fs->group[*across] == f) continue; // interior edge of the face
-      bk_index_map_insert(&fs->next_on_face, face_key(f, a), b, &inserted);
-      if (!inserted) return true; // the face touches itself at a vertex: leave the mesh as it is
-      if (removable(fs, m, a)) fs->face_redo[f] = 1;
-      uint32_t* e = &fs->outline[3 * outline_count++];
-      e[0] = f, e[1] = a, e[2] = b;
-    }
+  for (uint32_t h = 0; h < half_count; ++h) {
+    // Interior when the first half-edge back belongs to the same face.
+    uint32_t f = fs->face[h], across = fs->twin[h];
+    bool outer = across == NONE || fs->face[across == NONE ? h : across] != f;
+    fs->face_redo[f] |= (uint8_t)(outer & fs->removable[fs->from[h]]);
+    fs->outline[outline_count] = h;
+    outline_count += outer;
   }
   // Faces with interior vertices or extra triangles: count outline vertices.
   for (uint32_t p = 0; p < m->position_count; ++p)
     if (fs->face_a[p] != NONE && fs->face_b[p] == NONE) fs->face_redo[fs->face_a[p]] = 1;
-
   // Bucket the outline edges by face (counting sort keeps their order).
-  memset(fs->face_outline_start, 0, sizeof(uint32_t) * (face_count + 1u));
+  uint32_t* start = fs->face_outline_start;
+  memset(start, 0, sizeof(uint32_t) * (face_count + 1u));
   for (uint32_t i = 0; i < outline_count; ++i)
-    fs->face_outline_start[fs->outline[3 * i] + 1]++;
+    start[fs->face[fs->outline[i]] + 1]++;
   for (uint32_t f = 0; f < face_count; ++f)
-    fs->face_outline_start[f + 1] += fs->face_outline_start[f];
-  for (uint32_t i = 0; i < outline_count; ++i) {
-    uint32_t slot = fs->face_outline_start[fs->outline[3 * i]]++;
-    memcpy(&fs->outline_sorted[3 * slot], &fs->outline[3 * i], sizeof(uint32_t) * 3);
-  }
+    start[f + 1] += start[f];
+  for (uint32_t i = 0; i < outline_count; ++i)
+    fs->outline_sorted[start[fs->face[fs->outline[i]]]++] = fs->outline[i];
   for (uint32_t f = face_count; f > 0; --f)
-    fs->face_outline_start[f] = fs->face_outline_start[f - 1];
-  fs->face_outline_start[0] = 0;
+    start[f] = start[f - 1];
+  start[0] = 0;
+  // Two outline edges of one face leaving one position: the face touches itself.
+  memset(fs->stamp, 0xff, sizeof(uint32_t) * m->position_count);
+  for (uint32_t f = 0; f < face_count; ++f)
+    for (uint32_t i = start[f]; i < start[f + 1]; ++i) {
+      uint32_t a = fs->from[fs->outline_sorted[i]];
+      if (fs->stamp[a] == f) return false;
+      fs->stamp[a] = f;
+    }
+  return true;
+}
 
-  // 4. Re-triangulate each changing face over its kept outline vertices.
-  bk_mesh out = {0};
-  bk_mesh_reserve(&out, m->position_count, m->corner_count, tri_count);
-  memset(fs->new_index, 0xff, sizeof(uint32_t) * m->position_count);
-  memset(fs->corner_new, 0xff, sizeof(uint32_t) * m->corner_count);
-  bool ok = true;
-  // Unchanged faces keep their triangles.
-  for (uint32_t t = 0; t < tri_count && ok; ++t) {
-    if (fs->face_redo[fs->group[t]]) continue;
-    uint32_t c[3];
-    for (int k = 0; k < 3; ++k) {
-      uint32_t corner = m->indices[3 * t + k];
-      if (fs->corner_new[corner] == NONE) {
-        bk_corner copy = m->corners[corner];
-        if (fs->new_index[copy.position] == NONE)
-          fs->new_index[copy.position] = bk_mesh_add_position(&out, m->positions[copy.position]);
-        copy.position = fs->new_index[copy.position];
-        fs->corner_new[corner] = bk_mesh_add_corner(&out, &copy);
-      }
-      c[k] = fs->corner_new[corner];
-    }
-    bk_mesh_add_triangle(&out, c[0], c[1], c[2], m->materials[t], m->tags[t]);
+// 4. Re-triangulates face f over its kept outline vertices into fs->out.
+static bool redo_face(bk_face_simplifier* fs, const bk_mesh* m, uint32_t f) {
+  uint32_t t0 = fs->face_first_tri[f];
+  // Gather the face's boundary edges by walking from each kept vertex over
+  // dropped ones. Every outline edge starts at a position with this face.
+  uint32_t edge_count = 0, local_count = 0, first = fs->face_outline_start[f],
+           last = fs->face_outline_start[f + 1];
+  // Where the outline goes on from each of its positions (stamp: this face).
+  for (uint32_t i = first; i < last; ++i) {
+    uint32_t h = fs->outline_sorted[i];
+    fs->stamp[fs->from[h]] = f;
+    fs->slot[fs->from[h]] = fs->to[h];
   }
-  for (uint32_t f = 0; f < face_count && ok; ++f) {
-    if (!fs->face_redo[f]) continue;
-    uint32_t t0 = fs->face_first_tri[f];
-    // Gather the face's boundary edges by walking from each kept vertex over
-    // dropped ones. Every outline edge starts at a position with this face.
-    uint32_t edge_count = 0, local_count = 0;
-    bk_index_map_clear(&fs->local_of_position);
-    for (uint32_t i = fs->face_outline_start[f]; i < fs->face_outline_start[f + 1]; ++i) {
-      uint32_t a = fs->outline_sorted[3 * i + 1];
-      if (removable(fs, m, a)) continue;
-      uint32_t b = fs->outline_sorted[3 * i + 2], steps = 0;
-      while (removable(fs, m, b) && steps++ < m->position_count) {
-        uint32_t* next = bk_index_map_find(&fs->next_on_face, face_key(f, b));
-        if (!next) break;
-        b = *next;
-      }
-      if (removable(fs, m, b)) {
-        ok = false; // a loop with no corner: cannot happen for planar faces; give up safely
-        break;
-      }
-      reserve_face_edges(fs, edge_count + 1);
-      uint32_t ends[2] = {a, b};
-      for (int e = 0; e < 2; ++e) {
-        uint32_t* local = bk_index_map_insert(&fs->local_of_position, ends[e], local_count, &inserted);
-        if (inserted) fs->face_global[local_count++] = ends[e];
-        fs->face_edges[2 * edge_count + e] = *local;
-      }
-      edge_count++;
+  bool ok = true;
+  for (uint32_t i = first; i < last && ok; ++i) {
+    uint32_t h = fs->outline_sorted[i], a = fs->from[h];
+    if (fs->removable[a]) continue;
+    uint32_t b = fs->to[h], steps = 0;
+    while (fs->removable[b] && steps++ < m->position_count) {
+      if (fs->stamp[b] != f) break;
+      b = fs->slot[b];
     }
-    if (!ok) break;
-    bk_vec3 n = fs->face_normal[f], u, v;
-    bk_plane_basis(n, &u, &v);
-    for (uint32_t i = 0; i < local_count; ++i) {
-      fs->xy[2 * i] = bk_v3_dot(m->positions[fs->face_global[i]], u);
-      fs->xy[2 * i + 1] = bk_v3_dot(m->positions[fs->face_global[i]], v);
-    }
-    const uint32_t* tris = NULL;
-    uint32_t count = 0;
-    if (!bk_cap_triangulate(fs->cap, fs->face_edges, edge_count, fs->xy, local_count, &tris, &count, NULL)) {
-      ok = false;
+    if (fs->removable[b]) {
+      ok = false; // a loop with no corner: cannot happen for planar faces; give up safely
       break;
     }
-    for (uint32_t t = 0; t < count; ++t) {
-      uint32_t c[3];
-      for (int k = 0; k < 3; ++k) {
-        uint32_t p = fs->face_global[tris[3 * t + k]];
-        uint32_t corner = *bk_index_map_find(&fs->corner_of_face, face_key(f, p));
-        if (fs->corner_new[corner] == NONE) {
-          bk_corner copy = m->corners[corner];
-          if (fs->new_index[p] == NONE) fs->new_index[p] = bk_mesh_add_position(&out, m->positions[p]);
-          copy.position = fs->new_index[p];
-          fs->corner_new[corner] = bk_mesh_add_corner(&out, &copy);
-        }
-        c[k] = fs->corner_new[corner];
+    reserve_face_edges(fs, edge_count + 1);
+    uint32_t ends[2] = {a, b};
+    for (int e = 0; e < 2; ++e) {
+      if (fs->local_of[ends[e]] == NONE) {
+        fs->local_of[ends[e]] = local_count;
+        fs->face_global[local_count++] = ends[e];
       }
-      bk_mesh_add_triangle(&out, c[0], c[1], c[2], m->materials[t0], m->tags[t0]);
+      fs->face_edges[2 * edge_count + e] = fs->local_of[ends[e]];
     }
+    edge_count++;
   }
-  if (!ok) {
-    bk_mesh_free(&out);
+  for (uint32_t i = 0; i < local_count; ++i) {
+    fs->local_of[fs->face_global[i]] = NONE;
+    // The face's corner there: that of its first half-edge from the position.
+    fs->face_corner[i] = corner_of_face(fs, m, f, fs->face_global[i]);
+  }
+  if (!ok) return false;
+  bk_vec3 n = fs->face_normal[f], u = {0}, v = {0};
+  bk_plane_basis(n, &u, &v);
+  for (uint32_t i = 0; i < local_count; ++i) {
+    fs->xy[2 * i] = bk_v3_dot(m->positions[fs->face_global[i]], u);
+    fs->xy[2 * i + 1] = bk_v3_dot(m->positions[fs->face_global[i]], v);
+  }
+  const uint32_t* tris = NULL;
+  uint32_t count = 0;
+  if (!bk_cap_triangulate(fs->cap, fs->face_edges, edge_count, fs->xy, local_count, &tris, &count, NULL))
     return false;
+  bk_mesh* out = &fs->out;
+  bk_mesh_reserve(out, 0, 0, out->triangle_count + count);
+  for (uint32_t t = 0; t < count; ++t) {
+    uint32_t* c = &out->indices[3u * out->triangle_count];
+    for (int k = 0; k < 3; ++k)
+      c[k] = keep_corner(fs, m, fs->face_corner[tris[3 * t + k]]);
+    out->materials[out->triangle_count] = m->materials[t0];
+    out->tags[out->triangle_count++] = m->tags[t0];
   }
-  bk_mesh_free(m);
-  *m = out;
   return true;
+}
+
+// Points *simplified at the simplified mesh (fs->out), or at the input when
+// nothing changes or (returning false) a face cannot be re-triangulated.
+static bool simplify(bk_face_simplifier* fs, const bk_mesh* m, const bk_mesh** simplified) {
+  *simplified = m;
+  uint32_t tri_count = m->triangle_count;
+  if (tri_count < 4) return true;
+  reserve(fs, m);
+  bool single = group_half_edges(fs, m, 3u * tri_count);
+  uint32_t face_count = find_faces(fs, m, single);
+  if (face_count == tri_count) return true; // nothing to merge
+  find_removable(fs, m, face_count);
+  if (!find_outlines(fs, m, face_count)) return true; // a face touches itself: leave the mesh as it is
+
+  // Unchanged faces keep their triangles; the others are re-triangulated.
+  bk_mesh* out = &fs->out;
+  memset(fs->new_index, 0xff, sizeof(uint32_t) * m->position_count);
+  memset(fs->local_of, 0xff, sizeof(uint32_t) * m->position_count);
+  memset(fs->corner_new, 0xff, sizeof(uint32_t) * m->corner_count);
+  for (uint32_t t = 0; t < tri_count; ++t) {
+    if (fs->face_redo[fs->group[t]]) continue;
+    uint32_t* c = &out->indices[3u * out->triangle_count];
+    for (int k = 0; k < 3; ++k)
+      c[k] = keep_corner(fs, m, m->indices[3 * t + k]);
+    out->materials[out->triangle_count] = m->materials[t];
+    out->tags[out->triangle_count++] = m->tags[t];
+  }
+  for (uint32_t f = 0; f < face_count; ++f)
+    if (fs->face_redo[f] && !redo_face(fs, m, f)) return false;
+  *simplified = out;
+  return true;
+}
+
+bool bk_face_simplifier_run(bk_face_simplifier* fs, const bk_mesh* m, bk_mesh* result) {
+  const bk_mesh* simplified = m;
+  bool ok = simplify(fs, m, &simplified);
+  bk_mesh_copy_exact(result, simplified);
+  return ok;
 }
 
 // Nearly equal normals are not enough: a quad bent by 1e-6 (exporters round

@@ -3,6 +3,15 @@
 
 #include "tree_frame.h"
 
+// x * 2^e. A product with a power of two is rounded once, like ldexp (the
+// same bits, subnormal or overflowing results too), and costs no call; the
+// frames' exponents (sources 1e-6 to 1e6 across) keep 2^e far inside the
+// doubles, and ldexp takes any other. `factor` is pow2(e).
+static inline double pow2(int e) { return e >= -1000 && e <= 1000 ? ldexp(1.0, e) : 0.0; }
+static inline double scale2(double x, double factor, int e) {
+  return e >= -1000 && e <= 1000 ? x * factor : ldexp(x, e);
+}
+
 static double round_to_grid(double x, int exponent) {
   return ldexp(nearbyint(ldexp(x, -exponent)), exponent);
 }
@@ -22,33 +31,37 @@ bk_tree_frame bk_tree_frame_of(bk_aabb bounds) {
 }
 
 void bk_tree_frame_to_local(bk_tree_frame f, bk_mesh* m) {
+  int e = -f.exponent;
+  double k = pow2(e);
   for (uint32_t i = 0; i < m->position_count; ++i) {
     bk_vec3 d = bk_v3_sub(m->positions[i], f.origin);
-    m->positions[i] = bk_v3(ldexp(d.x, -f.exponent), ldexp(d.y, -f.exponent), ldexp(d.z, -f.exponent));
+    m->positions[i] = bk_v3(scale2(d.x, k, e), scale2(d.y, k, e), scale2(d.z, k, e));
   }
 }
 
 void bk_tree_frame_to_world(bk_tree_frame f, bk_mesh* m) {
+  int e = f.exponent;
+  double k = pow2(e);
   for (uint32_t i = 0; i < m->position_count; ++i) {
     bk_vec3 p = m->positions[i];
-    m->positions[i] =
-        bk_v3_add(bk_v3(ldexp(p.x, f.exponent), ldexp(p.y, f.exponent), ldexp(p.z, f.exponent)), f.origin);
+    m->positions[i] = bk_v3_add(bk_v3(scale2(p.x, k, e), scale2(p.y, k, e), scale2(p.z, k, e)), f.origin);
   }
 }
 
 bk_moments bk_tree_frame_moments_to_world(bk_tree_frame f, bk_moments m) {
-  int e = f.exponent;
+  int e3 = 3 * f.exponent, e4 = 4 * f.exponent, e5 = 5 * f.exponent;
+  double k3 = pow2(e3), k4 = pow2(e4), k5 = pow2(e5);
   return (bk_moments){
-      .v = ldexp(m.v, 3 * e),
-      .x = ldexp(m.x, 4 * e),
-      .y = ldexp(m.y, 4 * e),
-      .z = ldexp(m.z, 4 * e),
-      .xx = ldexp(m.xx, 5 * e),
-      .yy = ldexp(m.yy, 5 * e),
-      .zz = ldexp(m.zz, 5 * e),
-      .xy = ldexp(m.xy, 5 * e),
-      .yz = ldexp(m.yz, 5 * e),
-      .zx = ldexp(m.zx, 5 * e),
+      .v = scale2(m.v, k3, e3),
+      .x = scale2(m.x, k4, e4),
+      .y = scale2(m.y, k4, e4),
+      .z = scale2(m.z, k4, e4),
+      .xx = scale2(m.xx, k5, e5),
+      .yy = scale2(m.yy, k5, e5),
+      .zz = scale2(m.zz, k5, e5),
+      .xy = scale2(m.xy, k5, e5),
+      .yz = scale2(m.yz, k5, e5),
+      .zx = scale2(m.zx, k5, e5),
   };
 }
 

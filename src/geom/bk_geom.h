@@ -59,6 +59,37 @@ static inline uint64_t bk_edge_key(uint32_t a, uint32_t b) {
 /// Key of the directed edge a -> b.
 static inline uint64_t bk_directed_edge_key(uint32_t a, uint32_t b) { return ((uint64_t)a << 32) | b; }
 
+/// fmin and fmax as glibc computes them (a NaN loses; of equal values, such
+/// as 0 and -0, the first), without the call.
+static inline double bk_min(double x, double y) { return (y < x || x != x) ? y : x; }
+static inline double bk_max(double x, double y) { return (y > x || x != x) ? y : x; }
+
+/// A copy of `src` into `dst` (overwritten, not freed) whose arrays hold
+/// exactly its contents: for meshes that are kept (a tree's nodes) but
+/// built in storage that is reused.
+void bk_mesh_copy_exact(bk_mesh* dst, const bk_mesh* src);
+
+/// Half-edges: h = 3t + k runs from corner k of triangle t to corner k + 1.
+static inline uint32_t bk_half_next(uint32_t h) { return h % 3u == 2u ? h - 2u : h + 1u; }
+static inline uint32_t bk_half_prev(uint32_t h) { return h % 3u == 0u ? h + 2u : h - 1u; }
+
+/// A mesh's half-edges grouped by the position they start at, for topology
+/// tests that scan a vertex's few neighbours instead of hashing edges.
+/// Reused between meshes; zero-initialised is empty.
+typedef struct bk_topology_scratch {
+  uint32_t* start;  ///< per position + 1: first entry of its group in `around`
+  uint32_t* mark;   ///< per position, free for the caller between groupings
+  uint32_t* from;   ///< per half-edge: its start position
+  uint32_t* around; ///< half-edges by start position, each group in increasing h
+  uint32_t position_capacity, half_capacity;
+} bk_topology_scratch;
+
+/// Fills `from`, `start` and `around` for `mesh`.
+void bk_topology_group(bk_topology_scratch* scratch, const bk_mesh* mesh);
+/// bk_mesh_is_closed with reused storage.
+bool bk_mesh_is_closed_with(const bk_mesh* mesh, bk_topology_scratch* scratch);
+void bk_topology_scratch_free(bk_topology_scratch* scratch);
+
 /// 64-bit FNV-1a over bytes, continuing from `hash` (start with BK_FNV_OFFSET).
 uint64_t bk_hash_bytes(uint64_t hash, const void* data, size_t size);
 #define BK_FNV_OFFSET 0xcbf29ce484222325ull

@@ -58,6 +58,24 @@ void bk_mesh_copy(bk_mesh* dst, const bk_mesh* src) {
   bk_mesh_append(dst, src);
 }
 
+void bk_mesh_copy_exact(bk_mesh* dst, const bk_mesh* src) {
+  dst->position_count = dst->position_capacity = src->position_count;
+  dst->corner_count = dst->corner_capacity = src->corner_count;
+  dst->triangle_count = dst->triangle_capacity = src->triangle_count;
+  dst->positions = bk_alloc(sizeof(bk_vec3) * src->position_count);
+  dst->corners = bk_alloc(sizeof(bk_corner) * src->corner_count);
+  dst->indices = bk_alloc(sizeof(uint32_t) * 3u * src->triangle_count);
+  dst->materials = bk_alloc(src->triangle_count);
+  dst->tags = bk_alloc(sizeof(uint32_t) * src->triangle_count);
+  if (src->position_count) memcpy(dst->positions, src->positions, sizeof(bk_vec3) * src->position_count);
+  if (src->corner_count) memcpy(dst->corners, src->corners, sizeof(bk_corner) * src->corner_count);
+  if (src->triangle_count) {
+    memcpy(dst->indices, src->indices, sizeof(uint32_t) * 3u * src->triangle_count);
+    memcpy(dst->materials, src->materials, src->triangle_count);
+    memcpy(dst->tags, src->tags, sizeof(uint32_t) * src->triangle_count);
+  }
+}
+
 void bk_mesh_append(bk_mesh* dst, const bk_mesh* src) {
   uint32_t p0 = dst->position_count, c0 = dst->corner_count, t0 = dst->triangle_count;
   bk_mesh_reserve(dst, p0 + src->position_count, c0 + src->corner_count, t0 + src->triangle_count);
@@ -80,8 +98,9 @@ void bk_mesh_append(bk_mesh* dst, const bk_mesh* src) {
 bk_aabb bk_mesh_bounds(const bk_mesh* m) {
   bk_aabb box = {bk_v3(INFINITY, INFINITY, INFINITY), bk_v3(-INFINITY, -INFINITY, -INFINITY)};
   for (uint32_t i = 0; i < m->position_count; ++i) {
-    box.min = bk_v3_min(box.min, m->positions[i]);
-    box.max = bk_v3_max(box.max, m->positions[i]);
+    bk_vec3 p = m->positions[i]; // bk_v3_min and bk_v3_max, inline
+    box.min = bk_v3(bk_min(box.min.x, p.x), bk_min(box.min.y, p.y), bk_min(box.min.z, p.z));
+    box.max = bk_v3(bk_max(box.max.x, p.x), bk_max(box.max.y, p.y), bk_max(box.max.z, p.z));
   }
   return box;
 }
