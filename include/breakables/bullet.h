@@ -69,6 +69,13 @@ typedef struct bk_physics_stats {
   uint32_t pairs;          ///< broadphase pairs (bounding boxes overlapping)
   uint32_t manifolds;      ///< narrowphase pairs with a contact manifold
   uint32_t contact_points; ///< points in those manifolds
+  /// Pairs the last step tested in the narrowphase (their boxes touch and a
+  /// body is awake); the other pairs cost a box test each.
+  uint32_t narrow_pairs;
+  /// Box overlaps the broadphase found in the last step (new pairs, and
+  /// those its filter groups turned down): the work of boxes moving among
+  /// others.
+  uint32_t box_overlaps;
 } bk_physics_stats;
 
 bk_physics_stats bk_physics_get_stats(const bk_physics* world);
@@ -124,6 +131,9 @@ typedef struct bk_body_def {
   bool ccd;          ///< continuous collision detection, for fast small bodies
   double ccd_radius; ///< swept sphere radius for CCD; 0 (default) = the largest sphere inside the shape
   bool disable_sleep;
+  /// Debris collides with everything but other debris (Bullet's collision
+  /// filter groups: its pairs with debris are never made); default false
+  bool debris;
   uint64_t user_data;
 } bk_body_def;
 
@@ -149,6 +159,25 @@ bk_vec3 bk_physics_body_inertia(const bk_physics* world, bk_body_id body);
 void bk_physics_body_apply_impulse(bk_physics* world, bk_body_id body, bk_vec3 impulse, bk_vec3 world_point);
 bool bk_physics_body_awake(const bk_physics* world, bk_body_id body);
 uint64_t bk_physics_body_user_data(const bk_physics* world, bk_body_id body);
+/// Moves a body into or out of debris (bk_body_def.debris). Its pairs with
+/// other debris go, or are found again, before the next step.
+void bk_physics_body_set_debris(bk_physics* world, bk_body_id body, bool debris);
+/// Whether a body is debris now.
+bool bk_physics_body_debris(const bk_physics* world, bk_body_id body);
+/// Gives a body another collision shape, keeping its mass, inertia and
+/// motion (a cheaper stand-in for a far piece, say). The old shape stays
+/// alive, no longer used by this body. False for a stale id or a plane on a
+/// dynamic body.
+bool bk_physics_body_set_shape(bk_physics* world, bk_body_id body, bk_shape_id shape);
+/// The shape a body collides with now.
+bk_shape_id bk_physics_body_shape(const bk_physics* world, bk_body_id body);
+/// Pins a dynamic body where it is (frozen: zero velocity, static to the
+/// solver and the narrowphase, as the ground is) until unpinned; touches do
+/// not wake it, and velocity changes and impulses are ignored meanwhile.
+/// Unpinned, it is awake, and falls if what held it has gone. Static bodies ignore it.
+void bk_physics_body_set_pinned(bk_physics* world, bk_body_id body, bool pinned);
+/// Whether a body is pinned now.
+bool bk_physics_body_pinned(const bk_physics* world, bk_body_id body);
 
 // ---------------------------------------------------------------- queries
 
@@ -201,6 +230,25 @@ typedef struct bk_world_def {
   /// Its work per step in bond evaluations (bk_runtime_def.stress_budget,
   /// >= 1); default 16,000 (about 0.35 ms on this project's 2-core machine)
   uint32_t stress_budget;
+  /// What the physics of a step may cost, in ms (>= 0; 0 = no budget). Over
+  /// it, the least important loose pieces get cheaper, tier by tier (see
+  /// bk_budget_tier); at less than half of it, they get their fidelity back
+  /// (debris lying still stays debris until it moves again).
+  /// Default 0 (off) for now: retired pieces vanish until the demo's
+  /// renderer fades them. 8, half a 60 Hz frame, is what it was measured at.
+  double physics_budget_ms;
+  /// How the cost is known: false (default) an estimate from what Bullet
+  /// worked on in the step (awake bodies, pairs, manifolds; calibrated on
+  /// this project's 2-core machine), so the same inputs make the same
+  /// decisions; true the measured time, which follows the machine but
+  /// is not reproducible.
+  bool physics_budget_measured;
+  /// Pieces of this volume (m^3) or more are never made cheaper (> 0);
+  /// default 0.008 (a 20 cm cube)
+  double budget_large_volume;
+  /// Pieces within this distance (m) of the focus (bk_world_set_focus) are
+  /// never made cheaper (>= 0); default 2
+  double budget_focus_radius;
 } bk_world_def;
 
 bk_world_def bk_default_world_def(void);
@@ -245,6 +293,32 @@ double bk_world_bond_strength(const bk_world* world, bk_breakable_id id);
 void bk_world_set_stress(bk_world* world, bool stress);
 /// Whether the world solves structural stress each step.
 bool bk_world_stress(const bk_world* world);
+
+/// How far the physics budget has made a body cheaper, from the least to
+/// the most (each tier keeps what the ones before it did).
+typedef enum bk_budget_tier {
+  BK_TIER_FULL = 0,       ///< fully simulated
+  BK_TIER_DEBRIS = 1,     ///< no contacts with other debris (only large bodies and the world)
+  BK_TIER_SIMPLIFIED = 2, ///< also a sphere or box fitted to it for a shape (same mass and inertia)
+  BK_TIER_FROZEN = 3,     ///< also frozen where it lies (only a piece at rest: asleep, or calm a moment)
+  /// removed: a simplified piece still moving, of one mesh-tree node, handed
+  /// to bk_world_retired_bodies (its mass goes to retired_mass)
+  BK_TIER_RETIRED = 4,
+} bk_budget_tier;
+
+/// Sets the physics budget (bk_world_def.physics_budget_ms) from the next
+/// step; 0 turns it off and gives every piece its full fidelity back at once
+/// (debris that came to rest inside other debris is pushed out of it).
+/// False (nothing changed) for a negative or non-finite value.
+bool bk_world_set_physics_budget(bk_world* world, double ms);
+/// The physics budget the steps are held to, in ms (0: none).
+double bk_world_physics_budget(const bk_world* world);
+/// Where the player looks from (the camera, say): the budget keeps pieces
+/// near it fully simulated, and makes far ones cheaper first. Ignored when
+/// not finite. Until it is set, distance plays no part.
+void bk_world_set_focus(bk_world* world, bk_vec3 point);
+/// The focus, if one was set.
+bool bk_world_focus(const bk_world* world, bk_vec3* point);
 /// Breakables added so far, and the id of the one at index (null past the end).
 uint32_t bk_world_breakable_count(const bk_world* world);
 bk_breakable_id bk_world_breakable_at(const bk_world* world, uint32_t index);
@@ -287,6 +361,21 @@ typedef struct bk_break_event {
 /// Copies the last step's break events; returns the total count.
 uint32_t bk_world_break_events(const bk_world* world, bk_break_event* out, uint32_t capacity);
 
+/// A body the physics budget removed in the last step, for a renderer to
+/// fade out: one mesh-tree node where the body was, and how it moved.
+typedef struct bk_retired_body {
+  bk_breakable_id breakable;  ///< the breakable it was part of
+  uint32_t node;              ///< its one mesh-tree node (only one-node bodies retire)
+  bk_transform tree_to_world; ///< the tree frame's placement when it left
+  bk_vec3 linear_velocity;    ///< of its centre of mass
+  bk_vec3 angular_velocity;   ///< rad/s, in the world
+  bk_vec3 center;             ///< its centre of mass in the world
+  double mass;                ///< kg (added to bk_world_stats.retired_mass)
+} bk_retired_body;
+
+/// Copies the bodies the budget retired in the last step; returns their count.
+uint32_t bk_world_retired_bodies(const bk_world* world, bk_retired_body* out, uint32_t capacity);
+
 /// Where each fragment of a breakable is now: its centroid in the world
 /// (NaN for a fragment whose cluster was removed, e.g. retired). Writes at
 /// most capacity; returns the breakable's fragment count (0 for a stale id).
@@ -315,6 +404,14 @@ typedef struct bk_world_stats {
   uint32_t stress_iterations;       ///< last step's stress iterations
   uint32_t stress_clusters_pending; ///< clusters whose load is not solved yet (0: at rest, costs nothing)
   bool nan;                         ///< a body has a non-finite transform or velocity
+  /// The physics budget. Bodies now at each tier (bk_budget_tier): without
+  /// contacts with debris, also simplified, also frozen.
+  uint32_t budget_debris, budget_simplified, budget_frozen;
+  uint32_t budget_retired;      ///< bodies retired since creation (their fragments are in fragments_retired)
+  uint32_t budget_demotions;    ///< tier steps down (cheaper) since creation, retirements included
+  uint32_t budget_restorations; ///< tier steps back up since creation
+  double budget_level;          ///< 0 (nothing made cheaper) to 4 (retiring): how far the budget reaches
+  double budget_cost_ms;        ///< last step's physics cost as the budget saw it (estimated or measured)
 } bk_world_stats;
 
 bk_world_stats bk_world_get_stats(const bk_world* world);
@@ -332,6 +429,7 @@ typedef struct bk_body_view {
   uint32_t leaf_count;
   bk_body_id body;
   bool is_static;
+  bk_budget_tier tier; ///< what the physics budget made of it
 } bk_body_view;
 
 /// Number of breakable bodies; views are indexed 0..count-1 until the next step.

@@ -59,6 +59,8 @@ struct BodySlot {
   double mass = 0.0;
   btVector3 inertia{0, 0, 0}; // principal moments of a dynamic body (kept while it is frozen)
   uint64_t user_data = 0;
+  bool pinned = false;   // frozen until unpinned: touches do not thaw it (bk_physics_body_set_pinned)
+  bool reshaped = false; // its shape changed: its pairs' algorithms go before the next step
   // Velocities and centre of mass at the start of the current substep.
   btVector3 linear_velocity{0, 0, 0}, angular_velocity{0, 0, 0}, center{0, 0, 0};
 };
@@ -423,12 +425,48 @@ btDefaultCollisionConstructionInfo collision_info() {
   return info;
 }
 
+/// Counts the pairs that reach the narrowphase (a cost the world's physics
+/// budget estimates from).
+struct Dispatcher : public btCollisionDispatcher {
+  explicit Dispatcher(btCollisionConfiguration* configuration) : btCollisionDispatcher(configuration) {}
+  uint32_t narrow_pairs = 0;
+};
+
+/// Bullet's own group and mask test, counting the box overlaps the
+/// broadphase finds (filtered or not): a moving box's tree query costs
+/// about one per overlap, even when the pair is filtered out.
+struct OverlapCounter : public btOverlapFilterCallback {
+  mutable uint32_t tests = 0;
+  bool needBroadphaseCollision(btBroadphaseProxy* a, btBroadphaseProxy* b) const override {
+    ++tests;
+    return (a->m_collisionFilterGroup & b->m_collisionFilterMask) != 0 &&
+           (b->m_collisionFilterGroup & a->m_collisionFilterMask) != 0;
+  }
+};
+
+/// Drops the pairs a filter change has ruled out and the algorithms of pairs
+/// whose shape changed, in one walk over the pair cache (a walk per body
+/// would cost the whole cache each time).
+struct PairRefresh : public btOverlapCallback {
+  btOverlappingPairCache* cache = nullptr;
+  btDispatcher* dispatcher = nullptr;
+  bool (*reshaped)(const void* user, const btBroadphaseProxy* proxy) = nullptr;
+  const void* user = nullptr;
+  bool processOverlap(btBroadphasePair& pair) override {
+    if (!cache->needsBroadphaseCollision(pair.m_pProxy0, pair.m_pProxy1)) return true; // removed
+    if (reshaped && (reshaped(user, pair.m_pProxy0) || reshaped(user, pair.m_pProxy1)))
+      cache->cleanOverlappingPair(pair, dispatcher);
+    return false;
+  }
+};
+
 } // namespace
 
 struct bk_physics {
   btDefaultCollisionConfiguration configuration{collision_info()};
   HullPairCreateFunc hull_pair_create;
-  btCollisionDispatcher dispatcher{&configuration};
+  Dispatcher dispatcher{&configuration};
+  OverlapCounter overlaps;
   btDbvtBroadphase broadphase;
   btSequentialImpulseConstraintSolver solver;
   World world{&dispatcher, &broadphase, &solver, &configuration};
@@ -443,6 +481,9 @@ struct bk_physics {
   uint32_t contact_capacity = default_contact_capacity;
   uint32_t contact_total = 0;
   std::vector<bk_contact> contacts;
+  // Bodies whose filter or shape changed since the last step (refresh_pairs).
+  std::vector<uint32_t> changed_pairs, gained_pairs;
+  bool any_reshaped = false;
 
   BodySlot* body(bk_body_id id) {
     return bodies.valid(id.index, id.generation) ? &bodies.slots[id.index] : nullptr;
@@ -565,7 +606,7 @@ struct bk_physics {
 
   /// `moving`: restless at once (its support went), not just awake.
   void thaw(BodySlot& s, bool moving = false) {
-    if (!frozen(s)) return;
+    if (!frozen(s) || s.pinned) return;
     s.body->setMassProps((btScalar)s.mass, s.inertia); // clears CF_STATIC_OBJECT
     s.body->updateInertiaTensor();
     s.body->setGravity(world.getGravity()); // it may have changed meanwhile
@@ -601,6 +642,96 @@ struct bk_physics {
     }
   }
 
+  /// Debris collides with everything but other debris (Bullet's filter
+  /// groups); the other values are Bullet's defaults for the body's kind.
+  static void filter_of(bool debris, bool dynamic, int* group, int* mask) {
+    if (debris) {
+      *group = btBroadphaseProxy::DebrisFilter;
+      *mask = btBroadphaseProxy::AllFilter ^ btBroadphaseProxy::DebrisFilter;
+    } else if (dynamic) {
+      *group = btBroadphaseProxy::DefaultFilter;
+      *mask = btBroadphaseProxy::AllFilter;
+    } else {
+      *group = btBroadphaseProxy::StaticFilter;
+      *mask = btBroadphaseProxy::AllFilter ^ btBroadphaseProxy::StaticFilter;
+    }
+  }
+
+  static bool is_debris(const BodySlot& s) {
+    const btBroadphaseProxy* proxy = s.body->getBroadphaseHandle();
+    return proxy && proxy->m_collisionFilterGroup == btBroadphaseProxy::DebrisFilter;
+  }
+
+  void set_debris(BodySlot& s, bool debris) {
+    btBroadphaseProxy* proxy = s.body->getBroadphaseHandle();
+    if (!proxy || is_debris(s) == debris) return;
+    filter_of(debris, s.mass > 0.0, &proxy->m_collisionFilterGroup, &proxy->m_collisionFilterMask);
+    // Leaving debris, its pairs with other debris are found again (the
+    // broadphase only looks for new pairs when a box moves), and it wakes:
+    // two sleepers keep no contacts, and it may lie inside other debris.
+    (debris ? changed_pairs : gained_pairs).push_back((uint32_t)(&s - bodies.slots.data()));
+    if (!debris && s.mass > 0.0) {
+      thaw(s);
+      if (!s.pinned) s.body->activate(true);
+    }
+  }
+
+  void set_shape(BodySlot& s, uint32_t shape_index) {
+    --shapes.slots[s.shape].uses;
+    ++shapes.slots[shape_index].uses;
+    s.shape = shape_index;
+    s.body->setCollisionShape(shapes.slots[shape_index].shape);
+    world.updateSingleAabb(s.body);
+    s.reshaped = true;
+    any_reshaped = true;
+    changed_pairs.push_back((uint32_t)(&s - bodies.slots.data()));
+  }
+
+  static bool reshaped_proxy(const void* user, const btBroadphaseProxy* proxy) {
+    const bk_physics* w = static_cast<const bk_physics*>(user);
+    const BodySlot* s = w->slot_of(static_cast<const btCollisionObject*>(proxy->m_clientObject));
+    return s && s->reshaped;
+  }
+
+  /// Finds the pairs a body left out while it was debris.
+  struct PairSearch : public btDbvt::ICollide {
+    btDbvtProxy* proxy = nullptr;
+    btOverlappingPairCache* cache = nullptr;
+    void Process(const btDbvtNode* leaf) override {
+      btDbvtProxy* other = static_cast<btDbvtProxy*>(leaf->data);
+      if (other != proxy) cache->addOverlappingPair(proxy, other);
+    }
+  };
+
+  /// Before a step: one walk over the pair cache for every filter and shape
+  /// changed since the last, then a tree query per body that left debris.
+  void refresh_pairs() {
+    btOverlappingPairCache* cache = broadphase.getOverlappingPairCache();
+    if (!changed_pairs.empty()) {
+      PairRefresh refresh;
+      refresh.cache = cache;
+      refresh.dispatcher = &dispatcher;
+      refresh.reshaped = any_reshaped ? reshaped_proxy : nullptr;
+      refresh.user = this;
+      cache->processAllOverlappingPairs(&refresh, &dispatcher);
+      for (uint32_t index : changed_pairs)
+        bodies.slots[index].reshaped = false;
+    }
+    for (uint32_t index : gained_pairs) {
+      BodySlot& s = bodies.slots[index];
+      btDbvtProxy* proxy = s.body ? static_cast<btDbvtProxy*>(s.body->getBroadphaseHandle()) : nullptr;
+      if (!proxy || is_debris(s)) continue;
+      PairSearch search;
+      search.proxy = proxy;
+      search.cache = cache;
+      for (btDbvt& set : broadphase.m_sets)
+        set.collideTV(set.m_root, proxy->leaf->volume, search);
+    }
+    changed_pairs.clear();
+    gained_pairs.clear();
+    any_reshaped = false;
+  }
+
   /// `wake_neighbours`: off when the whole world goes (the walk below is
   /// over every pair, once per body).
   void destroy_body_slot(uint32_t index, bool wake_neighbours = true) {
@@ -615,6 +746,8 @@ struct bk_physics {
       BodySlot* neighbour = other ? slot_of(static_cast<const btCollisionObject*>(other)) : nullptr;
       if (neighbour) thaw(*neighbour, true);
     }
+    // A slot waiting for refresh_pairs is skipped there once released.
+    s.reshaped = false;
     world.removeRigidBody(s.body);
     delete s.body;
     --shapes.slots[s.shape].uses;
@@ -680,6 +813,7 @@ void near_callback(btBroadphasePair& pair, btCollisionDispatcher& dispatcher, co
     free_algorithm(pair, dispatcher);
     return;
   }
+  static_cast<Dispatcher&>(dispatcher).narrow_pairs++;
   btCollisionDispatcher::defaultNearCallback(pair, dispatcher, info);
 }
 
@@ -738,6 +872,7 @@ bk_physics* bk_physics_create(const bk_physics_def* desc, bk_error* err) {
   // Bullet keeps this one setting in a global; every world here uses the same value.
   gDeactivationTime = (btScalar)sleep_time;
   w->dispatcher.setNearCallback(near_callback);
+  w->broadphase.getOverlappingPairCache()->setOverlapFilterCallback(&w->overlaps);
   w->dispatcher.registerCollisionCreateFunc(CONVEX_HULL_SHAPE_PROXYTYPE, CONVEX_HULL_SHAPE_PROXYTYPE,
                                             &w->hull_pair_create);
   // The broadphase grows every box by 5 cm so that a moving body updates the
@@ -781,7 +916,15 @@ int bk_physics_step(bk_physics* w, double dt, int max_substeps) {
   if (!w) return 0;
   w->contacts.clear();
   w->contact_total = 0;
+  w->dispatcher.narrow_pairs = 0;
   if (!(std::isfinite(dt) && dt > 0.0)) return 0;
+  try {
+    w->refresh_pairs();
+  } catch (...) {
+    // Out of memory in Bullet's pair cache: the pairs are refreshed by the
+    // broadphase as the boxes move instead.
+  }
+  w->overlaps.tests = 0; // the step's own, not the refresh's
   if (max_substeps < 1) max_substeps = 1;
   // The accumulator is kept in double here rather than in Bullet's float
   // clock, so that dt = k * fixed_dt always gives exactly k substeps. Time
@@ -810,6 +953,8 @@ bk_physics_stats bk_physics_get_stats(const bk_physics* w) {
   s.manifolds = (uint32_t)m->dispatcher.getNumManifolds();
   for (int i = 0; i < m->dispatcher.getNumManifolds(); ++i)
     s.contact_points += (uint32_t)m->dispatcher.getManifoldByIndexInternal(i)->getNumContacts();
+  s.narrow_pairs = w->dispatcher.narrow_pairs;
+  s.box_overlaps = w->overlaps.tests;
   return s;
 }
 
@@ -1095,7 +1240,15 @@ bk_body_id bk_physics_create_body(bk_physics* w, const bk_body_def* desc, bk_err
   s.inertia = inertia;
   s.user_data = d.user_data;
   ++shape.uses;
-  w->world.addRigidBody(body);
+  if (d.debris) {
+    // Filtered from its birth: a body added to the broadphase pairs with
+    // every box it overlaps at once.
+    int group = 0, mask = 0;
+    bk_physics::filter_of(true, dynamic, &group, &mask);
+    w->world.addRigidBody(body, group, mask);
+  } else {
+    w->world.addRigidBody(body);
+  }
   return bk_body_id{index, s.generation};
 }
 
@@ -1118,7 +1271,7 @@ void bk_physics_body_set_transform(bk_physics* w, bk_body_id body, bk_transform 
   w->thaw(*s, true);
   s->body->setCenterOfMassTransform(to_bt(transform));
   w->world.updateSingleAabb(s->body);
-  if (s->mass > 0.0) s->body->activate(true);
+  if (s->mass > 0.0 && !s->pinned) s->body->activate(true);
 }
 
 bk_vec3 bk_physics_body_linear_velocity(const bk_physics* w, bk_body_id body) {
@@ -1133,7 +1286,7 @@ bk_vec3 bk_physics_body_angular_velocity(const bk_physics* w, bk_body_id body) {
 
 void bk_physics_body_set_velocity(bk_physics* w, bk_body_id body, bk_vec3 linear, bk_vec3 angular) {
   BodySlot* s = w ? w->body(body) : nullptr;
-  if (!s || s->mass == 0.0 || !bk_v3_is_finite(linear) || !bk_v3_is_finite(angular)) return;
+  if (!s || s->mass == 0.0 || s->pinned || !bk_v3_is_finite(linear) || !bk_v3_is_finite(angular)) return;
   w->thaw(*s, true);
   s->body->setLinearVelocity(to_bt(linear));
   s->body->setAngularVelocity(to_bt(angular));
@@ -1146,12 +1299,13 @@ void bk_physics_body_set_mass(bk_physics* w, bk_body_id body, double mass, bk_ve
   if (!s || s->mass == 0.0 || !(std::isfinite(mass) && mass > 0.0) || !bk_v3_is_finite(inertia) ||
       !(inertia.x > 0.0 && inertia.y > 0.0 && inertia.z > 0.0))
     return;
+  s->mass = mass;
+  s->inertia = to_bt(inertia);
+  if (s->pinned) return; // it takes them when unpinned
   w->thaw(*s, true);
   s->body->setMassProps((btScalar)mass, to_bt(inertia));
   s->body->updateInertiaTensor();
   s->body->activate(true);
-  s->mass = mass;
-  s->inertia = to_bt(inertia);
 }
 
 void bk_physics_body_set_surface(bk_physics* w, bk_body_id body, double friction, double restitution) {
@@ -1175,7 +1329,7 @@ bk_vec3 bk_physics_body_inertia(const bk_physics* w, bk_body_id body) {
 
 void bk_physics_body_apply_impulse(bk_physics* w, bk_body_id body, bk_vec3 impulse, bk_vec3 world_point) {
   BodySlot* s = w ? w->body(body) : nullptr;
-  if (!s || s->mass == 0.0 || !bk_v3_is_finite(impulse) || !bk_v3_is_finite(world_point)) return;
+  if (!s || s->mass == 0.0 || s->pinned || !bk_v3_is_finite(impulse) || !bk_v3_is_finite(world_point)) return;
   w->thaw(*s, true);
   bk_vec3 arm = bk_v3_sub(world_point, to_bk(s->body->getCenterOfMassPosition()));
   s->body->applyImpulse(to_bt(impulse), to_bt(arm));
@@ -1190,6 +1344,61 @@ bool bk_physics_body_awake(const bk_physics* w, bk_body_id body) {
 uint64_t bk_physics_body_user_data(const bk_physics* w, bk_body_id body) {
   const BodySlot* s = w ? w->body(body) : nullptr;
   return s ? s->user_data : 0;
+}
+
+void bk_physics_body_set_debris(bk_physics* w, bk_body_id body, bool debris) {
+  BodySlot* s = w ? w->body(body) : nullptr;
+  if (!s) return;
+  try {
+    w->changed_pairs.reserve(w->changed_pairs.size() + 1);
+    w->gained_pairs.reserve(w->gained_pairs.size() + 1);
+  } catch (...) {
+    return; // out of memory: the filter stays as it was
+  }
+  w->set_debris(*s, debris);
+}
+
+bool bk_physics_body_debris(const bk_physics* w, bk_body_id body) {
+  const BodySlot* s = w ? w->body(body) : nullptr;
+  return s && bk_physics::is_debris(*s);
+}
+
+bool bk_physics_body_set_shape(bk_physics* w, bk_body_id body, bk_shape_id shape) {
+  BodySlot* s = w ? w->body(body) : nullptr;
+  const ShapeSlot* n = w ? w->shape(shape) : nullptr;
+  if (!s || !n || (n->kind == ShapeKind::plane && s->mass > 0.0)) return false;
+  if (s->shape == shape.index) return true;
+  try {
+    w->changed_pairs.reserve(w->changed_pairs.size() + 1);
+  } catch (...) {
+    return false;
+  }
+  w->set_shape(*s, shape.index);
+  return true;
+}
+
+bk_shape_id bk_physics_body_shape(const bk_physics* w, bk_body_id body) {
+  const BodySlot* s = w ? w->body(body) : nullptr;
+  return s ? bk_shape_id{s->shape, w->shapes.slots[s->shape].generation} : bk_shape_id{0, 0};
+}
+
+void bk_physics_body_set_pinned(bk_physics* w, bk_body_id body, bool pinned) {
+  BodySlot* s = w ? w->body(body) : nullptr;
+  if (!s || s->mass == 0.0 || s->pinned == pinned) return;
+  if (pinned) {
+    if (!bk_physics::frozen(*s)) w->freeze(*s);
+    s->pinned = true;
+  } else {
+    // Restless, so that it falls if what held it went meanwhile; resting,
+    // it sleeps again within sleep_time.
+    s->pinned = false;
+    w->thaw(*s, true);
+  }
+}
+
+bool bk_physics_body_pinned(const bk_physics* w, bk_body_id body) {
+  const BodySlot* s = w ? w->body(body) : nullptr;
+  return s && s->pinned;
 }
 
 // ---------------------------------------------------------------- queries

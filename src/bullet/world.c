@@ -25,7 +25,11 @@ bk_world_def bk_default_world_def(void) {
                         .retire_volume = 0.0,
                         .retire_after = 10.0,
                         .stress = true,
-                        .stress_budget = 16000};
+                        .stress_budget = 16000,
+                        .physics_budget_ms = 0.0,
+                        .physics_budget_measured = false,
+                        .budget_large_volume = 0.008,
+                        .budget_focus_radius = 2.0};
 }
 
 // The runtime asks where a cluster's body is; Bullet knows.
@@ -50,6 +54,18 @@ bk_world* bk_world_create(const bk_world_def* def, bk_error* err) {
   if (!bk_v3_is_finite(d.gravity)) return bk_error_set(err, "world: gravity must be finite"), NULL;
   if (!(d.fixed_dt > 0.0 && d.fixed_dt <= 0.1))
     return bk_error_set(err, "world: fixed_dt must be in (0, 0.1] s (got %g)", d.fixed_dt), NULL;
+  if (!(d.physics_budget_ms >= 0.0) || !isfinite(d.physics_budget_ms))
+    return bk_error_set(err, "world: physics_budget_ms must be finite and >= 0 (got %g)",
+                        d.physics_budget_ms),
+           NULL;
+  if (!(d.budget_large_volume > 0.0) || !isfinite(d.budget_large_volume))
+    return bk_error_set(err, "world: budget_large_volume must be a positive finite number (got %g)",
+                        d.budget_large_volume),
+           NULL;
+  if (!(d.budget_focus_radius >= 0.0) || !isfinite(d.budget_focus_radius))
+    return bk_error_set(err, "world: budget_focus_radius must be finite and >= 0 (got %g)",
+                        d.budget_focus_radius),
+           NULL;
 
   bk_world* w = bk_calloc(1, sizeof *w);
   bk_runtime_def rd = bk_default_runtime_def();
@@ -122,6 +138,7 @@ void bk_world_destroy(bk_world* w) {
   free(w->events);
   free(w->supports);
   free(w->stress_loads);
+  bk_world_budget_free(w);
   free(w);
 }
 
@@ -330,6 +347,7 @@ void bk_world_step(bk_world* w) {
   w->step_count++;
   bk_physics_step(w->physics, w->def.fixed_dt, 1);
   double after_physics = now_ms();
+  w->physics_ms = after_physics - start; // the budget may go by it
   uint32_t contacts = bk_physics_contacts(w->physics, w->contacts, w->contact_capacity);
   apply_contacts(w, contacts);
   double before_stress = now_ms();
@@ -341,9 +359,10 @@ void bk_world_step(bk_world* w) {
   bk_world_refresh_live(w);
   retire_fragments(w);
   bk_world_refresh_live(w);
+  bk_world_budget_step(w);
+  bk_world_refresh_live(w);
   w->events_of_last_step = w->event_count;
   double end = now_ms();
-  w->physics_ms = after_physics - start;
   w->break_ms = end - after_physics;
   w->step_ms = end - start;
 }

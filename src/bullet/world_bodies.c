@@ -121,6 +121,13 @@ static bool build_body(bk_world* w, const bk_cluster_created* created, bk_error*
   // a wall section still topples as it should.
   def.rolling_friction = 0.1 * cbrt(info->mass / material.density);
   def.user_data = BK_USER_CLUSTER | index;
+  // Once the budget reaches every piece, a new one is debris from its
+  // birth: added to the broadphase, it would pair at once with every box it
+  // overlaps, and in a shattering hit that is every neighbour.
+  wbody->tier = bk_world_budget_birth_tier(w, info, created->body.transform.position);
+  def.debris = wbody->tier == BK_TIER_DEBRIS;
+  w->budget.demotions += def.debris;
+  wbody->shape = def.shape;
   wbody->previous = bk_transform_mul(created->body.transform, child_local);
   wbody->born = w->step_count;
   wbody->body = bk_physics_create_body(w->physics, &def, err);
@@ -132,6 +139,10 @@ void bk_world_release_body(bk_world* w, uint32_t index) {
   if (!wbody->alive) return;
   if (!bk_body_is_null(wbody->body)) bk_physics_destroy_body(w->physics, wbody->body);
   if (!bk_shape_is_null(wbody->compound)) bk_physics_destroy_shape(w->physics, wbody->compound);
+  if (!bk_shape_is_null(wbody->simple)) bk_physics_destroy_shape(w->physics, wbody->simple);
+  wbody->simple = (bk_shape_id){0, 0};
+  wbody->tier = BK_TIER_FULL;
+  wbody->calm_steps = 0;
   wbody->alive = false;
   wbody->body = (bk_body_id){0, 0};
   wbody->compound = (bk_shape_id){0, 0};

@@ -29,7 +29,27 @@ typedef struct world_body {
   uint32_t collider_count;
   bk_transform previous; // tree frame at the start of the last step (for interpolated drawing)
   uint64_t born;         // step the body was made
+  bk_shape_id shape;     // its own shape (a hull or the compound), which a simplified body gives back
+  bk_shape_id simple;    // the sphere or box standing in for it while simplified (owned)
+  bk_budget_tier tier;   // what the physics budget made of it
+  uint32_t calm_steps;   // steps in a row it has moved slower than the budget's calm speed
 } world_body;
+
+/// The physics budget's state (world_budget.c).
+typedef struct world_budget {
+  double level;       // 0..4: tier k reaches the least important (level - k + 1) of the pieces
+  double cost_ms;     // last step's cost as compared with the budget
+  double smoothed_ms; // its average over recent steps (relaxing waits for it)
+  uint32_t top_steps; // steps in a row with the level past 3 (retiring waits for some)
+  bool engaged;       // a body may be below full fidelity
+  bool has_focus;
+  bk_vec3 focus;
+  uint32_t retired, demotions, restorations;
+  struct budget_candidate* candidates;
+  uint32_t candidate_capacity;
+  bk_retired_body* retired_bodies; // the last step's
+  uint32_t retired_count, retired_capacity;
+} world_budget;
 
 struct bk_world {
   bk_world_def def;
@@ -70,6 +90,7 @@ struct bk_world {
   uint32_t support_capacity;
   bk_stress_load* stress_loads; // what rests on clusters, from the step's slow contacts
   uint32_t stress_load_capacity;
+  world_budget budget;
 };
 
 /// User data tags on physics bodies.
@@ -94,3 +115,14 @@ bk_transform bk_world_tree_to_world(const bk_world* world, uint32_t index);
 void bk_world_refresh_live(bk_world* world);
 /// Removes projectiles older than projectile_lifetime.
 void bk_world_retire_projectiles(bk_world* world);
+/// Whether the budget may make a cluster's body cheaper at all: a loose
+/// piece, smaller than budget_large_volume, away from the focus.
+bool bk_world_budget_candidate(const bk_world* world, const bk_cluster_info* info, bk_vec3 center);
+/// The tier a new body starts at: debris once the budget reaches every
+/// piece, so it never pairs with other debris; else full.
+bk_budget_tier bk_world_budget_birth_tier(const bk_world* world, const bk_cluster_info* info, bk_vec3 center);
+/// After a step: compares the step's physics cost with the budget and
+/// moves bodies between tiers.
+void bk_world_budget_step(bk_world* world);
+/// Frees the budget's buffers.
+void bk_world_budget_free(bk_world* world);

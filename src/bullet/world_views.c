@@ -26,6 +26,9 @@ bk_world_stats bk_world_get_stats(const bk_world* w) {
     s.fragments_free += info.leaf_count == 1;
     s.total_mass += info.mass;
     s.nan = s.nan || body_has_nan(w, wbody->body);
+    s.budget_debris += wbody->tier == BK_TIER_DEBRIS;
+    s.budget_simplified += wbody->tier == BK_TIER_SIMPLIFIED;
+    s.budget_frozen += wbody->tier == BK_TIER_FROZEN;
   }
   bk_runtime_stats rs = bk_runtime_get_stats(w->runtime);
   s.projectiles = w->projectile_count;
@@ -41,6 +44,11 @@ bk_world_stats bk_world_get_stats(const bk_world* w) {
   s.stress_bonds_broken = rs.stress_bonds_broken;
   s.stress_iterations = rs.stress_iterations;
   s.stress_clusters_pending = rs.stress_clusters_pending;
+  s.budget_retired = w->budget.retired;
+  s.budget_demotions = w->budget.demotions;
+  s.budget_restorations = w->budget.restorations;
+  s.budget_level = w->budget.level;
+  s.budget_cost_ms = w->budget.cost_ms;
   for (uint32_t i = 0; i < w->projectile_count; ++i)
     s.nan = s.nan || body_has_nan(w, w->projectiles[i]);
   return s;
@@ -79,7 +87,8 @@ bool bk_world_body_view(const bk_world* w, uint32_t index, bk_body_view* out) {
                         .leaves = info.leaves,
                         .leaf_count = info.leaf_count,
                         .body = wbody->body,
-                        .is_static = info.is_static};
+                        .is_static = info.is_static,
+                        .tier = wbody->tier};
   return true;
 }
 

@@ -1,0 +1,367 @@
+// The physics budget: when a step's physics costs more than
+// physics_budget_ms, the least important loose pieces are made cheaper, tier
+// by tier (bk_budget_tier), and once the cost has stayed well below it they
+// get their fidelity back, in the reverse order.
+//
+// Where the time goes (perf, Release, a glass cube of 4,096 fragments shot
+// once, 2,600 bodies): each small body overlaps a hundred others, and a
+// step is their pairs: a third the narrowphase (GJK and the hulls' support
+// points), a quarter the pair cache adding and dropping pairs and the
+// broadphase tree, a fifth the solver on their contacts. The first tier
+// takes the pieces out of each other's way (debris: Bullet's filter groups,
+// so that pairs among them are never made), which took the worst step from
+// 225 to 62 ms of CPU time; what is left is each moving box's query of the broadphase
+// tree (a third), the solver and the narrowphase against the ground and the
+// large pieces. The second tier gives a piece a sphere or box (fewer contact
+// points, simpler tests), the third freezes it (its box no longer moves, and
+// nothing is integrated, tested or solved for it) and the last removes it.
+//
+// The cost compared with the budget is by default not the clock: the same
+// inputs must make the same decisions, and the time a step takes depends on
+// the machine and on whatever else runs on it. It is an estimate from what
+// Bullet worked on in the step, each kind of work at its cost measured on
+// this project's 2-core machine.
+#include <stdlib.h>
+#include <string.h>
+
+#include "world_internal.h"
+
+// Microseconds per unit of work in one step: a least-squares fit (relative
+// error, no negative terms) to the physics CPU time of the 2,800 steps
+// between 3 and 40 ms of cubes of 1,024 to 4,096 fragments shattered, 16
+// walls of 1,024 shot at once and the showcase's 40-shot volley at 512
+// pieces, each without a budget, at 8 and 16 ms, and with every piece debris
+// (Release, this project's 2-core machine). Half the steps are within 10% of
+// the estimate, nine in ten within 24%. Contact points cost nothing beyond
+// their manifolds.
+static const double us_per_awake_body = 5.4;   // integration, its box, its solver body
+static const double us_per_manifold = 0.96;    // a touching pair: its contact rows in the solver
+static const double us_per_narrow_pair = 0.75; // a pair tested by GJK (or skipped as still apart)
+static const double us_per_pair = 0.019;       // a pair in the cache: one box test
+static const double us_per_overlap = 0.037;    // a box met by a moving box in the tree
+
+// The level rises at once when a step goes over (a whole tier for a step at
+// twice the budget, at most), and falls slowly once the average of the last
+// steps is under half the budget: a tier a second, so what was made cheaper
+// comes back a few pieces a step rather than all in one.
+static const double relax_fraction = 0.5;
+static const double relax_per_step = 1.0 / 60.0;
+static const double smoothing = 0.1; // the average's weight for the last step (about ten steps)
+
+// Importance: the size a piece appears at from the focus, more when it moves
+// fast (the eye follows motion), less the longer it has lain still.
+static const double calm_speed = 0.25;   // m/s: slower than this, a piece is settling
+static const double seen_speed = 1.0;    // m/s: moving this fast doubles its importance
+static const double near_distance = 0.5; // m: nearer than this counts as this near
+// Frozen only once asleep in Bullet, or after a sixth of a second calm: a
+// piece slow at the top of a throw must not hang in the air.
+static const uint32_t freeze_calm_steps = 10;
+// Retiring, the one tier that cannot be undone, waits a quarter of a second
+// at the top level, so that pieces that settle meanwhile are frozen
+// instead; but not while a step costs twice the budget or more.
+static const uint32_t retire_patience_steps = 15;
+static const double retire_at_once = 2.0;
+
+typedef struct budget_candidate {
+  uint32_t index; // into the world's bodies
+  double importance;
+  bk_budget_tier tier; // now (retired ones stay in the list)
+  bool settled;        // at rest: asleep in Bullet, or calm for freeze_calm_steps
+  bool one_node;       // a single mesh-tree node: what a retired body leaves to draw
+} budget_candidate;
+
+static double estimate_ms(const bk_physics_stats* s) {
+  return 1e-3 *
+         (us_per_awake_body * s->awake_bodies + us_per_manifold * s->manifolds +
+          us_per_narrow_pair * s->narrow_pairs + us_per_pair * s->pairs + us_per_overlap * s->box_overlaps);
+}
+
+bool bk_world_budget_candidate(const bk_world* w, const bk_cluster_info* info, bk_vec3 center) {
+  if (info->is_static || !(info->volume < w->def.budget_large_volume)) return false;
+  if (!w->budget.has_focus) return true;
+  return bk_v3_length(bk_v3_sub(center, w->budget.focus)) > w->def.budget_focus_radius;
+}
+
+bk_budget_tier bk_world_budget_birth_tier(const bk_world* w, const bk_cluster_info* info, bk_vec3 center) {
+  bool everything = w->def.physics_budget_ms > 0.0 && w->budget.level >= 1.0;
+  return everything && bk_world_budget_candidate(w, info, center) ? BK_TIER_DEBRIS : BK_TIER_FULL;
+}
+
+bool bk_world_set_physics_budget(bk_world* w, double ms) {
+  if (!(ms >= 0.0) || !isfinite(ms)) return false;
+  w->def.physics_budget_ms = ms;
+  return true;
+}
+
+double bk_world_physics_budget(const bk_world* w) { return w->def.physics_budget_ms; }
+
+void bk_world_set_focus(bk_world* w, bk_vec3 point) {
+  if (!bk_v3_is_finite(point)) return;
+  w->budget.focus = point;
+  w->budget.has_focus = true;
+}
+
+bool bk_world_focus(const bk_world* w, bk_vec3* point) {
+  if (w->budget.has_focus && point) *point = w->budget.focus;
+  return w->budget.has_focus;
+}
+
+uint32_t bk_world_retired_bodies(const bk_world* w, bk_retired_body* out, uint32_t capacity) {
+  const world_budget* b = &w->budget;
+  uint32_t n = b->retired_count < capacity ? b->retired_count : capacity;
+  if (n) memcpy(out, b->retired_bodies, sizeof(bk_retired_body) * n);
+  return b->retired_count;
+}
+
+void bk_world_budget_free(bk_world* w) {
+  free(w->budget.candidates);
+  free(w->budget.retired_bodies);
+}
+
+// A stand-in fitted to the piece along its principal axes (the body frame):
+// a sphere of its own volume when it is about as wide every way (one contact
+// point on the ground, not a box's four), else a box of its extents, so that
+// a flat shard still lies flat. The box is centred on the centre of mass,
+// which is off the extents' middle by a small part of the piece's size.
+static bk_shape_id make_simple_shape(bk_world* w, const bk_cluster_info* info) {
+  const bk_mesh_tree* tree = bk_runtime_breakable_tree(w->runtime, info->breakable);
+  bk_transform to_body = bk_transform_inverse(info->principal);
+  bk_vec3 lo = bk_v3(INFINITY, INFINITY, INFINITY), hi = bk_v3(-INFINITY, -INFINITY, -INFINITY);
+  for (uint32_t n = 0; n < info->node_count; ++n) {
+    const bk_mesh* mesh = &tree->nodes[info->nodes[n]].mesh;
+    for (uint32_t i = 0; i < mesh->position_count; ++i) {
+      bk_vec3 p = bk_transform_point(to_body, mesh->positions[i]);
+      lo = bk_v3(fmin(lo.x, p.x), fmin(lo.y, p.y), fmin(lo.z, p.z));
+      hi = bk_v3(fmax(hi.x, p.x), fmax(hi.y, p.y), fmax(hi.z, p.z));
+    }
+  }
+  bk_vec3 half = bk_v3_scale(bk_v3_sub(hi, lo), 0.5);
+  double smallest = fmin(half.x, fmin(half.y, half.z)), largest = fmax(half.x, fmax(half.y, half.z));
+  if (!(smallest > 0.0) || !isfinite(largest)) return (bk_shape_id){0, 0};
+  if (smallest >= 0.6 * largest)
+    return bk_physics_create_sphere(w->physics, cbrt(3.0 * info->volume / (4.0 * 3.14159265358979323846)));
+  return bk_physics_create_box(w->physics, half);
+}
+
+// One tier down. A piece too flat for a stand-in keeps its own shape at the
+// simplified tier, so that the tiers after it still come in order.
+static void demote(bk_world* w, uint32_t index, const bk_cluster_info* info) {
+  world_body* wb = &w->bodies[index];
+  switch (wb->tier) {
+  case BK_TIER_FULL:
+    bk_physics_body_set_debris(w->physics, wb->body, true);
+    break;
+  case BK_TIER_DEBRIS:
+    if (bk_shape_is_null(wb->simple)) wb->simple = make_simple_shape(w, info);
+    if (!bk_shape_is_null(wb->simple)) bk_physics_body_set_shape(w->physics, wb->body, wb->simple);
+    break;
+  case BK_TIER_SIMPLIFIED:
+    bk_physics_body_set_pinned(w->physics, wb->body, true);
+    break;
+  default:
+    return;
+  }
+  wb->tier++;
+  w->budget.demotions++;
+}
+
+// One tier back up.
+static void restore(bk_world* w, uint32_t index) {
+  world_body* wb = &w->bodies[index];
+  switch (wb->tier) {
+  case BK_TIER_FROZEN:
+    bk_physics_body_set_pinned(w->physics, wb->body, false);
+    break;
+  case BK_TIER_SIMPLIFIED:
+    bk_physics_body_set_shape(w->physics, wb->body, wb->shape);
+    bk_physics_destroy_shape(w->physics, wb->simple);
+    wb->simple = (bk_shape_id){0, 0};
+    break;
+  case BK_TIER_DEBRIS:
+    bk_physics_body_set_debris(w->physics, wb->body, false);
+    break;
+  default:
+    return;
+  }
+  wb->tier--;
+  w->budget.restorations++;
+}
+
+// The last tier: the body leaves, and what it was is kept for the renderer
+// to fade out. Its mass is accounted for as retire_volume's is.
+static void retire(bk_world* w, uint32_t index, const bk_cluster_info* info) {
+  world_budget* b = &w->budget;
+  world_body* wb = &w->bodies[index];
+  if (b->retired_count == b->retired_capacity) {
+    b->retired_capacity = bk_grow_capacity(b->retired_capacity, b->retired_count + 1);
+    b->retired_bodies = bk_realloc(b->retired_bodies, sizeof(bk_retired_body) * b->retired_capacity);
+  }
+  b->retired_bodies[b->retired_count++] =
+      (bk_retired_body){.breakable = info->breakable,
+                        .node = info->nodes[0],
+                        .tree_to_world = bk_world_tree_to_world(w, index),
+                        .linear_velocity = bk_physics_body_linear_velocity(w->physics, wb->body),
+                        .angular_velocity = bk_physics_body_angular_velocity(w->physics, wb->body),
+                        .center = bk_physics_body_transform(w->physics, wb->body).position,
+                        .mass = info->mass};
+  w->retired_mass += info->mass;
+  w->fragments_retired += info->leaf_count;
+  b->retired++;
+  b->demotions++;
+  bk_runtime_remove_cluster(w->runtime, wb->cluster);
+  bk_world_release_body(w, index);
+}
+
+static int by_importance(const void* a, const void* b) {
+  const budget_candidate* x = a;
+  const budget_candidate* y = b;
+  if (x->importance != y->importance) return x->importance < y->importance ? -1 : 1;
+  return (x->index > y->index) - (x->index < y->index); // the same order every run
+}
+
+// Follows every live dynamic body's calm (it makes "long settled") and lists
+// the candidates with their importance; a body that stopped being one (it
+// came near the focus, say) gets its full fidelity back at once.
+static uint32_t gather(bk_world* w, bool engaged) {
+  world_budget* b = &w->budget;
+  if (b->candidate_capacity < w->live_count) {
+    b->candidate_capacity = bk_grow_capacity(b->candidate_capacity, w->live_count);
+    b->candidates = bk_realloc(b->candidates, sizeof(budget_candidate) * b->candidate_capacity);
+  }
+  uint32_t count = 0;
+  for (uint32_t i = 0; i < w->live_count; ++i) {
+    uint32_t index = w->live[i];
+    world_body* wb = &w->bodies[index];
+    if (bk_physics_body_mass(w->physics, wb->body) == 0.0) continue; // static
+    bk_vec3 v = bk_physics_body_linear_velocity(w->physics, wb->body);
+    bk_vec3 spin = bk_physics_body_angular_velocity(w->physics, wb->body);
+    bk_cluster_info info = {0};
+    if (!bk_runtime_cluster(w->runtime, wb->cluster, &info)) continue;
+    double size = cbrt(info.volume);
+    double speed = bk_v3_length(v) + 0.5 * size * bk_v3_length(spin);
+    wb->calm_steps = speed < calm_speed ? wb->calm_steps + 1 : 0;
+    if (!engaged || info.split_pending) continue; // a body about to split keeps its tier meanwhile
+    bk_vec3 center = bk_physics_body_transform(w->physics, wb->body).position;
+    if (!bk_world_budget_candidate(w, &info, center)) {
+      while (wb->tier > BK_TIER_FULL)
+        restore(w, index);
+      continue;
+    }
+    double distance =
+        b->has_focus ? fmax(bk_v3_length(bk_v3_sub(center, b->focus)), near_distance) : near_distance;
+    double settled = wb->calm_steps * w->def.fixed_dt;
+    double importance = size / distance * (1.0 + speed / seen_speed) / (1.0 + settled);
+    b->candidates[count++] = (budget_candidate){.index = index,
+                                                .importance = isfinite(importance) ? importance : 0.0,
+                                                .tier = wb->tier,
+                                                .settled = wb->calm_steps >= freeze_calm_steps ||
+                                                           !bk_physics_body_awake(w->physics, wb->body),
+                                                .one_node = info.node_count == 1};
+  }
+  return count;
+}
+
+static void restore_all(bk_world* w) {
+  for (uint32_t i = 0; i < w->live_count; ++i)
+    while (w->bodies[w->live[i]].tier > BK_TIER_FULL)
+      restore(w, w->live[i]);
+}
+
+// Whether the candidate may go down from its tier to the next.
+static bool may_demote(const budget_candidate* c, uint32_t tier) {
+  if (tier == BK_TIER_FROZEN) return c->tier == BK_TIER_SIMPLIFIED && c->settled;
+  // Only a piece still moving retires: a frozen one costs next to nothing,
+  // and in a burst of debris the moving ones are the cost.
+  if (tier == BK_TIER_RETIRED) return c->tier == BK_TIER_SIMPLIFIED && c->one_node;
+  return c->tier == tier - 1;
+}
+
+// Whether the candidate may come back up from its tier. Debris lying still
+// stays debris: at rest it looks the same either way, and pieces that fell
+// into each other as debris and came to rest there would be woken and
+// pushed apart, for seconds in a heap. It comes back once it moves again.
+static bool may_restore(const budget_candidate* c, uint32_t tier) {
+  return c->tier == tier && (tier != BK_TIER_DEBRIS || !c->settled);
+}
+
+// Tiers 1 to 3 reach the least important (level - k + 1) of the candidates:
+// pieces are demoted from the least important up, and restored from the
+// most important down. Retiring cannot be undone, so it is not a share:
+// while everything else is reached and a step still goes over, as many
+// moving pieces retire as carry the excess, at what an awake body costs on
+// average.
+static void apply_level(bk_world* w, uint32_t count, uint32_t awake) {
+  world_budget* b = &w->budget;
+  budget_candidate* c = b->candidates;
+  qsort(c, count, sizeof *c, by_importance);
+  for (uint32_t tier = BK_TIER_DEBRIS; tier <= BK_TIER_RETIRED; ++tier) {
+    uint32_t target = 0, reached = 0;
+    if (tier == BK_TIER_RETIRED) {
+      bool patient = b->level > 3.0 && (b->top_steps >= retire_patience_steps ||
+                                        b->cost_ms >= retire_at_once * w->def.physics_budget_ms);
+      double excess = patient ? 1.0 - w->def.physics_budget_ms / b->cost_ms : 0.0;
+      target = excess > 0.0 ? (uint32_t)ceil(excess * awake) : 0;
+    } else {
+      double share = fmin(fmax(b->level - (tier - 1), 0.0), 1.0);
+      target = (uint32_t)ceil(share * count - 1e-9);
+      for (uint32_t i = 0; i < count; ++i)
+        reached += c[i].tier >= tier;
+    }
+    for (uint32_t i = 0; i < count && reached < target; ++i) {
+      if (!may_demote(&c[i], tier)) continue;
+      bk_cluster_info info = {0};
+      bk_runtime_cluster(w->runtime, w->bodies[c[i].index].cluster, &info);
+      if (tier == BK_TIER_RETIRED) {
+        retire(w, c[i].index, &info);
+        c[i].tier = BK_TIER_RETIRED;
+      } else {
+        demote(w, c[i].index, &info);
+        c[i].tier = w->bodies[c[i].index].tier;
+      }
+      reached++;
+    }
+    for (uint32_t i = count; tier != BK_TIER_RETIRED && i-- > 0 && reached > target;) {
+      if (!may_restore(&c[i], tier)) continue;
+      restore(w, c[i].index);
+      c[i].tier = w->bodies[c[i].index].tier;
+      reached--;
+    }
+  }
+}
+
+void bk_world_budget_step(bk_world* w) {
+  world_budget* b = &w->budget;
+  b->retired_count = 0;
+  double budget = w->def.physics_budget_ms;
+  if (!(budget > 0.0)) {
+    if (b->engaged) restore_all(w);
+    *b = (world_budget){.has_focus = b->has_focus,
+                        .focus = b->focus,
+                        .retired = b->retired,
+                        .demotions = b->demotions,
+                        .restorations = b->restorations,
+                        .candidates = b->candidates,
+                        .candidate_capacity = b->candidate_capacity,
+                        .retired_bodies = b->retired_bodies,
+                        .retired_capacity = b->retired_capacity};
+    return;
+  }
+  bk_physics_stats stats = bk_physics_get_stats(w->physics);
+  double cost = w->def.physics_budget_measured ? w->physics_ms : estimate_ms(&stats);
+  b->cost_ms = cost;
+  b->smoothed_ms += (cost - b->smoothed_ms) * smoothing;
+  if (cost > budget)
+    b->level = fmin(4.0, b->level + fmin(1.0, cost / budget - 1.0));
+  else if (b->smoothed_ms < relax_fraction * budget)
+    b->level = fmax(0.0, b->level - relax_per_step);
+  b->top_steps = b->level > 3.0 ? b->top_steps + 1 : 0;
+  bool engaged = b->engaged || b->level > 0.0;
+  uint32_t count = gather(w, engaged);
+  if (!engaged) return;
+  apply_level(w, count, stats.awake_bodies);
+  // Nothing below full fidelity and nothing to reach: the next steps cost
+  // only the calm count until the budget is exceeded again.
+  b->engaged = b->level > 0.0;
+  for (uint32_t i = 0; i < w->live_count && !b->engaged; ++i)
+    b->engaged = w->bodies[w->live[i]].alive && w->bodies[w->live[i]].tier != BK_TIER_FULL;
+}
