@@ -62,6 +62,11 @@ bool bk_parse_double(const char* text, double min, double max, double* out);
 /// --seed ' -1' is not a whole number (0..18446744073709551615)".
 bool bk_option_u64(const char* command, const char* option, const char* text, uint64_t min, uint64_t max,
                    uint64_t* out);
+/// Which of `names` argv[*i] is (-1: none of them), taking its value into
+/// *value and moving *i past it; -2 when the value is missing, with the
+/// message printed. For a command's group of options that each take one.
+int bk_take_option(const char* command, int argc, char** argv, int* i, const char* const* names, int count,
+                   const char** value);
 /// bk_parse_double for the value of a command's option, with the same kind of message.
 bool bk_option_double(const char* command, const char* option, const char* text, double min, double max,
                       double* out);

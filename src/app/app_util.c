@@ -132,6 +132,21 @@ bool bk_option_u64(const char* command, const char* option, const char* text, ui
   return false;
 }
 
+int bk_take_option(const char* command, int argc, char** argv, int* i, const char* const* names, int count,
+                   const char** value) {
+  const char* arg = argv[*i];
+  int which = -1;
+  for (int k = 0; k < count; ++k)
+    if (strcmp(arg, names[k]) == 0) which = k;
+  if (which < 0) return -1;
+  if (*i + 1 >= argc) {
+    fprintf(stderr, "breakables %s: %s needs a value (see 'breakables %s --help')\n", command, arg, command);
+    return -2;
+  }
+  *value = argv[++*i];
+  return which;
+}
+
 bool bk_option_double(const char* command, const char* option, const char* text, double min, double max,
                       double* out) {
   number_status status = scan_double(text, min, max, out);

@@ -12,17 +12,11 @@ bk_drop bk_default_drop(void) {
 }
 
 int bk_parse_drop_option(const char* command, int argc, char** argv, int* i, bk_drop* drop) {
+  static const char* const names[] = {"--drop", "--drop-radius", "--drop-at"};
   const char* arg = argv[*i];
-  const char* names[] = {"--drop", "--drop-radius", "--drop-at"};
-  int which = -1;
-  for (int k = 0; k < 3; ++k)
-    if (strcmp(arg, names[k]) == 0) which = k;
-  if (which < 0) return 1;
-  if (*i + 1 >= argc) {
-    fprintf(stderr, "breakables %s: %s needs a value (see 'breakables %s --help')\n", command, arg, command);
-    return 2;
-  }
-  const char* value = argv[++*i];
+  const char* value = NULL;
+  int which = bk_take_option(command, argc, argv, i, names, 3, &value);
+  if (which < 0) return which == -1 ? 1 : 2;
   bool ok = false;
   if (which == 0) {
     ok = bk_option_double(command, arg, value, BK_DROP_KG_MIN, BK_DROP_KG_MAX, &drop->kg);

@@ -21,17 +21,11 @@ const char* bk_app_shader_dir(void) {
 }
 
 int bk_parse_window_option(const char* command, int argc, char** argv, int* i, bk_window_options* o) {
+  static const char* const names[] = {"--width", "--height", "--frames", "--autofire", "--screenshot"};
   const char* arg = argv[*i];
-  const char* names[] = {"--width", "--height", "--frames", "--autofire", "--screenshot"};
-  int which = -1;
-  for (int k = 0; k < 5; ++k)
-    if (strcmp(arg, names[k]) == 0) which = k;
-  if (which < 0) return 1;
-  if (*i + 1 >= argc) {
-    fprintf(stderr, "breakables %s: %s needs a value (see 'breakables %s --help')\n", command, arg, command);
-    return 2;
-  }
-  const char* value = argv[++*i];
+  const char* value = NULL;
+  int which = bk_take_option(command, argc, argv, i, names, 5, &value);
+  if (which < 0) return which == -1 ? 1 : 2;
   uint64_t number = 0;
   switch (which) {
   case 0:
