@@ -189,7 +189,8 @@ uint32_t bk_seed_grid_near(const bk_seed_grid* g, uint32_t cell, double inner, d
           out->entries[count++] = (bk_near_entry){d, j};
         }
       }
-  sort_near(out->entries, out->entries + count, count);
+  if (count > 1) // an empty list may have no buffer yet
+    sort_near(out->entries, out->entries + count, count);
   for (uint32_t i = 0; i < count; ++i)
     out->seeds[i] = out->entries[i].index;
   out->count = count;

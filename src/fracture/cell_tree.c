@@ -342,6 +342,20 @@ bool bk_cell_tree_build(const bk_mesh* source, const bk_fracture_def* d, bk_mesh
   }
   bk_mesh_free(&root);
   if (!ok) return false;
+  // Cells are grouped into exactly the pieces asked for (unless the map's
+  // regions or the user's seeds set the count), through the faces they
+  // share; a part of the source that touches no other (a shell that
+  // encloses no volume, left flat by a repair) cannot join a group and
+  // would be one piece too many: refused, never a silently wrong count.
+  bool counted = d->pattern != BK_PATTERN_CUTOUT && !d->seed_points;
+  if (counted && tree->leaf_count != d->pieces) {
+    uint32_t made = tree->leaf_count;
+    bk_mesh_tree_free(tree);
+    return bk_error_set(err,
+                        "fracture: the %s pattern made %u pieces of the %u asked for (a part of the source "
+                        "touches no other, such as a flat shell); the planes pattern cuts such sources",
+                        bk_fracture_pattern_name(d->pattern), made, d->pieces);
+  }
   // The root gets the source's own positions back; the other nodes' bounds
   // were taken as their meshes were made.
   memcpy(tree->nodes[0].mesh.positions, source->positions, sizeof(bk_vec3) * source->position_count);
