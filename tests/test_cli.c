@@ -1,5 +1,7 @@
 // The breakables command line, run as a user would: help texts, JSON
-// output, files written, and one-line errors with the right exit codes.
+// output, files written, and one-line errors with the right exit codes
+// (the benchmark's in test_cli_bench.c, the physics budget's in
+// test_cli_budget.c).
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -391,7 +393,7 @@ static void test_number_options(void) {
        "breakables play: --drop-at 60 (the default) is past the run's end (--frames 50)"},
       {"play --drop-at 5", "breakables play: --drop-at needs --drop KG"},
       {"play --overlay bricks",
-       "breakables play: --overlay must be bonds, stress, nodes or hulls (got 'bricks')"},
+       "breakables play: --overlay must be bonds, stress, nodes, hulls or budget (got 'bricks')"},
       {"editor --pieces 65537", "breakables editor: --pieces '65537' is out of range (1..65536)"},
       {"editor --seed 2147483648", "breakables editor: --seed '2147483648' is out of range (0..2147483647)"},
       {"editor --texture-scale 1e-300",
@@ -454,6 +456,10 @@ static void test_number_options(void) {
       {"editor", "0..3"},
       {"editor", "64..8192"},
       {"bench", "0..18446744073709551615"},
+      {"bench", "1..9"},
+      {"sim", "0..1000 ms"},
+      {"sim", "1..64"},
+      {"play", "0..1000 ms"},
   };
   for (size_t i = 0; i < sizeof helps / sizeof *helps; ++i) {
     char args[64];
@@ -462,275 +468,6 @@ static void test_number_options(void) {
     ENSURE_MSG(r->status == 0 && strstr(r->out, helps[i].range), "%s --help does not state %s",
                helps[i].command, helps[i].range);
   }
-}
-
-// ---------------------------------------------------------------- bench
-
-typedef struct csv_table {
-  char header[1024];
-  char rows[32][1024];
-  uint32_t row_count;
-} csv_table;
-
-static csv_table csv_data;
-
-// Reads BK_TEST_TMP/bench/<name>.csv, checking its header and row count.
-static const csv_table* read_csv(const char* name, const char* header, uint32_t rows) {
-  char path[512];
-  snprintf(path, sizeof path, "%s/bench/%s.csv", BK_TEST_TMP, name);
-  FILE* f = fopen(path, "rb");
-  ENSURE_MSG(f != NULL, "missing %s", path);
-  memset(&csv_data, 0, sizeof csv_data);
-  ENSURE(fgets(csv_data.header, sizeof csv_data.header, f) != NULL);
-  csv_data.header[strcspn(csv_data.header, "\n")] = 0;
-  ENSURE_MSG(strcmp(csv_data.header, header) == 0, "%s: header '%s', expected '%s'", name, csv_data.header,
-             header);
-  char line[1024];
-  while (fgets(line, sizeof line, f)) {
-    ENSURE(csv_data.row_count < 32);
-    line[strcspn(line, "\n")] = 0;
-    snprintf(csv_data.rows[csv_data.row_count++], sizeof line, "%s", line);
-  }
-  fclose(f);
-  ENSURE_MSG(csv_data.row_count == rows, "%s: %u rows, expected %u", name, csv_data.row_count, rows);
-  return &csv_data;
-}
-
-// The field of a row under a header key, as text.
-static const char* csv_field(const csv_table* t, uint32_t row, const char* key) {
-  static char field[128];
-  uint32_t column = 0;
-  const char* h = t->header;
-  size_t key_length = strlen(key);
-  while (!(strncmp(h, key, key_length) == 0 && (h[key_length] == ',' || h[key_length] == 0))) {
-    h = strchr(h, ',');
-    ENSURE_MSG(h != NULL, "no column %s in %s", key, t->header);
-    ++h;
-    ++column;
-  }
-  const char* f = t->rows[row];
-  for (uint32_t c = 0; c < column; ++c) {
-    f = strchr(f, ',');
-    ENSURE_MSG(f != NULL, "row %u is short: %s", row, t->rows[row]);
-    ++f;
-  }
-  snprintf(field, sizeof field, "%.*s", (int)strcspn(f, ","), f);
-  return field;
-}
-
-static double csv_number(const csv_table* t, uint32_t row, const char* key) {
-  const char* text = csv_field(t, row, key);
-  char* end = NULL;
-  double value = strtod(text, &end);
-  ENSURE_MSG(end != text && *end == 0, "%s of row %u is not a number: '%s'", key, row, text);
-  return value;
-}
-
-// Every row's value of each key is finite and > 0.
-static void ensure_positive(const csv_table* t, const char* const* keys, size_t count) {
-  for (uint32_t r = 0; r < t->row_count; ++r)
-    for (size_t k = 0; k < count; ++k) {
-      double value = csv_number(t, r, keys[k]);
-      ENSURE_MSG(isfinite(value) && value > 0.0, "%s of row %u is %g", keys[k], r, value);
-    }
-}
-
-static bool bench_file_exists(const char* name) {
-  char path[512];
-  snprintf(path, sizeof path, "%s/bench/%s", BK_TEST_TMP, name);
-  FILE* f = fopen(path, "rb");
-  if (f) fclose(f);
-  return f != NULL;
-}
-
-// 7. Fracture patterns (--quick): each pattern at 64 and 1024 pieces (brick
-// and planes on the wall, the others on the bunny) and planes and each cell
-// pattern with noise at 1024; every row's tree closed, with all its pieces and its volume.
-static void test_bench_patterns(const char* out, const char* report) {
-  static const struct {
-    const char* mesh;
-    const char* pattern;
-    uint32_t pieces;
-    bool noisy;
-  } expected[] = {{"bunny", "planes", 64, false},     {"bunny", "planes", 1024, false},
-                  {"bunny", "voronoi", 64, false},    {"bunny", "voronoi", 1024, false},
-                  {"bunny", "clustered", 64, false},  {"bunny", "clustered", 1024, false},
-                  {"bunny", "radial", 64, false},     {"bunny", "radial", 1024, false},
-                  {"wall", "brick", 64, false},       {"wall", "brick", 1024, false},
-                  {"wall", "planes", 64, false},      {"wall", "planes", 1024, false},
-                  {"bunny", "planes", 1024, true},    {"bunny", "voronoi", 1024, true},
-                  {"bunny", "clustered", 1024, true}, {"bunny", "radial", 1024, true}};
-  enum { EXPECTED = sizeof expected / sizeof *expected };
-  const csv_table* t =
-      read_csv("patterns",
-               "mesh,pattern,noise,fragments,runs,ms_median,leaves,nodes,bonds,leaf_triangles,"
-               "sliver_fraction,volume_ratio_p95_p5,open_nodes,volume_rel_error",
-               EXPECTED);
-  const char* keys[] = {"ms_median", "leaves", "nodes", "bonds", "leaf_triangles", "volume_ratio_p95_p5"};
-  ensure_positive(t, keys, sizeof keys / sizeof *keys);
-  for (uint32_t e = 0; e < EXPECTED; ++e) {
-    uint32_t found = 0;
-    for (uint32_t i = 0; i < t->row_count; ++i)
-      found += strcmp(csv_field(t, i, "mesh"), expected[e].mesh) == 0 &&
-               strcmp(csv_field(t, i, "pattern"), expected[e].pattern) == 0 &&
-               csv_number(t, i, "fragments") == expected[e].pieces &&
-               (csv_number(t, i, "noise") > 0.0) == expected[e].noisy;
-    ENSURE_MSG(found == 1, "patterns.csv has %u rows of %s on the %s at %u pieces%s", found,
-               expected[e].pattern, expected[e].mesh, expected[e].pieces,
-               expected[e].noisy ? " with noise" : "");
-  }
-  for (uint32_t i = 0; i < t->row_count; ++i) {
-    ENSURE_MSG(csv_number(t, i, "open_nodes") == 0.0, "patterns.csv row %u (%s) has open nodes", i,
-               csv_field(t, i, "pattern"));
-    ENSURE(csv_number(t, i, "runs") == 1.0 && csv_number(t, i, "leaves") == csv_number(t, i, "fragments"));
-    ENSURE(csv_number(t, i, "nodes") >= csv_number(t, i, "leaves"));
-    double slivers = csv_number(t, i, "sliver_fraction");
-    ENSURE(slivers >= 0.0 && slivers <= 1.0 && csv_number(t, i, "volume_ratio_p95_p5") >= 1.0);
-    ENSURE(csv_number(t, i, "volume_rel_error") < 1e-9);
-  }
-  // The answers: planes' time against each cell pattern's, Voronoi's slivers against planes'.
-  const char* answers[] = {"**Are the cell patterns fast enough?** At 1024 pieces on the bunny, planes take",
-                           "**Do Voronoi cells avoid slivers?**", "Every tree is closed"};
-  for (size_t i = 0; i < sizeof answers / sizeof *answers; ++i)
-    ENSURE_MSG(strstr(report, answers[i]) != NULL, "report lacks %s", answers[i]);
-  const char* lines[] = {
-      "voronoi at 1024 pieces on the bunny: ", "clustered at 1024 pieces on the bunny: ",
-      "radial at 1024 pieces on the bunny: ", "slivers at 1024 pieces on the bunny: voronoi"};
-  for (size_t i = 0; i < sizeof lines / sizeof *lines; ++i)
-    ENSURE_MSG(strstr(out, lines[i]) != NULL, "stdout lacks '%s'", lines[i]);
-}
-
-static void test_bench_quick(void) {
-  setenv("BREAKABLES_CACHE_DIR", BK_TEST_TMP "/cache", 1);
-  run_result* r = run("bench --quick --out '" BK_TEST_TMP "/bench'");
-  ENSURE_MSG(r->status == 0, "%s", r->err);
-  const char* sections[] = {"1. Fracture speed",    "2. Meshes",           "3. Maximum fragments",
-                            "4. Runtime",           "5. Scaling",          "6. Asset pipeline",
-                            "7. Fracture patterns", "8. Structural stress"};
-  for (size_t i = 0; i < sizeof sections / sizeof *sections; ++i)
-    ENSURE_MSG(strstr(r->out, sections[i]) != NULL, "stdout lacks %s", sections[i]);
-
-  // The report: command, machine, every section, and the plots (or why they are missing).
-  static char report[1 << 17];
-  FILE* f = fopen(BK_TEST_TMP "/bench/report.md", "rb");
-  ENSURE(f != NULL);
-  report[fread(report, 1, sizeof report - 1, f)] = 0;
-  fclose(f);
-  const char* report_parts[] = {"bench --quick --out",
-                                "| processor |",
-                                "| memory |",
-                                "| build |",
-                                "| date |",
-                                "## 1. Fracture speed",
-                                "## 5. Scaling",
-                                "## 6. Asset pipeline",
-                                "## 7. Fracture patterns",
-                                "| ---: |"};
-  for (size_t i = 0; i < sizeof report_parts / sizeof *report_parts; ++i)
-    ENSURE_MSG(strstr(report, report_parts[i]) != NULL, "report lacks %s", report_parts[i]);
-  bool gnuplot = system("command -v gnuplot >/dev/null 2>&1") == 0;
-  const char* plots[] = {"fracture_speed.png", "runtime.png", "colliders.png", "patterns_time.png",
-                         "patterns_slivers.png"};
-  for (size_t i = 0; i < sizeof plots / sizeof *plots; ++i) {
-    char embedded[64];
-    snprintf(embedded, sizeof embedded, "](%s)", plots[i]);
-    if (gnuplot) {
-      ENSURE_MSG(bench_file_exists(plots[i]), "missing %s", plots[i]);
-      ENSURE_MSG(strstr(report, embedded) != NULL, "report does not embed %s", plots[i]);
-    } else {
-      ENSURE(strstr(report, "gnuplot is not on PATH") != NULL);
-    }
-  }
-
-  // 1. Fracture speed: 2 .. 1024 fragments.
-  const csv_table* t = read_csv(
-      "fracture_speed", "fragments,leaves,nodes,leaf_triangles,runs,ms_median,ms_min,us_per_fragment", 10);
-  const char* speed_keys[] = {"ms_median", "ms_min", "us_per_fragment", "leaf_triangles"};
-  ensure_positive(t, speed_keys, 4);
-  for (uint32_t i = 0; i < t->row_count; ++i) {
-    ENSURE(csv_number(t, i, "fragments") == (double)(2u << i));
-    ENSURE(csv_number(t, i, "leaves") >= csv_number(t, i, "fragments"));
-    ENSURE(csv_number(t, i, "nodes") == 2.0 * csv_number(t, i, "leaves") - 1.0);
-  }
-  // 2. Meshes: four, all watertight.
-  t = read_csv(
-      "meshes",
-      "mesh,source_triangles,leaves,runs,ms_median,leaf_triangles,volume_spread,tiny_leaves,watertight", 4);
-  const char* mesh_keys[] = {"ms_median", "leaf_triangles", "volume_spread"};
-  ensure_positive(t, mesh_keys, 3);
-  for (uint32_t i = 0; i < t->row_count; ++i) {
-    ENSURE(strcmp(csv_field(t, i, "watertight"), "true") == 0);
-    ENSURE(csv_number(t, i, "volume_spread") >= 1.0 && csv_number(t, i, "leaves") >= 256);
-  }
-  ENSURE(strcmp(csv_field(t, 3, "mesh"), "bunny") == 0);
-  // 3. Maximum fragments: 2 .. 2048, every level watertight with exact volumes.
-  t = read_csv("max_fragments",
-               "fragments,leaves,nodes,ms,watertight,open_nodes,volume_rel_error,child_volume_rel_error", 11);
-  const char* max_keys[] = {"ms", "leaves", "nodes"};
-  ensure_positive(t, max_keys, 3);
-  for (uint32_t i = 0; i < t->row_count; ++i) {
-    ENSURE_MSG(strcmp(csv_field(t, i, "watertight"), "true") == 0, "level %u is not watertight", i);
-    ENSURE(csv_number(t, i, "open_nodes") == 0.0);
-    ENSURE(csv_number(t, i, "volume_rel_error") < 1e-9 && csv_number(t, i, "child_volume_rel_error") < 1e-9);
-  }
-  ENSURE(strstr(r->out, "first failure: none up to 2048") != NULL);
-  // 4. Runtime: wall and cube, 2 .. 256 fragments each.
-  t = read_csv(
-      "runtime",
-      "object,fragments,bodies,colliders,naive_colliders,collider_ratio,before_ms,naive_before_ms,"
-      "before_ratio,hit_physics_ms,hit_break_ms,naive_hit_physics_ms,naive_hit_break_ms,hit_median_ms,"
-      "naive_hit_median_ms,step_ratio,after_ms,naive_after_ms",
-      16);
-  const char* runtime_keys[] = {"before_ms",      "naive_before_ms",      "hit_physics_ms",
-                                "hit_break_ms",   "naive_hit_physics_ms", "naive_hit_break_ms",
-                                "hit_median_ms",  "naive_hit_median_ms",  "after_ms",
-                                "naive_after_ms", "step_ratio",           "before_ratio",
-                                "colliders"};
-  ensure_positive(t, runtime_keys, sizeof runtime_keys / sizeof *runtime_keys);
-  for (uint32_t i = 0; i < t->row_count; ++i) {
-    ENSURE(strcmp(csv_field(t, i, "object"), i < 8 ? "wall" : "cube") == 0);
-    ENSURE(csv_number(t, i, "collider_ratio") >= 1.0);
-    ENSURE(csv_number(t, i, "naive_colliders") == csv_number(t, i, "fragments"));
-    ENSURE(csv_number(t, i, "colliders") <= csv_number(t, i, "naive_colliders"));
-  }
-  // The largest wall breaks into several bodies.
-  ENSURE(csv_number(t, 7, "bodies") > 1.0);
-  // 5. Scaling: 1 and 4 walls.
-  t = read_csv(
-      "scaling",
-      "walls,fragments,bodies,colliders,step_ms_median,step_ms_max,break_ms_max,start_rss_mb,peak_rss_mb", 2);
-  const char* scaling_keys[] = {"step_ms_median", "step_ms_max", "break_ms_max", "peak_rss_mb"};
-  ensure_positive(t, scaling_keys, 4);
-  ENSURE(csv_number(t, 0, "walls") == 1.0 && csv_number(t, 1, "walls") == 4.0);
-  ENSURE(csv_number(t, 1, "step_ms_max") >= csv_number(t, 1, "step_ms_median"));
-  // 6. Asset pipeline: export and load-back of the cube of 1024 fragments, import of 100,000 triangles.
-  t = read_csv("assets", "step,source,nodes,triangles,file_mb,runs,ms_median,ms_min,target_ms,target_met", 3);
-  const char* asset_keys[] = {"nodes", "triangles", "file_mb", "runs", "ms_median", "ms_min"};
-  ensure_positive(t, asset_keys, sizeof asset_keys / sizeof *asset_keys);
-  ENSURE(strcmp(csv_field(t, 0, "step"), "export .glb") == 0 && csv_number(t, 0, "nodes") == 2047.0);
-  ENSURE(strcmp(csv_field(t, 1, "step"), "load back .glb") == 0 &&
-         strcmp(csv_field(t, 1, "target_met"), "-") == 0);
-  ENSURE(strcmp(csv_field(t, 2, "step"), "import .glb") == 0 && csv_number(t, 2, "triangles") == 100000.0);
-  ENSURE(csv_number(t, 0, "target_ms") == 1000.0 && csv_number(t, 2, "target_ms") == 500.0);
-  for (uint32_t i = 0; i < 3; i += 2) {
-    const char* met = csv_field(t, i, "target_met");
-    ENSURE_MSG(strcmp(met, "yes") == 0 || strcmp(met, "no") == 0, "target_met of row %u is '%s'", i, met);
-  }
-  ENSURE_MSG(strstr(report, "the target of under 1 s for 4096 fragments is ") != NULL &&
-                 strstr(report, "`--quick`; run without it to measure 4096") != NULL,
-             "the report does not state the export target and the quick cube");
-  ENSURE(!bench_file_exists("cube_1024.glb") && !bench_file_exists("torus_100000.glb"));
-  test_bench_patterns(r->out, report);
-
-  r = run("bench --help");
-  const char* options[] = {"--quick", "--out", "--seed"};
-  for (size_t i = 0; i < sizeof options / sizeof *options; ++i)
-    ENSURE_MSG(strstr(r->out, options[i]) != NULL, "bench help does not describe %s", options[i]);
-  write_file("not_a_dir", "x");
-  expect_error("bench --quick --out '" BK_TEST_TMP "/not_a_dir/bench'", 1, "cannot create directory");
-  expect_error("bench --seed x", 2, "--seed 'x' is not a whole number (0..18446744073709551615)");
-  expect_error("bench --out", 2, "--out needs a value");
-  expect_error("bench --slow", 2, "unknown option '--slow'");
 }
 
 int main(void) {
@@ -745,6 +482,5 @@ int main(void) {
   RUN(test_sim_own_mesh);
   RUN(test_export_keeps_material);
   RUN(test_number_options);
-  RUN(test_bench_quick);
   return 0;
 }

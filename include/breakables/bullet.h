@@ -249,6 +249,14 @@ typedef struct bk_world_def {
   /// Pieces within this distance (m) of the focus (bk_world_set_focus) are
   /// never made cheaper (>= 0); default 2
   double budget_focus_radius;
+  /// For this long (s, >= 0) after a piece comes loose, the budget keeps
+  /// what the player sees of it: it becomes debris only while it flies
+  /// apart (not while it presses on another loose piece at under 1 m/s,
+  /// where it would fall through the pile), is frozen only once asleep, and
+  /// is never retired. The budget may then stay over physics_budget_ms
+  /// while a large pile settles. 0 makes every piece fair game at once
+  /// (cheaper, but piles collapse through themselves); default 1
+  double budget_fidelity_time;
 } bk_world_def;
 
 bk_world_def bk_default_world_def(void);

@@ -10,6 +10,8 @@
 
 #include <breakables/authoring.h>
 
+#include "scenes.h"
+
 enum {
   BENCH_CELL_SIZE = 48, ///< characters per table cell
 };
@@ -94,6 +96,14 @@ bool bench_plot(const bench* b, const char* name, const char* caption, int width
 
 // ---------------------------------------------------------------- sections in files of their own
 
+/// A free glass unit cube resting on the ground, shot at like the wall scene
+/// (bench_runtime.c; sections 4 and 9).
+extern const bk_scene bench_cube_scene;
+/// 4. Runtime (bench_runtime.c): an anchored wall and a free cube hit once,
+/// mesh-tree colliders against plain BCRB.
+bool bench_section_runtime(const bench* b);
+/// 5. Scaling (bench_runtime.c): 1, 4 and 16 walls hit in the same step.
+bool bench_section_scaling(const bench* b);
 /// 6. Asset pipeline (bench_assets.c): glTF export and load-back of the cube
 /// tree, and import of a 100k-triangle glTF, against issue 15's targets.
 bool bench_section_assets(const bench* b);
@@ -102,3 +112,7 @@ bool bench_section_assets(const bench* b);
 bool bench_section_patterns(const bench* b);
 /// Section 8: the structural stress solve's cost against the bond count (bench_stress.c).
 bool bench_section_stress(const bench* b);
+/// 9. Physics budget (bench_budget.c): step and physics time percentiles
+/// with the budget off and on, what it retired, and how much of the debris'
+/// mass and momentum the player still sees.
+bool bench_section_budget(const bench* b);

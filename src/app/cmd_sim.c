@@ -10,7 +10,7 @@ static const char* const sim_usage =
     "                      [--seed S] [--shots K] [--steps F] [--volley V]\n"
     "                      [--speed M/S] [--frailty X] [--density X] [--discrete|--accumulate] [--naive]\n"
     "                      [--no-stress] [--stress-scale X] [--drop KG] [--drop-radius M] [--drop-at STEP]\n"
-    "                      [--max-memory MIB] [--json]\n"
+    "                      [--budget-ms X] [--copies N] [--max-memory MIB] [--json]\n"
     "\n"
     "Runs a scene headless at a fixed 60 Hz: builds (or loads from the cache) the\n"
     "scene's mesh tree, fires K projectiles at the object at regular intervals\n"
@@ -51,6 +51,12 @@ static const char* const sim_usage =
     "  --drop-radius M  the weight's radius, 0.01..2 m (default 0.3)\n"
     "  --drop-at STEP   the step it is set down, 0..10000000, before --steps (default 60:\n"
     "                   the structure has settled)\n"
+    "  --budget-ms X    the physics budget per step, 0..1000 ms (default 0: off): over it,\n"
+    "                   the least important loose pieces (small, far from the scene's eye,\n"
+    "                   slow, long at rest) get cheaper: no contacts among themselves, then\n"
+    "                   a fitted sphere or box, then frozen, then retired\n"
+    "  --copies N       N copies of the scene side by side along x, 1..64 (default 1), a gap\n"
+    "                   between them; each shot hits every copy in the same step\n"
     "  --max-memory MIB memory each fracture may use, 1..1073741824 MiB (default: the\n"
     "                   available memory); a tree estimated to need more is refused\n"
     "  --json           print one JSON object: scene, pieces, bodies_initial, bodies_final,\n"
@@ -63,7 +69,16 @@ static const char* const sim_usage =
     "                   below where it started), stress_ms_median and stress_ms_max (over\n"
     "                   the steps the stress solve worked), pattern (the objects' pattern,\n"
     "                   or \"mixed\"), patterns (one per object), drop_kg (0: no weight) and\n"
-    "                   drop_point (where the weight was set down, or null)\n"
+    "                   drop_point (where the weight was set down, or null); step_ms_p95,\n"
+    "                   physics_ms_median, physics_ms_p95, physics_ms_max; budget_ms, the\n"
+    "                   budget's tiers now (budget_debris, budget_simplified, budget_frozen)\n"
+    "                   and since the start (budget_retired, budget_demotions,\n"
+    "                   budget_restorations), mass_retired (kg; mass_rel_error counts it as\n"
+    "                   kept); copies; and what the player sees of the debris (every dynamic\n"
+    "                   piece still simulated), averaged over the first second after each\n"
+    "                   shot: debris_mass_1s (kg), debris_momentum_1s (the sum of |m v| over\n"
+    "                   the pieces: how much moves) and debris_net_momentum_1s (|sum of m v|),\n"
+    "                   to compare a run with a budget against one without\n"
     "  -h, --help       show this help\n"
     "\n"
     "Mesh trees are cached in $BREAKABLES_CACHE_DIR (else $XDG_CACHE_HOME/breakables,\n"
@@ -104,19 +119,27 @@ static void print_patterns(const bk_loaded_scene* s, bool json) {
   }
 }
 
-// Every fragment's height at the start, object after object.
-static double* rest_heights_of(const bk_loaded_scene* s) {
+// Fragments of one copy of the scene (the copies have the same trees).
+static uint32_t fragments_of(const bk_loaded_scene* s) {
   uint32_t total = 0;
   for (uint32_t i = 0; i < s->tree_count; ++i)
     total += s->trees[i].leaf_count;
-  double* heights = bk_alloc(sizeof(double) * (total ? total : 1u));
+  return total;
+}
+
+// Every fragment's height now, object after object, copy after copy.
+static double* heights_of(const bk_loaded_scene* s) {
+  uint32_t total = fragments_of(s), copies = s->copies ? s->copies : 1;
+  double* heights = bk_alloc(sizeof(double) * (total ? total * copies : 1u));
   bk_vec3* centroids = bk_alloc(sizeof(bk_vec3) * (total ? total : 1u));
   uint32_t at = 0;
-  for (uint32_t i = 0; i < s->tree_count; ++i) {
-    uint32_t n = bk_world_fragment_centroids(s->world, s->ids[i], centroids, total);
-    for (uint32_t l = 0; l < n; ++l)
-      heights[at + l] = centroids[l].y;
-    at += s->trees[i].leaf_count;
+  for (uint32_t c = 0; c < copies; ++c) {
+    for (uint32_t i = 0; i < s->tree_count; ++i) {
+      uint32_t n = bk_world_fragment_centroids(s->world, bk_loaded_scene_id(s, c, i), centroids, total);
+      for (uint32_t l = 0; l < n; ++l)
+        heights[at + l] = centroids[l].y;
+      at += s->trees[i].leaf_count;
+    }
   }
   free(centroids);
   return heights;
@@ -124,17 +147,11 @@ static double* rest_heights_of(const bk_loaded_scene* s) {
 
 // Fragments whose centroid ended more than 0.5 m below where it started.
 static uint32_t fragments_fallen(const bk_loaded_scene* s, const double* rest_heights) {
-  uint32_t total = 0, fallen = 0, at = 0;
-  for (uint32_t i = 0; i < s->tree_count; ++i)
-    total += s->trees[i].leaf_count;
-  bk_vec3* centroids = bk_alloc(sizeof(bk_vec3) * (total ? total : 1u));
-  for (uint32_t i = 0; i < s->tree_count; ++i) {
-    uint32_t n = bk_world_fragment_centroids(s->world, s->ids[i], centroids, total);
-    for (uint32_t l = 0; l < n; ++l)
-      fallen += centroids[l].y < rest_heights[at + l] - 0.5; // NaN (gone) counts as not fallen
-    at += s->trees[i].leaf_count;
-  }
-  free(centroids);
+  uint32_t fallen = 0, count = fragments_of(s) * (s->copies ? s->copies : 1);
+  double* heights = heights_of(s);
+  for (uint32_t f = 0; f < count; ++f)
+    fallen += heights[f] < rest_heights[f] - 0.5; // NaN (gone) counts as not fallen
+  free(heights);
   return fallen;
 }
 
@@ -173,9 +190,10 @@ int bk_cmd_sim(int argc, char** argv) {
       flag = false;
     }
     if (flag) continue;
-    const char* known[] = {"--scene",    "--pieces",  "--seed",       "--shots",       "--steps",
-                           "--volley",   "--speed",   "--frailty",    "--density",     "--mesh",
-                           "--material", "--pattern", "--max-memory", "--stress-scale"};
+    const char* known[] = {"--scene",      "--pieces",       "--seed",      "--shots",
+                           "--steps",      "--volley",       "--speed",     "--frailty",
+                           "--density",    "--mesh",         "--material",  "--pattern",
+                           "--max-memory", "--stress-scale", "--budget-ms", "--copies"};
     bool is_known = false;
     for (size_t k = 0; k < sizeof known / sizeof *known; ++k)
       is_known = is_known || strcmp(arg, known[k]) == 0;
@@ -221,6 +239,11 @@ int bk_cmd_sim(int argc, char** argv) {
       if (!bk_option_double("sim", arg, value, 0.1, 2000.0, &speed)) return 2;
     } else if (strcmp(arg, "--stress-scale") == 0) {
       if (!bk_option_double("sim", arg, value, 1e-6, 1e6, &options.stress_scale)) return 2;
+    } else if (strcmp(arg, "--budget-ms") == 0) {
+      if (!bk_app_parse_budget_ms("sim", value, &options)) return 2;
+    } else if (strcmp(arg, "--copies") == 0) {
+      if (!bk_option_u64("sim", arg, value, 1, BK_COPIES_MAX, &number)) return 2;
+      options.copies = (uint32_t)number;
     } else if (strcmp(arg, "--frailty") == 0) {
       // Materials use 0.5..8. At 1e-6 no shot breaks a bond and at 1e6 every
       // bond breaks at the first touch: beyond these nothing changes.
@@ -250,9 +273,14 @@ int bk_cmd_sim(int argc, char** argv) {
     fprintf(stderr, "breakables sim: %s: %s\n", scene->name, err.message);
     return 1;
   }
+  // The budget keeps what is near the eye fully simulated (with copies,
+  // the one in the middle, or the two either side of it).
+  bk_world_set_focus(loaded.world, loaded.scene->eye);
   bk_world_stats initial = bk_world_get_stats(loaded.world);
-  double* rest_heights = rest_heights_of(&loaded);
+  double* rest_heights = heights_of(&loaded);
   double* step_ms = bk_alloc(sizeof(double) * steps);
+  double* physics_ms = bk_alloc(sizeof(double) * steps);
+  bk_fidelity fidelity = {0};
   double* break_ms = bk_alloc(sizeof(double) * steps);
   double* stress_ms = bk_alloc(sizeof(double) * steps);
   uint32_t break_steps = 0, stress_steps = 0, fired = 0;
@@ -266,7 +294,7 @@ int bk_cmd_sim(int argc, char** argv) {
         fprintf(stderr, "breakables sim: --drop: %s\n",
                 drop_err.message[0] ? drop_err.message
                                     : "no surface of the first object to set the weight on");
-        free(step_ms), free(break_ms), free(stress_ms), free(rest_heights);
+        free(step_ms), free(physics_ms), free(break_ms), free(stress_ms), free(rest_heights);
         bk_loaded_scene_destroy(&loaded);
         return 1;
       }
@@ -274,29 +302,34 @@ int bk_cmd_sim(int argc, char** argv) {
     }
     // Shots at regular intervals, leaving time after the last one.
     uint64_t span = volley && volley < steps ? volley : steps;
-    while (fired < shots && step >= (fired + 1) * span / (shots + 1)) {
-      bk_projectile_def shot = bk_scene_shot(loaded.scene, fired++, speed); // fitted to a user's model
-      bk_world_fire(loaded.world, &shot, NULL);
-    }
+    uint32_t hits = 0;
+    while (fired < shots && step >= (fired + 1) * span / (shots + 1))
+      hits += bk_loaded_scene_fire(&loaded, fired++, speed); // fitted to a user's model, at every copy
     uint32_t splits_before = bk_world_get_stats(loaded.world).break_events;
     bk_world_step(loaded.world);
+    bk_fidelity_step(&fidelity, loaded.world, step, hits);
     bk_world_stats now = bk_world_get_stats(loaded.world);
     step_ms[step] = now.step_ms;
+    physics_ms[step] = now.physics_ms;
     if (now.break_events != splits_before) break_ms[break_steps++] = now.break_ms;
     if (now.stress_iterations) stress_ms[stress_steps++] = now.stress_ms;
   }
   bk_world_stats final = bk_world_get_stats(loaded.world);
   // Walks every manifold: read once here, not in the per-step world stats.
   bk_physics_stats physics = bk_physics_get_stats(bk_world_physics(loaded.world));
-  double mass_error = fabs(final.total_mass - initial.total_mass) / initial.total_mass;
+  // What the budget retired has left the world, not the simulation's books.
+  double mass_error = fabs(final.total_mass + final.retired_mass - initial.total_mass) / initial.total_mass;
   double step_max = maximum(step_ms, (uint32_t)steps), break_max = maximum(break_ms, break_steps);
+  double physics_max = maximum(physics_ms, (uint32_t)steps);
+  double physics_median = bk_median(physics_ms, (uint32_t)steps);
+  double physics_p95 = bk_percentile(physics_ms, (uint32_t)steps, 95.0);
+  bk_debris_sample debris = bk_fidelity_mean(&fidelity);
   // The last second alone: the steady cost of what the shots left behind.
   uint32_t tail = steps < 60 ? (uint32_t)steps : 60;
   double last_median = bk_median(step_ms + (steps - tail), tail);
   double step_median = bk_median(step_ms, (uint32_t)steps), break_median = bk_median(break_ms, break_steps);
-  uint32_t pieces = 0;
-  for (uint32_t i = 0; i < loaded.tree_count; ++i)
-    pieces += loaded.trees[i].leaf_count;
+  double step_p95 = bk_percentile(step_ms, (uint32_t)steps, 95.0);
+  uint32_t pieces = fragments_of(&loaded) * loaded.copies;
   uint32_t fallen = fragments_fallen(&loaded, rest_heights);
   double stress_median = bk_median(stress_ms, stress_steps), stress_max = maximum(stress_ms, stress_steps);
   if (json) {
@@ -316,10 +349,20 @@ int bk_cmd_sim(int argc, char** argv) {
     print_patterns(&loaded, true);
     printf(", \"drop_kg\": %g, \"drop_point\": ", drop_set ? drop.kg : 0.0);
     if (drop_set)
-      printf("[%.4f, %.4f, %.4f]}\n", drop_point.x, drop_point.y, drop_point.z);
+      printf("[%.4f, %.4f, %.4f], ", drop_point.x, drop_point.y, drop_point.z);
     else
-      printf("null}\n");
+      printf("null, ");
+    printf("\"copies\": %u, \"step_ms_p95\": %.4f, \"physics_ms_median\": %.4f, \"physics_ms_p95\": %.4f, "
+           "\"physics_ms_max\": %.4f, \"budget_ms\": %g, \"budget_debris\": %u, \"budget_simplified\": %u, "
+           "\"budget_frozen\": %u, \"budget_retired\": %u, \"budget_demotions\": %u, "
+           "\"budget_restorations\": %u, \"mass_retired\": %.6g, \"debris_mass_1s\": %.6g, "
+           "\"debris_momentum_1s\": %.6g, \"debris_net_momentum_1s\": %.6g}\n",
+           loaded.copies, step_p95, physics_median, physics_p95, physics_max, options.physics_budget_ms,
+           final.budget_debris, final.budget_simplified, final.budget_frozen, final.budget_retired,
+           final.budget_demotions, final.budget_restorations, final.retired_mass, debris.mass,
+           debris.momentum, debris.net_momentum);
   } else {
+    if (loaded.copies > 1) printf("%u copies %.3g m apart, ", loaded.copies, loaded.copy_spacing);
     printf("%s: %u fragments, %u shots over %llu steps (%.1f s)\n", scene->name, pieces, fired,
            (unsigned long long)steps, (double)steps / 60.0);
     printf("  bodies %u -> %u (%u splits, %u bonds broken, %u fragments free)\n", initial.bodies,
@@ -335,10 +378,21 @@ int bk_cmd_sim(int argc, char** argv) {
     if (drop_set)
       printf("  weight: %g kg (radius %g m) set on (%.2f, %.2f, %.2f) at step %llu\n", drop.kg, drop.radius,
              drop_point.x, drop_point.y, drop_point.z, (unsigned long long)drop.at);
+    printf("  physics ms median %.3f p95 %.3f max %.3f; step ms p95 %.3f\n", physics_median, physics_p95,
+           physics_max, step_p95);
+    if (options.physics_budget_ms > 0.0)
+      printf("  budget %g ms: now %u debris, %u simplified, %u frozen; %u retired (%.3g kg), %u demotions, "
+             "%u restorations\n",
+             options.physics_budget_ms, final.budget_debris, final.budget_simplified, final.budget_frozen,
+             final.budget_retired, final.retired_mass, final.budget_demotions, final.budget_restorations);
+    if (fidelity.weight > 0.0)
+      printf("  debris over the first second after each shot: %.4g kg, momentum %.4g kg m/s (net %.4g)\n",
+             debris.mass, debris.momentum, debris.net_momentum);
     printf("  mass error %.2e%s\n", mass_error, final.nan ? ", NaN detected" : "");
     print_patterns(&loaded, false);
   }
   free(step_ms);
+  free(physics_ms);
   free(break_ms);
   free(stress_ms);
   free(rest_heights);

@@ -426,6 +426,9 @@ void bk_game_panel(bk_game* g) {
     bk_ui_same_line();
     if (bk_ui_button("step (N)")) g->step_once = true;
   }
+  // Open from the start when the game was started with a budget.
+  if (bk_ui_collapsing_header("Physics budget", g->options.physics_budget_ms > 0.0))
+    bk_game_budget_section(g);
   if (bk_ui_collapsing_header("Overlays", false)) {
     bk_ui_checkbox("bonds by hit points (B)", &g->show_bonds);
     bk_ui_checkbox("bonds by stress (V)", &g->show_stress);
@@ -433,6 +436,8 @@ void bk_game_panel(bk_game* g) {
                   "10%, red at the limit (it breaks); grey bonds are not solved (moving, or stress is off)");
     bk_ui_checkbox("mesh-tree nodes per body (G)", &g->show_nodes);
     bk_ui_checkbox("collider hulls (H)", &g->show_hulls);
+    bk_ui_checkbox("physics budget tiers (L)", &g->show_budget);
+    bk_ui_tooltip("blue: debris, yellow: simplified, purple: frozen, red: retired and fading");
   }
   if (bk_ui_collapsing_header("Statistics", true)) stats_section(g);
   if (bk_ui_collapsing_header("Benchmark", false)) {

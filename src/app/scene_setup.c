@@ -1,6 +1,7 @@
 // Turns a scene description into a running world: mesh trees (cached),
 // breakables with their materials, and aimed shots.
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "app.h"
@@ -12,7 +13,52 @@ bk_scene_options bk_default_scene_options(void) {
                             .pattern = -1,
                             .radial_falloff = -1.0,
                             .stress = true,
-                            .stress_scale = 1.0};
+                            .stress_scale = 1.0,
+                            .physics_budget_ms = bk_default_world_def().physics_budget_ms,
+                            .copies = 1};
+}
+
+bool bk_app_parse_budget_ms(const char* command, const char* text, bk_scene_options* options) {
+  return bk_option_double(command, "--budget-ms", text, 0.0, BK_BUDGET_MS_MAX, &options->physics_budget_ms);
+}
+
+double bk_copy_offset(uint32_t copy, uint32_t copies, double spacing) {
+  return ((double)copy - 0.5 * (copies - 1)) * spacing;
+}
+
+bk_breakable_id bk_loaded_scene_id(const bk_loaded_scene* s, uint32_t copy, uint32_t object) {
+  if (object >= s->tree_count) return (bk_breakable_id){0, 0};
+  if (copy == 0) return s->ids[object];
+  return copy < s->copies ? s->copy_ids[(copy - 1) * s->tree_count + object] : (bk_breakable_id){0, 0};
+}
+
+uint32_t bk_loaded_scene_fire(bk_loaded_scene* s, uint32_t shot, double speed) {
+  uint32_t copies = s->copies ? s->copies : 1;
+  for (uint32_t c = 0; c < copies; ++c) {
+    bk_projectile_def p = bk_scene_shot(s->scene, shot, speed);
+    p.position.x += bk_copy_offset(c, copies, s->copy_spacing);
+    bk_world_fire(s->world, &p, NULL);
+  }
+  return copies;
+}
+
+// Centre to centre along x, so that copies side by side leave a gap as wide
+// as the spacing of bk_impact_run's walls between them (at least that
+// spacing: a wall is narrower). Measured on the objects as placed.
+static double copy_spacing(const bk_loaded_scene* s) {
+  double lo = INFINITY, hi = -INFINITY;
+  for (uint32_t i = 0; i < s->tree_count; ++i) {
+    bk_world_breakable_def def = bk_scene_object_def(&s->scene->objects[i], &s->trees[i], NULL);
+    bk_aabb b = s->trees[i].nodes[0].bounds;
+    for (int corner = 0; corner < 8; ++corner) {
+      bk_vec3 p = {corner & 1 ? b.max.x : b.min.x, corner & 2 ? b.max.y : b.min.y,
+                   corner & 4 ? b.max.z : b.min.z};
+      double x = bk_transform_point(def.breakable.transform, p).x;
+      lo = fmin(lo, x), hi = fmax(hi, x);
+    }
+  }
+  double width = hi > lo ? hi - lo : 0.0;
+  return fmax(BK_IMPACT_SPACING, width + BK_IMPACT_SPACING);
 }
 
 bk_world_breakable_def bk_scene_object_def(const bk_scene_object* object, const bk_mesh_tree* tree,
@@ -56,17 +102,20 @@ void bk_loaded_scene_apply_material(bk_loaded_scene* s, bk_scene_options* option
   options->accumulate = -1;
   options->stress_scale = 1.0;
   options->compression_limit = options->tension_limit = options->shear_limit = 0.0;
-  for (uint32_t i = 0; i < s->tree_count; ++i)
-    bk_world_set_material(s->world, s->ids[i], material);
+  for (uint32_t c = 0; c < (s->copies ? s->copies : 1); ++c)
+    for (uint32_t i = 0; i < s->tree_count; ++i)
+      bk_world_set_material(s->world, bk_loaded_scene_id(s, c, i), material);
 }
 
 bool bk_loaded_scene_create(const bk_scene* scene, const bk_scene_options* options, bk_loaded_scene* out,
                             bk_error* err) {
   memset(out, 0, sizeof *out);
   out->scene = scene;
+  out->copies = options->copies > 1 ? options->copies : 1;
   bk_world_def wd = bk_default_world_def();
   wd.retire_volume = options->retire_volume;
   wd.stress = options->stress;
+  wd.physics_budget_ms = options->physics_budget_ms;
   out->world = bk_world_create(&wd, err);
   if (!out->world) return false;
   for (uint32_t i = 0; i < scene->object_count; ++i) {
@@ -90,13 +139,25 @@ bool bk_loaded_scene_create(const bk_scene* scene, const bk_scene_options* optio
       // A user's model: stand it on the ground and aim at it, by its size.
       bk_scene_fit(scene, out->trees[0].nodes[0].bounds, &out->fitted);
       out->scene = &out->fitted;
-      object = &out->fitted.objects[0];
     }
-    bk_world_breakable_def bd = bk_scene_object_def(object, &out->trees[i], options);
-    out->ids[i] = bk_world_add_breakable(out->world, &bd, err);
-    if (out->ids[i].generation == 0) {
-      bk_loaded_scene_destroy(out);
-      return false;
+  }
+  // Every tree first: the copies' spacing is measured on all of them.
+  out->copy_spacing = out->copies > 1 ? copy_spacing(out) : 0.0;
+  if (out->copies > 1)
+    out->copy_ids = bk_calloc((size_t)(out->copies - 1) * out->tree_count, sizeof(bk_breakable_id));
+  for (uint32_t c = 0; c < out->copies; ++c) {
+    for (uint32_t i = 0; i < out->tree_count; ++i) {
+      bk_world_breakable_def bd = bk_scene_object_def(&out->scene->objects[i], &out->trees[i], options);
+      bd.breakable.transform.position.x += bk_copy_offset(c, out->copies, out->copy_spacing);
+      bk_breakable_id id = bk_world_add_breakable(out->world, &bd, err);
+      if (id.generation == 0) {
+        bk_loaded_scene_destroy(out);
+        return false;
+      }
+      if (c == 0)
+        out->ids[i] = id;
+      else
+        out->copy_ids[(c - 1) * out->tree_count + i] = id;
     }
   }
   return true;
@@ -104,6 +165,7 @@ bool bk_loaded_scene_create(const bk_scene* scene, const bk_scene_options* optio
 
 void bk_loaded_scene_destroy(bk_loaded_scene* s) {
   bk_world_destroy(s->world);
+  free(s->copy_ids);
   for (uint32_t i = 0; i < s->tree_count; ++i)
     bk_mesh_tree_free(&s->trees[i]);
   memset(s, 0, sizeof *s);

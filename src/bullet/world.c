@@ -29,7 +29,8 @@ bk_world_def bk_default_world_def(void) {
                         .physics_budget_ms = 0.0,
                         .physics_budget_measured = false,
                         .budget_large_volume = 0.008,
-                        .budget_focus_radius = 2.0};
+                        .budget_focus_radius = 2.0,
+                        .budget_fidelity_time = 1.0};
 }
 
 // The runtime asks where a cluster's body is; Bullet knows.
@@ -65,6 +66,10 @@ bk_world* bk_world_create(const bk_world_def* def, bk_error* err) {
   if (!(d.budget_focus_radius >= 0.0) || !isfinite(d.budget_focus_radius))
     return bk_error_set(err, "world: budget_focus_radius must be finite and >= 0 (got %g)",
                         d.budget_focus_radius),
+           NULL;
+  if (!(d.budget_fidelity_time >= 0.0) || !isfinite(d.budget_fidelity_time))
+    return bk_error_set(err, "world: budget_fidelity_time must be finite and >= 0 (got %g)",
+                        d.budget_fidelity_time),
            NULL;
 
   bk_world* w = bk_calloc(1, sizeof *w);
@@ -349,6 +354,7 @@ void bk_world_step(bk_world* w) {
   double after_physics = now_ms();
   w->physics_ms = after_physics - start; // the budget may go by it
   uint32_t contacts = bk_physics_contacts(w->physics, w->contacts, w->contact_capacity);
+  w->contact_count = contacts < w->contact_capacity ? contacts : w->contact_capacity;
   apply_contacts(w, contacts);
   double before_stress = now_ms();
   if (w->def.stress) solve_stress(w, contacts);

@@ -130,6 +130,8 @@ static bool build_body(bk_world* w, const bk_cluster_created* created, bk_error*
   wbody->shape = def.shape;
   wbody->previous = bk_transform_mul(created->body.transform, child_local);
   wbody->born = w->step_count;
+  wbody->piled = 0;
+  wbody->shaken = 0;
   wbody->body = bk_physics_create_body(w->physics, &def, err);
   return !bk_body_is_null(wbody->body);
 }

@@ -16,6 +16,19 @@
 // points, simpler tests), the third freezes it (its box no longer moves, and
 // nothing is integrated, tested or solved for it) and the last removes it.
 //
+// What the player sees comes first for budget_fidelity_time after a piece
+// comes loose (the mass and momentum of the loose pieces over the first
+// second after a hit are within a few percent of the run without a budget):
+// such a piece is made debris only while it flies apart. In a pile (a
+// cube's heap, bricks jammed in a wall) it would fall through the other
+// pieces: 16 walls of 1,024 moved 2.2x as much, and a stand-in shape or
+// retiring cost the shattered cube a third of its momentum. So while the
+// pieces of a fresh pile lie on each other, the budget can only take the
+// burst around them out of each other's way (pairs, narrowphase and solver
+// among flying pieces) and freeze what fell asleep; the pile itself (its
+// pairs, GJK and contacts, a third to a half of such a step) is paid in
+// full until it is a second old, and the budget is exceeded meanwhile.
+//
 // The cost compared with the budget is by default not the clock: the same
 // inputs must make the same decisions, and the time a step takes depends on
 // the machine and on whatever else runs on it. It is an estimate from what
@@ -60,6 +73,10 @@ static const uint32_t freeze_calm_steps = 10;
 // at the top level, so that pieces that settle meanwhile are frozen
 // instead; but not while a step costs twice the budget or more.
 static const uint32_t retire_patience_steps = 15;
+// Two loose pieces touching at less than this relative speed (m/s) are in
+// a pile; a new piece counts as in one until its first contacts are known.
+static const double pile_speed = 1.0;
+static const uint64_t contacts_known_steps = 2;
 static const double retire_at_once = 2.0;
 
 typedef struct budget_candidate {
@@ -68,6 +85,9 @@ typedef struct budget_candidate {
   bk_budget_tier tier; // now (retired ones stay in the list)
   bool settled;        // at rest: asleep in Bullet, or calm for freeze_calm_steps
   bool one_node;       // a single mesh-tree node: what a retired body leaves to draw
+  bool young;          // loose for less than budget_fidelity_time
+  bool held;           // in a pile, or too new for its contacts to be known
+  bool asleep;         // asleep in Bullet
 } budget_candidate;
 
 static double estimate_ms(const bk_physics_stats* s) {
@@ -83,7 +103,10 @@ bool bk_world_budget_candidate(const bk_world* w, const bk_cluster_info* info, b
 }
 
 bk_budget_tier bk_world_budget_birth_tier(const bk_world* w, const bk_cluster_info* info, bk_vec3 center) {
-  bool everything = w->def.physics_budget_ms > 0.0 && w->budget.level >= 1.0;
+  // While fidelity is kept, a new piece waits for its first contacts to
+  // tell whether it flies apart or lies in a pile.
+  bool everything =
+      w->def.physics_budget_ms > 0.0 && w->budget.level >= 1.0 && !(w->def.budget_fidelity_time > 0.0);
   return everything && bk_world_budget_candidate(w, info, center) ? BK_TIER_DEBRIS : BK_TIER_FULL;
 }
 
@@ -224,6 +247,7 @@ static int by_importance(const void* a, const void* b) {
 // came near the focus, say) gets its full fidelity back at once.
 static uint32_t gather(bk_world* w, bool engaged) {
   world_budget* b = &w->budget;
+  uint64_t young_steps = (uint64_t)ceil(w->def.budget_fidelity_time / w->def.fixed_dt - 1e-9);
   if (b->candidate_capacity < w->live_count) {
     b->candidate_capacity = bk_grow_capacity(b->candidate_capacity, w->live_count);
     b->candidates = bk_realloc(b->candidates, sizeof(budget_candidate) * b->candidate_capacity);
@@ -237,6 +261,12 @@ static uint32_t gather(bk_world* w, bool engaged) {
     bk_vec3 spin = bk_physics_body_angular_velocity(w->physics, wb->body);
     bk_cluster_info info = {0};
     if (!bk_runtime_cluster(w->runtime, wb->cluster, &info)) continue;
+    // Pinned, it would hold up what falls on it, and count as ground for
+    // the structure's stress: a moving body landing on it sets it free.
+    if (wb->tier == BK_TIER_FROZEN && wb->shaken == w->step_count) {
+      restore(w, index);
+      wb->calm_steps = 0;
+    }
     double size = cbrt(info.volume);
     double speed = bk_v3_length(v) + 0.5 * size * bk_v3_length(spin);
     wb->calm_steps = speed < calm_speed ? wb->calm_steps + 1 : 0;
@@ -247,16 +277,20 @@ static uint32_t gather(bk_world* w, bool engaged) {
         restore(w, index);
       continue;
     }
+    uint64_t age = w->step_count - wb->born;
     double distance =
         b->has_focus ? fmax(bk_v3_length(bk_v3_sub(center, b->focus)), near_distance) : near_distance;
     double settled = wb->calm_steps * w->def.fixed_dt;
     double importance = size / distance * (1.0 + speed / seen_speed) / (1.0 + settled);
-    b->candidates[count++] = (budget_candidate){.index = index,
-                                                .importance = isfinite(importance) ? importance : 0.0,
-                                                .tier = wb->tier,
-                                                .settled = wb->calm_steps >= freeze_calm_steps ||
-                                                           !bk_physics_body_awake(w->physics, wb->body),
-                                                .one_node = info.node_count == 1};
+    b->candidates[count++] = (budget_candidate){
+        .index = index,
+        .importance = isfinite(importance) ? importance : 0.0,
+        .tier = wb->tier,
+        .settled = wb->calm_steps >= freeze_calm_steps || !bk_physics_body_awake(w->physics, wb->body),
+        .one_node = info.node_count == 1,
+        .young = age < young_steps,
+        .held = wb->piled == w->step_count || age < contacts_known_steps,
+        .asleep = !bk_physics_body_awake(w->physics, wb->body)};
   }
   return count;
 }
@@ -268,7 +302,13 @@ static void restore_all(bk_world* w) {
 }
 
 // Whether the candidate may go down from its tier to the next.
+// A young piece keeps what the player sees of it: it becomes debris only
+// while it flies apart (debris in a pile falls through the pile), keeps its
+// own shape (a stand-in lands and rolls otherwise), and never retires.
 static bool may_demote(const budget_candidate* c, uint32_t tier) {
+  if (c->young && (tier == BK_TIER_RETIRED || tier == BK_TIER_SIMPLIFIED ||
+                   (tier == BK_TIER_DEBRIS && c->held) || (tier == BK_TIER_FROZEN && !c->asleep)))
+    return false;
   if (tier == BK_TIER_FROZEN) return c->tier == BK_TIER_SIMPLIFIED && c->settled;
   // Only a piece still moving retires: a frozen one costs next to nothing,
   // and in a burst of debris the moving ones are the cost.
@@ -329,6 +369,52 @@ static void apply_level(bk_world* w, uint32_t count, uint32_t awake) {
   }
 }
 
+static world_body* loose_body(bk_world* w, bk_body_id body) {
+  uint64_t user = bk_physics_body_user_data(w->physics, body);
+  if (!(user & BK_USER_CLUSTER)) return NULL;
+  uint32_t index = (uint32_t)user;
+  if (index >= w->body_capacity || !w->bodies[index].alive || !bk_body_equal(w->bodies[index].body, body))
+    return NULL;
+  if (bk_physics_body_mass(w->physics, body) == 0.0) return NULL;
+  return &w->bodies[index];
+}
+
+// Marks the loose pieces that pressed on each other in the last step at
+// less than pile_speed apart: a pile (a heap, bricks jammed in a wall), not
+// a burst flying apart.
+static void mark_piled(bk_world* w) {
+  for (uint32_t i = 0; i < w->contact_count; ++i) {
+    const bk_contact* c = &w->contacts[i];
+    world_body* a = loose_body(w, c->a);
+    world_body* b = loose_body(w, c->b);
+    if (!a || !b) continue;
+    bk_vec3 relative = bk_v3_sub(bk_physics_body_linear_velocity(w->physics, c->a),
+                                 bk_physics_body_linear_velocity(w->physics, c->b));
+    if (bk_v3_length(relative) >= pile_speed) continue;
+    a->piled = w->step_count;
+    b->piled = w->step_count;
+  }
+}
+
+// A frozen piece is pinned (of no mass to Bullet): marks those that a
+// dynamic body moving faster than calm_speed pressed on in the last step.
+static void mark_shaken(bk_world* w) {
+  for (uint32_t i = 0; i < w->contact_count; ++i) {
+    const bk_contact* c = &w->contacts[i];
+    for (int side = 0; side < 2; ++side) {
+      bk_body_id pinned = side ? c->b : c->a, other = side ? c->a : c->b;
+      uint64_t user = bk_physics_body_user_data(w->physics, pinned);
+      uint32_t index = (uint32_t)user;
+      if (!(user & BK_USER_CLUSTER) || index >= w->body_capacity || !w->bodies[index].alive ||
+          w->bodies[index].tier != BK_TIER_FROZEN || !bk_body_equal(w->bodies[index].body, pinned))
+        continue;
+      if (bk_physics_body_mass(w->physics, other) == 0.0) continue;
+      if (bk_v3_length(bk_physics_body_linear_velocity(w->physics, other)) < calm_speed) continue;
+      w->bodies[index].shaken = w->step_count;
+    }
+  }
+}
+
 void bk_world_budget_step(bk_world* w) {
   world_budget* b = &w->budget;
   b->retired_count = 0;
@@ -346,6 +432,8 @@ void bk_world_budget_step(bk_world* w) {
                         .retired_capacity = b->retired_capacity};
     return;
   }
+  mark_piled(w);
+  mark_shaken(w);
   bk_physics_stats stats = bk_physics_get_stats(w->physics);
   double cost = w->def.physics_budget_measured ? w->physics_ms : estimate_ms(&stats);
   b->cost_ms = cost;

@@ -33,6 +33,8 @@ typedef struct world_body {
   bk_shape_id simple;    // the sphere or box standing in for it while simplified (owned)
   bk_budget_tier tier;   // what the physics budget made of it
   uint32_t calm_steps;   // steps in a row it has moved slower than the budget's calm speed
+  uint64_t piled;        // last step it pressed on another loose body at a low relative speed
+  uint64_t shaken;       // last step a moving body pressed on it while it was frozen
 } world_body;
 
 /// The physics budget's state (world_budget.c).
@@ -72,6 +74,7 @@ struct bk_world {
   uint64_t step_count;
   bk_contact* contacts;
   uint32_t contact_capacity;
+  uint32_t contact_count; // the last step's, at most contact_capacity
   bk_damage_contact* damage;
   uint32_t damage_capacity;
   bk_cluster_created* created;

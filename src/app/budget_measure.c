@@ -1,0 +1,60 @@
+// What the physics budget changes, measured the same way by `sim` and
+// `bench`: percentiles of the step times, and the debris the player sees
+// (its mass and momentum) over the first second after each hit, when the
+// pieces fly and the budget has the most to do.
+#include <stdlib.h>
+
+#include "app.h"
+
+static int compare_double(const void* a, const void* b) {
+  double x = *(const double*)a, y = *(const double*)b;
+  return x < y ? -1 : x > y;
+}
+
+double bk_percentile(double* values, uint32_t count, double p) {
+  if (count == 0) return 0.0;
+  qsort(values, count, sizeof(double), compare_double);
+  // Nearest rank: the smallest value with at least p% of them at or below it.
+  double rank = ceil(p / 100.0 * count);
+  uint32_t index = rank < 1.0 ? 0u : rank >= count ? count - 1 : (uint32_t)rank - 1;
+  return values[index];
+}
+
+bk_debris_sample bk_debris_measure(bk_world* world) {
+  bk_debris_sample s = {0.0, 0.0, 0.0};
+  const bk_physics* physics = bk_world_physics(world);
+  bk_vec3 net = {0.0, 0.0, 0.0};
+  uint32_t count = bk_world_body_count(world);
+  for (uint32_t i = 0; i < count; ++i) {
+    bk_body_view view = {0};
+    if (!bk_world_body_view(world, i, &view) || view.is_static) continue;
+    double mass = bk_physics_body_mass(physics, view.body);
+    bk_vec3 p = bk_v3_scale(bk_physics_body_linear_velocity(physics, view.body), mass);
+    s.mass += mass;
+    s.momentum += bk_v3_length(p);
+    net = bk_v3_add(net, p);
+  }
+  s.net_momentum = bk_v3_length(net);
+  return s;
+}
+
+void bk_fidelity_step(bk_fidelity* f, bk_world* world, uint64_t step, uint32_t hits) {
+  // A hit's second is the BK_FIDELITY_STEPS steps from the one after it was
+  // fired; it ends when the step count comes round to the same slot.
+  uint32_t slot = (uint32_t)(step % BK_FIDELITY_STEPS);
+  f->open -= f->ending[slot];
+  f->ending[slot] = hits;
+  f->open += hits;
+  if (f->open == 0) return;
+  bk_debris_sample now = bk_debris_measure(world);
+  f->sum.mass += f->open * now.mass;
+  f->sum.momentum += f->open * now.momentum;
+  f->sum.net_momentum += f->open * now.net_momentum;
+  f->weight += f->open;
+}
+
+bk_debris_sample bk_fidelity_mean(const bk_fidelity* f) {
+  if (f->weight <= 0.0) return (bk_debris_sample){0.0, 0.0, 0.0};
+  return (bk_debris_sample){f->sum.mass / f->weight, f->sum.momentum / f->weight,
+                            f->sum.net_momentum / f->weight};
+}
