@@ -278,8 +278,8 @@ static void test_eggshell_one_hull(void) {
 // ---------------------------------------------------------------- torus
 
 // The torus ring lies in the xz plane around +y. A plane through the axis
-// (x = 0) cuts the tube twice: two disc islands, each a regular 20-gon of
-// radius 0.35 (tube rings 5 and 15 lie in the plane), and each side is one
+// (x = 0) cuts the tube twice: two disc islands, each a regular 24-gon of
+// radius 0.35 (tube rings 12 and 36 of 48 lie in the plane), and each side is one
 // C-shaped hull. Cutting the x < 0 half again at x = -0.5 leaves its two arms
 // as separate pieces above.
 static void test_torus_islands(void) {
@@ -287,7 +287,7 @@ static void test_torus_islands(void) {
   bk_shape_build(BK_SHAPE_TORUS, &torus);
   bk_plane plane = {bk_v3(1, 0, 0), 0.0};
   slice(&torus, plane, 1, &below, &above, "torus x = 0");
-  const double disc = 10.0 * sin(PI / 10.0) * 0.35 * 0.35;
+  const double disc = 12.0 * sin(PI / 12.0) * 0.35 * 0.35;
   const bk_mesh* sides[2] = {&below, &above};
   for (int s = 0; s < 2; ++s) {
     double areas[4];

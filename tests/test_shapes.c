@@ -105,17 +105,17 @@ static void test_cube(void) {
 static void test_torus(void) {
   bk_mesh m = {0};
   bk_shape_build(BK_SHAPE_TORUS, &m);
-  check_counts(&m, 400, 441, 800);
+  check_counts(&m, 48 * 24, 49 * 25, 2 * 48 * 24);
   double volume = check_common(BK_SHAPE_TORUS, &m);
   const double big_r = 1.0, small_r = 0.35;
-  const int n = 20;
-  // Inscribed 20-gon tube swept along a 20-gon ring: each factor is the
+  const int n = 48, k = 24;
+  // Inscribed 24-gon tube swept along a 48-gon ring: each factor is the
   // polygon/circle area ratio n sin(2 pi / n) / (2 pi), and the side quads are
   // planar, so the polyhedral volume has this closed form exactly.
-  double ratio = n * sin(2.0 * PI / n) / (2.0 * PI);
+  double ring = n * sin(2.0 * PI / n) / (2.0 * PI), tube = k * sin(2.0 * PI / k) / (2.0 * PI);
   double smooth = 2.0 * PI * PI * big_r * small_r * small_r;
-  ENSURE_REL(volume, smooth * ratio * ratio, 1e-12);
-  ENSURE_REL(volume, smooth, 0.035);
+  ENSURE_REL(volume, smooth * ring * tube, 1e-12);
+  ENSURE_REL(volume, smooth, 0.015);
   // Normals point away from the tube's centre circle.
   for (uint32_t i = 0; i < m.corner_count; ++i) {
     bk_vec3 p = m.positions[m.corners[i].position];

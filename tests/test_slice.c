@@ -634,11 +634,12 @@ static void test_shapes(void) {
   check_shape_cut(BK_SHAPE_SLAB, plane_eq(0, 0, 1, 0.1), 1.2 * 0.15 * 0.5, 1.2 * 0.15 * 0.3, 1.2 * 0.15, 10);
   check_shape_cut(BK_SHAPE_SLAB, plane_eq(0.3, 1, 0.1, 0.07), 0, 0, 0, 11);
   // Torus (ring in the xz plane around +y): y = 0 holds the outer and inner
-  // equator rings, so the cap is the annulus between two regular 20-gons.
-  const double sector = 10.0 * sin(PI / 10.0); // 20-gon area / r^2
+  // equator rings, so the cap is the annulus between two regular 48-gons.
+  const double sector = 24.0 * sin(PI / 24.0); // 48-gon area / r^2
   check_shape_cut(BK_SHAPE_TORUS, plane_eq(0, 1, 0, 0.0), 0, 0, sector * (1.35 * 1.35 - 0.65 * 0.65), 12);
-  // x = 0 holds two tube rings: two 20-gons of radius 0.35.
-  check_shape_cut(BK_SHAPE_TORUS, plane_eq(1, 0, 0, 0.0), 0, 0, 2.0 * sector * 0.35 * 0.35, 13);
+  // x = 0 holds two tube rings: two 24-gons of radius 0.35.
+  const double tube = 12.0 * sin(PI / 12.0); // 24-gon area / r^2
+  check_shape_cut(BK_SHAPE_TORUS, plane_eq(1, 0, 0, 0.0), 0, 0, 2.0 * tube * 0.35 * 0.35, 13);
   check_shape_cut(BK_SHAPE_TORUS, plane_eq(1, 0, 0, 0.1), 0, 0, 0, 14);
   check_shape_cut(BK_SHAPE_TORUS, plane_eq(1, 0, 0, 1.2), 0, 0, 0, 15);
   check_shape_cut(BK_SHAPE_TORUS, plane_eq(0.3, 1, -0.5, 0.05), 0, 0, 0, 16);

@@ -4,6 +4,7 @@
 // scale enlarges it, input callbacks installed before bk_ui_create are
 // chained and given back by bk_ui_destroy, and create/destroy cycles work.
 // Without a display the GL part is skipped.
+#include <math.h>
 #include <stdbool.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -13,6 +14,7 @@
 
 #include "bk_ui.h"
 #include "ensure.h"
+#include "hud.h"
 
 enum { width = 800, height = 720 };
 
@@ -58,8 +60,36 @@ static void test_without_ui(void) {
   bk_ui_pop_id();
   bk_ui_end_window();
   bk_ui_end_frame();
+  const float white[4] = {1, 1, 1, 1};
+  float w = -1.0f, h = -1.0f;
+  bk_ui_display_size(&w, &h);
+  ENSURE(w == 0.0f && h == 0.0f);
+  bk_ui_text_size("text", &w, &h);
+  ENSURE(w == 0.0f && h == 0.0f);
+  bk_ui_overlay_line(0, 0, 10, 10, white, 1);
+  bk_ui_overlay_rect(0, 0, 10, 10, white, 0);
+  bk_ui_overlay_text(0, 0, white, "t");
+  bk_hud_draw(0.0);
   bk_ui_set_scale(1.0f);
   bk_ui_destroy();
+}
+
+// The game's hint: shown in full at first, gone a few seconds later,
+// fading in between without a jump; both forms name the panel's key.
+static void test_hud_fade(void) {
+  ENSURE(bk_hud_hint_alpha(0.0) == 1.0f && bk_hud_hint_alpha(3.0) == 1.0f);
+  ENSURE(bk_hud_hint_alpha(10.0) == 0.0f && bk_hud_hint_alpha(1e9) == 0.0f);
+  ENSURE(bk_hud_hint_alpha(NAN) == 1.0f);
+  float previous = 1.0f;
+  for (double t = 5.0; t <= 8.0; t += 0.05) {
+    float a = bk_hud_hint_alpha(t);
+    ENSURE_MSG(a <= previous && previous - a < 0.1f, "alpha %g at %g s after %g", a, t, previous);
+    previous = a;
+  }
+  float middle = bk_hud_hint_alpha(6.75);
+  ENSURE(middle > 0.2f && middle < 0.8f);
+  ENSURE(strstr(bk_hud_hint(false), "F1: panel") && strstr(bk_hud_hint(true), "F1: panel"));
+  ENSURE(strlen(bk_hud_hint(true)) < strlen(bk_hud_hint(false)));
 }
 
 static void draw(bool* second_open) {
@@ -140,6 +170,53 @@ static long render_and_count_text(uint8_t* pixels) {
   return text;
 }
 
+static bool is_clear(const uint8_t* p) { return p[0] < 8 && p[1] > 120 && p[1] < 136 && p[2] < 8; }
+
+/// Draws the HUD `seconds` after the start over the clear colour; counts
+/// the pixels it changed near the centre and along the bottom.
+static void draw_hud(uint8_t* pixels, double seconds, long* centre, long* bottom) {
+  glViewport(0, 0, width, height);
+  glClearColor(0.0f, 0.5f, 0.0f, 1.0f);
+  glClear(GL_COLOR_BUFFER_BIT);
+  bk_ui_begin_frame();
+  bk_hud_draw(seconds);
+  bk_ui_end_frame();
+  ENSURE(gl_error_count() == 0);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, pixels);
+  *centre = *bottom = 0;
+  for (int y = 0; y < height; y++)
+    for (int x = 0; x < width; x++) {
+      bool changed = !is_clear(pixels + ((size_t)y * width + x) * 4);
+      if (abs(x - width / 2) <= 30 && abs(y - height / 2) <= 30) *centre += changed;
+      if (y < 80) *bottom += changed; // row 0 is the bottom
+    }
+}
+
+// The crosshair marks the centre at any time (light arms over a dark
+// outline, with the centre point itself marked); the hint covers part of
+// the bottom at first and nothing once faded.
+static void check_hud(uint8_t* pixels) {
+  long centre = 0, bottom = 0, centre_late = 0, bottom_late = 0;
+  draw_hud(pixels, 0.0, &centre, &bottom);
+  const uint8_t* middle = pixels + ((size_t)(height / 2) * width + width / 2) * 4;
+  ENSURE_MSG(middle[0] > 200 && middle[1] > 200 && middle[2] > 200, "centre %u %u %u", middle[0], middle[1],
+             middle[2]);
+  long light = 0;
+  for (int d = 0; d <= 30; d++) { // along the arm to the right
+    const uint8_t* p = pixels + ((size_t)(height / 2) * width + width / 2 + d) * 4;
+    light += p[0] > 200 && p[1] > 200 && p[2] > 200;
+  }
+  ENSURE_MSG(light >= 8, "light pixels along the right arm: %ld", light);
+  ENSURE_MSG(centre > 60 && centre < 61 * 61 / 4, "crosshair pixels: %ld", centre);
+  ENSURE_MSG(bottom > 2000, "hint pixels at 0 s: %ld", bottom);
+  draw_hud(pixels, 10.0, &centre_late, &bottom_late);
+  ENSURE_MSG(centre_late == centre, "crosshair pixels %ld at 10 s, %ld at 0 s", centre_late, centre);
+  ENSURE_MSG(bottom_late == 0, "hint pixels at 10 s: %ld", bottom_late);
+  fprintf(stderr, "  hud: crosshair %ld pixels; hint %ld pixels at 0 s, %ld at 10 s\n", centre, bottom,
+          bottom_late);
+}
+
 static void test_with_display(void) {
   if (!glfwInit()) {
     fprintf(stderr, "  no display: GL part skipped\n");
@@ -205,6 +282,7 @@ static void test_with_display(void) {
     long text_large = render_and_count_text(pixels);
     ENSURE_MSG(text_large > text * 13 / 10, "scaled text pixels: %ld vs %ld", text_large, text);
     if (cycle == 0) fprintf(stderr, "  text pixels: %ld at scale 1, %ld at 1.5\n", text, text_large);
+    if (cycle == 0) check_hud(pixels);
 
     bk_ui_begin_frame();
     bk_ui_destroy(); // inside a frame: allowed
@@ -225,6 +303,7 @@ static void test_with_display(void) {
 
 int main(void) {
   RUN(test_without_ui);
+  RUN(test_hud_fade);
   RUN(test_with_display);
   return 0;
 }

@@ -116,6 +116,12 @@ typedef struct bk_scene_options {
   /// Stress limits (Pa) for every object, in place of the material's times
   /// stress_scale (0, the default: the material's).
   double compression_limit, tension_limit, shear_limit;
+  /// world: the physics budget per step in ms (bk_world_def.physics_budget_ms;
+  /// 0 = off); the default is the world's
+  double physics_budget_ms;
+  /// Copies of the whole scene side by side along x (sim --copies; 1, the
+  /// default: the scene alone), spaced so that they do not touch
+  uint32_t copies;
   /// Optional fracture progress report (leaves so far, target), from the building thread.
   bool (*progress)(void* user, uint32_t leaves, uint32_t target);
   void* progress_user;
@@ -162,7 +168,29 @@ typedef struct bk_loaded_scene {
   bk_breakable_id ids[8];
   uint32_t tree_count;
   bool from_cache; ///< a tree came from the cache directory
+  /// options->copies: copy c > 0 of object i is copy_ids[(c - 1) * tree_count + i]
+  /// (owned), placed copy_spacing m apart along x by bk_copy_offset
+  uint32_t copies;
+  bk_breakable_id* copy_ids;
+  double copy_spacing;
 } bk_loaded_scene;
+
+/// The breakable of object `object` in copy `copy` (copy 0: ids[object]).
+bk_breakable_id bk_loaded_scene_id(const bk_loaded_scene* scene, uint32_t copy, uint32_t object);
+/// Fires shot number `shot` of the scene's volley (bk_scene_shot) at every
+/// copy in the same step; returns how many projectiles it fired.
+uint32_t bk_loaded_scene_fire(bk_loaded_scene* scene, uint32_t shot, double speed);
+/// Where copy `copy` of `copies` side by side is moved along x, `spacing`
+/// m apart and centred on the original (which is copy (copies - 1) / 2 when
+/// their number is odd).
+double bk_copy_offset(uint32_t copy, uint32_t copies, double spacing);
+/// sim --copies: at most this many (a 16-wall scaling run, and room above).
+enum { BK_COPIES_MAX = 64 };
+/// --budget-ms (sim, play): the physics budget per step, 0 (off) .. this.
+#define BK_BUDGET_MS_MAX 1000.0
+/// Parses the value of --budget-ms for `command` into options->physics_budget_ms;
+/// prints one line naming the option and returns false on a bad value.
+bool bk_app_parse_budget_ms(const char* command, const char* text, bk_scene_options* options);
 
 /// A scene object's breakable: its placement and its material (the object's
 /// preset, or options->material), with the options' overrides (options may be NULL).
@@ -229,6 +257,39 @@ bool bk_app_relative_path(const char* from_file, const char* target, char* out, 
 
 /// Median of values (sorted in place); 0 for none.
 double bk_median(double* values, uint32_t count);
+/// The p-th percentile (0..100, nearest rank) of values (sorted in place); 0 for none.
+double bk_percentile(double* values, uint32_t count, double p);
+
+/// What the player sees of the loose pieces, to compare a run under the
+/// physics budget with one without: the simulated debris is every dynamic
+/// breakable body still in the world (projectiles are not breakables';
+/// retired pieces are gone; frozen ones are there, at rest).
+typedef struct bk_debris_sample {
+  double mass;         ///< kg
+  double momentum;     ///< sum of |m v| over the bodies (kg m/s): how much moves
+  double net_momentum; ///< |sum of m v| (kg m/s): where it goes together
+} bk_debris_sample;
+
+/// The simulated debris now, from the body views.
+bk_debris_sample bk_debris_measure(bk_world* world);
+
+enum {
+  BK_FIDELITY_STEPS = 60, ///< the first second after a hit, in 60 Hz steps
+};
+/// The debris averaged over the first second after each hit: each hit's
+/// own average, then the mean over hits (so overlapping seconds count once
+/// per hit). Zero-initialise, then bk_fidelity_step after every step.
+typedef struct bk_fidelity {
+  uint32_t ending[BK_FIDELITY_STEPS]; ///< hits whose second ends at a step, by step % BK_FIDELITY_STEPS
+  uint32_t open;                      ///< hits whose second is running
+  double weight;                      ///< hit-steps summed
+  bk_debris_sample sum;               ///< weighted sums
+} bk_fidelity;
+
+/// Takes the step just run, `hits` being the shots fired just before it.
+void bk_fidelity_step(bk_fidelity* f, bk_world* world, uint64_t step, uint32_t hits);
+/// The averages (zero when there was no hit).
+bk_debris_sample bk_fidelity_mean(const bk_fidelity* f);
 
 enum {
   BK_IMPACT_STEADY_STEPS = 30, ///< steps before the shot, and the last steps, for steady-state medians

@@ -7,13 +7,15 @@
 
 #include "bk_ui.h"
 #include "game_state.h"
+#include "hud.h"
 
 static const char* const play_usage =
     "usage: breakables [play] [--scene NAME | --mesh PATH] [--material NAME] [--pattern NAME] [--pieces N]\n"
-    "                  [--seed S] [--frames N] [--autofire K]\n"
+    "                  [--seed S] [--frames N] [--autofire K] [--hide-hud]\n"
     "                  [--screenshot FILE.png] [--width W] [--height H] [--hide-panel] [--overlay NAME]\n"
     "                  [--volley V] [--benchmark] [--no-stress] [--stress-scale X] [--drop KG]\n"
-    "                  [--drop-radius M] [--drop-at FRAME] [--max-memory MIB]\n"
+    "                  [--drop-radius M] [--drop-at FRAME] [--max-memory MIB] [--budget-ms X]\n"
+    "                  [--record DIR] [--record-every K] [--camera X,Y,Z]\n"
     "\n"
     "The demo game: shoot projectiles at breakable objects and tune them live.\n"
     "\n"
@@ -37,10 +39,18 @@ static const char* const play_usage =
     "                        intervals\n"
     "  --volley V            fire them within the first V frames, 1..10000000 (default: all N)\n"
     "  --screenshot FILE.png save the last frame\n"
+    "  --record DIR          save frames 0, K, 2K, ... as DIR/frame_00000.png, frame_00001.png, ...\n"
+    "                        (needs --frames; DIR is made if missing and may hold only an earlier\n"
+    "                        recording's frame_*.png, which are removed)\n"
+    "  --record-every K      the K of --record, 1..10000000 (default 1: every frame)\n"
+    "  --camera X,Y,Z        stand the camera there, looking at the scene's target, each\n"
+    "                        -1000..1000 m (default: the scene's own view)\n"
     "  --width W --height H  window size, each 64..8192 (default: 1280x720)\n"
     "  --hide-panel          start with the tuning panel hidden (F1 shows it)\n"
+    "  --hide-hud            no crosshair and no controls hint (shown for the first 6 s)\n"
     "  --overlay NAME        start with a debug overlay on: bonds (by hit points left), stress\n"
-    "                        (bonds by their stress over its limit), nodes or hulls (repeatable)\n"
+    "                        (bonds by their stress over its limit), nodes, hulls or budget\n"
+    "                        (bodies by their physics budget tier) (repeatable)\n"
     "  --benchmark           start the panel's runtime sweep (16..512 fragments, mesh tree against\n"
     "                        plain BCRB); a scripted run waits for it before its last frame\n"
     "  --no-stress           no structural stress: what is still bonded to an anchor stays up\n"
@@ -56,15 +66,18 @@ static const char* const play_usage =
     "                        the structure has settled)\n"
     "  --max-memory MIB      memory each fracture may use, 1..1073741824 MiB (default: the\n"
     "                        available memory); a tree estimated to need more is refused\n"
+    "  --budget-ms X         the physics budget per step, 0..1000 ms (default 0: off): over it,\n"
+    "                        the least important loose pieces (small, far from the camera, slow,\n"
+    "                        long at rest) get cheaper, down to being retired\n"
     "  -h, --help            show this help\n"
     "\n"
     "controls: right mouse drag = look, W A S D Q E = move (Shift = fast), left click or\n"
     "Space = fire, X = set a weight down on what you look at (its mass and radius in the\n"
     "panel's Structural stress section), 1-9 and 0 = scenes, R = reset, P = pause,\n"
-    "N = single step, T = slow motion, B / V / G / H = bonds by hit points / bonds by stress /\n"
-    "mesh-tree nodes / collider hulls overlays, F1 = panel, Esc = quit.\n";
+    "N = single step, T = slow motion, B / V / G / H / L = bonds by hit points / bonds by stress /\n"
+    "mesh-tree nodes / collider hulls / physics budget tiers overlays, F1 = panel, Esc = quit.\n";
 
-static bk_transform lerp_transform(bk_transform a, bk_transform b, double t) {
+bk_transform bk_game_lerp_transform(bk_transform a, bk_transform b, double t) {
   bk_quat qa = a.rotation, qb = b.rotation;
   if (qa.x * qb.x + qa.y * qb.y + qa.z * qb.z + qa.w * qb.w < 0.0) qb = (bk_quat){-qb.x, -qb.y, -qb.z, -qb.w};
   bk_quat q = bk_quat_normalize((bk_quat){qa.x + (qb.x - qa.x) * t, qa.y + (qb.y - qa.y) * t,
@@ -95,12 +108,14 @@ bool bk_game_load_scene(bk_game* g, uint32_t index, bk_error* err) {
     const bk_scene_object* object = &scene->objects[i];
     g->looks[i] = bk_renderer_material(g->renderer, object->look ? object->look : object->material);
   }
-  aim_camera(g, bk_v3_length(scene->camera) > 0.0 ? scene->camera : scene->eye, scene->target);
+  bk_vec3 eye = bk_v3_length(scene->camera) > 0.0 ? scene->camera : scene->eye;
+  aim_camera(g, g->record.camera_given ? g->record.camera : eye, scene->target);
   g->projectile_speed = scene->projectile_speed;
   g->projectile_radius = scene->projectile_radius;
   g->projectile_mass = scene->projectile_mass;
   g->accumulator = 0.0;
   g->shots = 0;
+  bk_game_retired_reset(g);
   return true;
 }
 
@@ -138,39 +153,20 @@ bool bk_game_drop_weight(bk_game* g, bk_vec3 from, bk_vec3 direction) {
   return true;
 }
 
-static const float* tint_of(const bk_game* g, bk_breakable_id id) {
-  static const float stone[3] = {0.62f, 0.58f, 0.52f}, white[3] = {0.92f, 0.92f, 0.9f};
+static bk_debris_look debris_look(void* game, bk_breakable_id id) {
+  const bk_game* g = game;
   const bk_scene_object* object = &g->scene.scene->objects[id.index < g->scene.tree_count ? id.index : 0];
-  return strcmp(object->material, "porcelain") == 0 || strcmp(object->material, "eggshell") == 0 ||
-                 strcmp(object->material, "glass") == 0
-             ? white
-             : stone;
+  return bk_debris_look_of(object->look ? object->look : object->material); // as it is drawn
 }
 
 static void step_world(bk_game* g) {
   bk_world_step(g->scene.world);
+  bk_game_collect_retired(g);
   // A big hit breaks hundreds of bonds at once, and so does a structure
-  // giving way. Blended particles cost fill rate, so a step emits at most ~8
-  // puffs and ~150 chips over the bonds a hit broke and ~12 crumbles (5
-  // particles each) over those the load broke, each spread evenly over them.
+  // giving way: the pool spreads its capped dust and chips evenly over them.
   bk_break_event events[1024];
   uint32_t total = bk_world_break_events(g->scene.world, events, 1024);
-  uint32_t n = total < 1024 ? total : 1024, loaded = 0;
-  for (uint32_t i = 0; i < n; ++i)
-    loaded += events[i].cause == BK_BREAK_STRESS;
-  uint32_t dust_every = (n - loaded) / 8 + 1, chip_every = (n - loaded) / 75 + 1,
-           crumble_every = loaded / 12 + 1;
-  for (uint32_t i = 0, hit = 0, load = 0; i < n; ++i) {
-    const float* tint = tint_of(g, events[i].breakable);
-    if (events[i].cause == BK_BREAK_STRESS) {
-      if (load++ % crumble_every == 0) bk_particles_emit_crumble(&g->particles, &events[i], tint);
-      continue;
-    }
-    bool dust = hit % dust_every == 0;
-    int chips = hit % chip_every == 0 ? 2 : 0;
-    hit++;
-    if (dust || chips) bk_particles_emit_break(&g->particles, &events[i], tint, chips, dust);
-  }
+  bk_particles_emit_step(&g->particles, events, total < 1024 ? total : 1024, debris_look, g);
   bk_world_stats s = bk_world_get_stats(g->scene.world);
   g->physics_ms = s.physics_ms;
   g->break_ms = s.break_ms;
@@ -222,6 +218,7 @@ static void key_callback(GLFWwindow* window, int key, int scancode, int action, 
   if (key == GLFW_KEY_V) g->show_stress = !g->show_stress;
   if (key == GLFW_KEY_G) g->show_nodes = !g->show_nodes;
   if (key == GLFW_KEY_H) g->show_hulls = !g->show_hulls;
+  if (key == GLFW_KEY_L) g->show_budget = !g->show_budget;
   if (key == GLFW_KEY_F1) g->show_panel = !g->show_panel;
   // 1-9 are the first nine scenes and 0 the tenth, in the keyboard's order.
   int scene_key = key == GLFW_KEY_0 ? 9 : key >= GLFW_KEY_1 && key <= GLFW_KEY_9 ? key - GLFW_KEY_1 : -1;
@@ -245,59 +242,17 @@ static void node_color(uint32_t i, float out[4]) {
   out[2] = 0.5f + 0.5f * cosf(6.2831853f * (h + 0.67f)), out[3] = 0.55f;
 }
 
-// Green through yellow (half way) to red as t goes from 0 to 1.
-static void ramp_color(double t, float out[4]) {
-  float x = (float)fmin(fmax(t, 0.0), 1.0);
-  out[0] = fminf(1.0f, 2.0f * x), out[1] = fminf(1.0f, 2.0f * (1.0f - x)), out[2] = 0.1f, out[3] = 0.9f;
-}
-
-// The intact bonds inside each body, as lines between the centroids of their
-// fragments: coloured by the hit points they have left, or by the stress
-// they carried at their cluster's last solve over its limit (grey where
-// there is none: a moving cluster, or stress turned off). Stresses span
-// decades (a standing structure's bonds mostly carry 1% to 10% of their
-// limits), so their colour goes by decades: green up to 1%, yellow at 10%,
-// red at the limit.
-static void draw_bonds(bk_game* g, double alpha, bool by_stress) {
-  bk_world* w = g->scene.world;
-  const bk_runtime* rt = bk_world_runtime(w);
-  bool solving = bk_world_stress(w);
-  uint32_t bodies = bk_world_body_count(w);
-  for (uint32_t i = 0; i < bodies; ++i) {
-    bk_body_view v = {0};
-    if (!bk_world_body_view(w, i, &v) || v.leaf_count < 2) continue;
-    bk_transform model = lerp_transform(v.tree_to_world_previous, v.tree_to_world, alpha);
-    for (uint32_t b = 0; b < v.tree->bond_count; ++b) {
-      const bk_bond* bond = &v.tree->bonds[b];
-      // Leaves are ascending: a bond outside their range is another body's.
-      if (bond->leaf_a < v.leaves[0] || bond->leaf_a > v.leaves[v.leaf_count - 1]) continue;
-      double initial = 0.0, left = bk_world_bond_health(w, v.breakable, b, &initial);
-      if (left <= 0.0 || !bk_cluster_equal(bk_runtime_leaf_cluster(rt, v.breakable, bond->leaf_a), v.cluster))
-        continue;
-      float color[4] = {0.55f, 0.55f, 0.6f, 0.6f};
-      bk_bond_stress stress = {0};
-      if (!by_stress)
-        ramp_color(1.0 - left / initial, color);
-      else if (solving && bk_runtime_bond_stress(rt, v.breakable, b, &stress))
-        ramp_color(1.0 + 0.5 * log10(fmax(stress.ratio, 0.01)), color); // decades: 1%, 10%, 100%
-      bk_vec3 a = bk_mesh_tree_mass(v.tree, bk_mesh_tree_leaf(v.tree, bond->leaf_a)->moments).centroid;
-      bk_vec3 c = bk_mesh_tree_mass(v.tree, bk_mesh_tree_leaf(v.tree, bond->leaf_b)->moments).centroid;
-      bk_renderer_draw_line(g->renderer, bk_transform_point(model, a), bk_transform_point(model, c), color);
-    }
-  }
-}
-
 static void draw_world(bk_game* g, double alpha) {
   bk_world* w = g->scene.world;
   uint32_t bodies = bk_world_body_count(w);
   for (uint32_t i = 0; i < bodies; ++i) {
     bk_body_view v = {0};
     if (!bk_world_body_view(w, i, &v)) continue;
-    bk_transform model = lerp_transform(v.tree_to_world_previous, v.tree_to_world, alpha);
+    bk_transform model = bk_game_lerp_transform(v.tree_to_world_previous, v.tree_to_world, alpha);
     float colors[4 * 256];
-    bool colored = g->show_nodes && v.node_count <= 256;
+    bool colored = (g->show_nodes || g->show_budget) && v.node_count <= 256;
     for (uint32_t k = 0; colored && k < v.node_count; ++k)
-      node_color(v.nodes[k], &colors[4 * k]);
+      g->show_budget ? bk_game_tier_color(v.tier, &colors[4 * k]) : node_color(v.nodes[k], &colors[4 * k]);
     bk_node_draw draw = {.tree = g->render_trees[v.breakable.index],
                          .nodes = v.nodes,
                          .node_count = v.node_count,
@@ -322,8 +277,9 @@ static void draw_world(bk_game* g, double alpha) {
       }
     }
   }
-  if (g->show_bonds) draw_bonds(g, alpha, false);
-  if (g->show_stress) draw_bonds(g, alpha, true);
+  bk_game_draw_retired(g, alpha);
+  if (g->show_bonds) bk_game_draw_bonds(g, alpha, false);
+  if (g->show_stress) bk_game_draw_bonds(g, alpha, true);
   const float steel[3] = {0.25f, 0.25f, 0.28f};
   for (uint32_t i = 0; i < bk_world_projectile_count(w); ++i) {
     bk_vec3 p = {0};
@@ -345,6 +301,7 @@ int bk_cmd_play(int argc, char** argv) {
   bk_game* g = bk_calloc(1, sizeof *g);
   g->options = bk_default_scene_options();
   g->drop = bk_default_drop();
+  g->record = bk_default_recorder();
   g->options.retire_volume = 2e-5; // chips under 20 cm^3 leave after 10 s: a long session stays bounded
   const char* scene_name = "showcase";
   const char* mesh = NULL;
@@ -360,12 +317,17 @@ int bk_cmd_play(int argc, char** argv) {
     parsed = bk_parse_drop_option("play", argc, argv, &i, &g->drop);
     if (parsed == 0) continue;
     if (parsed == 2) return free(g), 2;
+    parsed = bk_parse_record_option("play", argc, argv, &i, &g->record);
+    if (parsed == 0) continue;
+    if (parsed == 2) return free(g), 2;
     uint64_t number = 0;
     if (strcmp(arg, "-h") == 0 || strcmp(arg, "--help") == 0) {
       fputs(play_usage, stdout);
       return free(g), 0;
     } else if (strcmp(arg, "--hide-panel") == 0) {
       hide_panel = true;
+    } else if (strcmp(arg, "--hide-hud") == 0) {
+      g->hide_hud = true;
     } else if (strcmp(arg, "--benchmark") == 0) {
       g->start_benchmark = true;
     } else if (strcmp(arg, "--no-stress") == 0) {
@@ -373,20 +335,7 @@ int bk_cmd_play(int argc, char** argv) {
     } else if (strcmp(arg, "--stress-scale") == 0 && i + 1 < argc) {
       if (!bk_option_double("play", arg, argv[++i], 1e-6, 1e6, &g->options.stress_scale)) return free(g), 2;
     } else if (strcmp(arg, "--overlay") == 0 && i + 1 < argc) {
-      const char* name = argv[++i];
-      if (strcmp(name, "bonds") == 0)
-        g->show_bonds = true;
-      else if (strcmp(name, "stress") == 0)
-        g->show_stress = true;
-      else if (strcmp(name, "nodes") == 0)
-        g->show_nodes = true;
-      else if (strcmp(name, "hulls") == 0)
-        g->show_hulls = true;
-      else {
-        fprintf(stderr, "breakables play: --overlay must be bonds, stress, nodes or hulls (got '%s')\n",
-                name);
-        return free(g), 2;
-      }
+      if (!bk_game_set_overlay(g, argv[++i])) return free(g), 2;
     } else if (strcmp(arg, "--scene") == 0 && i + 1 < argc) {
       scene_name = argv[++i];
       scene_given = true;
@@ -404,6 +353,8 @@ int bk_cmd_play(int argc, char** argv) {
       g->options.pattern = (int)pattern;
     } else if (strcmp(arg, "--max-memory") == 0 && i + 1 < argc) {
       if (!bk_app_parse_max_memory("play", argv[++i])) return free(g), 2;
+    } else if (strcmp(arg, "--budget-ms") == 0 && i + 1 < argc) {
+      if (!bk_app_parse_budget_ms("play", argv[++i], &g->options)) return free(g), 2;
     } else if (strcmp(arg, "--pieces") == 0 && i + 1 < argc) {
       if (!bk_option_u64("play", arg, argv[++i], 1, 65536, &number)) return free(g), 2;
       g->options.pieces = (uint32_t)number;
@@ -418,6 +369,7 @@ int bk_cmd_play(int argc, char** argv) {
     }
   }
   if (!bk_check_drop("play", &g->drop, wo.frames, "--frames")) return free(g), 2;
+  if (!bk_recorder_prepare("play", &g->record, wo.frames)) return free(g), 2;
   // X sets down the scripted weight's mass, else one the bridge cannot carry.
   g->weight_kg = g->drop.kg > 0.0 ? g->drop.kg : 20000.0;
   g->weight_radius = g->drop.radius;
@@ -437,7 +389,9 @@ int bk_cmd_play(int argc, char** argv) {
   g->window = window;
   g->time_scale = 1.0;
   g->show_panel = !hide_panel;
-  bk_particles_init(&g->particles, 4096, 1);
+  bk_particles_init(&g->particles, 1024, 1);
+  for (int i = 0; i < BK_DEBRIS_MATERIALS; ++i)
+    g->particles.renderer_material[i] = bk_renderer_material(g->renderer, bk_debris_materials[i]);
   glfwSetWindowUserPointer(g->window, g);
   glfwSetKeyCallback(g->window, key_callback);
   glfwSetMouseButtonCallback(g->window, mouse_callback);
@@ -468,6 +422,7 @@ int bk_cmd_play(int argc, char** argv) {
     // reproducible whatever the machine's speed.
     double dt = wo.frames ? fixed : fmin(now - last, 0.1);
     last = now;
+    g->hud_seconds += dt; // the hint's clock: frames in a scripted run, so its pictures repeat
     if (worker) bk_worker_wait(worker);
     if (jobs > 0) {
       physics_ms_sum += g->steps_ms;
@@ -509,11 +464,13 @@ int bk_cmd_play(int argc, char** argv) {
     bk_renderer_begin_frame(g->renderer, &camera, width, height);
     draw_world(g, g->alpha);
     bk_renderer_draw_particles(g->renderer, g->particles.instances, particles);
+    bk_renderer_draw_chips(g->renderer, g->particles.chips, g->particles.chip_count);
     unsigned error = bk_renderer_end_frame(g->renderer);
     if (error && !gl_error) gl_error = error;
     if (g->ui) {
       bk_ui_begin_frame();
       if (g->show_panel) bk_game_panel(g);
+      if (!g->hide_hud) bk_hud_draw(g->hud_seconds);
       bk_ui_end_frame();
     }
 
@@ -530,6 +487,7 @@ int bk_cmd_play(int argc, char** argv) {
     }
     if (g->pending_steps == 4) g->accumulator = 0.0; // far behind: drop time rather than spiral
     g->alpha = g->accumulator / fixed;
+    bk_world_set_focus(g->scene.world, g->eye); // the physics budget spares what is near the camera
     if (worker)
       bk_worker_start(worker, run_steps, g);
     else
@@ -545,6 +503,11 @@ int bk_cmd_play(int argc, char** argv) {
         !bk_renderer_screenshot(g->renderer, width, height, wo.screenshot, &err)) {
       fprintf(stderr, "breakables play: %s\n", err.message);
       status = 1;
+    }
+    if (!bk_recorder_frame(&g->record, g->renderer, frame, width, height, &err)) {
+      fprintf(stderr, "breakables play: %s\n", err.message);
+      status = 1;
+      break;
     }
     glfwSwapBuffers(g->window);
     frame_ms = (glfwGetTime() - now) * 1e3;

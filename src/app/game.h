@@ -6,30 +6,79 @@
 #include "app.h"
 #include "bk_render.h"
 
-/// One dust puff or debris chip, simulated on the CPU.
+/// What a material sheds when it breaks (bk_debris_look_of).
+typedef struct bk_debris_look {
+  float dust[3];      ///< linear albedo of its dust (lit in the shader)
+  float dust_opacity; ///< of a fresh puff; 0 = no dust
+  float dust_size;    ///< a fresh puff's radius, metres
+  float chip[3];      ///< multiplies the interior texture on its chips
+  int glints;         ///< sparkles a broken bond throws instead of dust (glass)
+  int material;       ///< row of bk_debris_materials
+} bk_debris_look;
+
+/// The materials bk_debris_look_of knows, in the renderer's order.
+enum { BK_DEBRIS_MATERIALS = 7 };
+extern const char* const bk_debris_materials[BK_DEBRIS_MATERIALS];
+/// The look of a material by name (stone, brick, concrete, porcelain, glass, eggshell, wood; any
+/// other name or NULL: stone).
+bk_debris_look bk_debris_look_of(const char* material);
+
+/// Caps that keep the count low and spend it on quality: a broken bond gives at most this many
+/// puffs, glints and chips, and a step at most the per-step numbers over all its bonds.
+enum {
+  BK_PUFFS_PER_BREAK = 2,
+  BK_GLINTS_PER_BREAK = 3,
+  BK_CHIPS_PER_BREAK = 3,
+  BK_PUFFS_PER_STEP = 8,
+  BK_GLINTS_PER_STEP = 12,
+  BK_CHIPS_PER_STEP = 24,
+  BK_CRUMBLES_PER_STEP = 4, ///< bonds the load broke that shed anything (a grain puff and a crumb each)
+};
+
+typedef enum bk_particle_kind { BK_PARTICLE_DUST, BK_PARTICLE_GLINT, BK_PARTICLE_CHIP } bk_particle_kind;
+
+/// One dust puff, glint or debris chip, simulated on the CPU.
 typedef struct bk_particle {
-  bk_vec3 position, velocity;
-  float size, growth, life, max_life, kind, gravity;
+  bk_vec3 position, velocity, spin; ///< spin: a chip's angular velocity, rad/s
+  float rotation[4];                ///< a chip's quaternion (x, y, z, w)
+  float size, growth, life, max_life, gravity, seed;
   float color[4];
+  bk_particle_kind kind;
+  int material; ///< a chip's row of bk_debris_materials
+  uint32_t shape;
 } bk_particle;
 
-/// A bounded pool of particles and their per-frame instance data.
+/// A bounded pool of particles (the oldest gives way to a new one) and their per-frame instances.
 typedef struct bk_particles {
   bk_particle* items;
-  bk_particle_instance* instances;
-  uint32_t count, capacity, next;
+  bk_particle_instance* instances; ///< puffs and glints of the last update
+  bk_chip_instance* chips;         ///< chips of the last update (chip_count of them)
+  uint32_t count, capacity, next, chip_count;
+  uint64_t emitted; ///< particles made since init
+  /// The renderer's material index of each row of bk_debris_materials (bk_renderer_material);
+  /// init sets the row itself, the renderer's own order.
+  int renderer_material[BK_DEBRIS_MATERIALS];
   bk_rng rng;
 } bk_particles;
 
 void bk_particles_init(bk_particles* particles, uint32_t capacity, uint64_t seed);
 void bk_particles_free(bk_particles* particles);
-/// `chips` debris chips and optionally a dust puff at one broken bond, tinted like the material.
-void bk_particles_emit_break(bk_particles* particles, const bk_break_event* event, const float tint[3],
+/// Up to `chips` chips (at most BK_CHIPS_PER_BREAK) and, with `dust`, the material's dust (puffs, or
+/// glints for glass) at one broken bond, within centimetres of it.
+void bk_particles_emit_break(bk_particles* particles, const bk_break_event* event, const bk_debris_look* look,
                              int chips, bool dust);
-/// What a bond broken by the load it carried sheds: a few fine, slow grains
-/// and a crumb trickling down from it, not an impact's burst.
-void bk_particles_emit_crumble(bk_particles* particles, const bk_break_event* event, const float tint[3]);
-/// Advances by dt; fills `instances` with the live ones and returns their count.
+/// What a bond broken by the load it carried sheds: a faint puff of grains
+/// sinking from the crack and a crumb dropping off, not an impact's burst.
+void bk_particles_emit_crumble(bk_particles* particles, const bk_break_event* event,
+                               const bk_debris_look* look);
+/// The material of a break event's breakable.
+typedef bk_debris_look (*bk_debris_look_fn)(void* context, bk_breakable_id breakable);
+/// A step's break events: dust and chips spread evenly over the bonds hits broke, crumbles over those
+/// the load broke, within the per-step caps whatever the number of events. Returns the particles made.
+uint32_t bk_particles_emit_step(bk_particles* particles, const bk_break_event* events, uint32_t count,
+                                bk_debris_look_fn look_of, void* context);
+/// Advances by dt; fills `instances` with the live puffs and glints and returns their count, and
+/// `chips` with the live chips (chip_count).
 uint32_t bk_particles_update(bk_particles* particles, double dt);
 
 /// A thread that runs one job at a time (the game's physics steps, while the

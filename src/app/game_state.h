@@ -4,6 +4,8 @@
 #include <GLFW/glfw3.h>
 
 #include "game.h"
+#include "recorder.h"
+#include "retired_pieces.h"
 
 enum { BK_HISTORY = 180 };
 
@@ -36,7 +38,13 @@ typedef struct bk_game {
   uint32_t weights; ///< set down so far
   // Overlays and panel.
   bool show_bonds, show_stress, show_nodes, show_hulls, show_panel;
+  bool show_budget; ///< bodies coloured by their physics budget tier (L)
+  /// Pieces the physics budget retired, fading out (filled on the worker, after each step).
+  bk_retired_pieces retired;
+  bool hide_hud;        ///< no crosshair or controls hint (--hide-hud)
+  double hud_seconds;   ///< since the game started, for the hint's fade
   bool start_benchmark; ///< run the panel's runtime sweep at start (--benchmark)
+  bk_recorder record;   ///< a scripted run's frames as pictures (--record)
   bk_particles particles;
   double physics_ms, break_ms;
   float frame_history[BK_HISTORY], physics_history[BK_HISTORY], break_history[BK_HISTORY];
@@ -54,6 +62,25 @@ void bk_game_fire(bk_game* game, bk_vec3 from, bk_vec3 direction);
 bool bk_game_drop_weight(bk_game* game, bk_vec3 from, bk_vec3 direction);
 /// The camera's view direction.
 bk_vec3 bk_game_forward(const bk_game* game);
+/// The pose `t` (0..1) of the way from `a` to `b`: positions lerped, rotations
+/// nlerped along the shorter arc.
+bk_transform bk_game_lerp_transform(bk_transform a, bk_transform b, double t);
+/// The intact bonds inside each body as lines, coloured by their hit points
+/// left or, when `by_stress`, by their stress over its limit (bond_overlay.c).
+void bk_game_draw_bonds(bk_game* game, double alpha, bool by_stress);
+/// Empties the retired pieces (a scene is loaded: their trees are gone).
+void bk_game_retired_reset(bk_game* game);
+/// After a world step (on the worker): ages the retired pieces by a step and
+/// adds those the step retired.
+void bk_game_collect_retired(bk_game* game);
+/// Draws the retired pieces fading out, `alpha` of the way through the last step as the world is.
+void bk_game_draw_retired(bk_game* game, double alpha);
+/// The budget overlay's colour (rgb, strength) of a body at `tier`: none for full fidelity.
+void bk_game_tier_color(bk_budget_tier tier, float out[4]);
+/// Turns on the overlay --overlay names; false (and one line on stderr) for an unknown name.
+bool bk_game_set_overlay(bk_game* game, const char* name);
+/// The panel's Physics budget section (panel_budget.c).
+void bk_game_budget_section(bk_game* game);
 /// Draws the tuning panel (between bk_ui_begin_frame and bk_ui_end_frame).
 void bk_game_panel(bk_game* game);
 /// True while the panel's benchmark sweep runs.

@@ -2,8 +2,9 @@
 // once (one vertex and index buffer per tree; each node a range in them), and
 // a body draws its minimal node set with its model matrix. Frames are
 // recorded as a draw list and played at bk_renderer_end_frame: a sun shadow
-// pass, the lit pass with textured materials, the sky, particles and debug
-// lines. Needs a current GL context; knows nothing of physics or windows.
+// pass, the lit pass with textured materials, the sky, transparent glass
+// (sorted, blended), particles and debug lines. Needs a current GL context;
+// knows nothing of physics or windows.
 #pragma once
 
 #include <stdbool.h>
@@ -24,7 +25,7 @@ typedef struct bk_renderer_def {
   const char* shader_dir;  ///< directory with the .vert/.frag files (required)
   const char* texture_dir; ///< directory with the material PNGs (required)
   int shadow_size;         ///< shadow map resolution; default 1024
-  uint32_t max_particles;  ///< default 16384
+  uint32_t max_particles;  ///< most particles and most chips drawn a frame (each); default 16384
 } bk_renderer_def;
 
 /// Loads GL entry points, shaders and textures. Fails with a message naming
@@ -63,6 +64,10 @@ typedef struct bk_node_draw {
   int material;
   double interior_scale;    ///< multiplies interior uvs (1 = as fractured)
   const float* node_colors; ///< optional rgba per node: overlay colour and strength (debug views)
+  /// How far the nodes have faded out: 0 = drawn as usual, 1 = not drawn at all (nor their shadow).
+  /// Between, that share of their pixels is left out in a fixed 4x4 ordered-dither pattern, in the lit
+  /// and the shadow pass alike, so fading pieces need no sorting or blending. Clamped to 0..1; NaN = 0.
+  double fade;
 } bk_node_draw;
 
 void bk_renderer_draw_nodes(bk_renderer* renderer, const bk_node_draw* draw);
@@ -71,16 +76,45 @@ void bk_renderer_draw_sphere(bk_renderer* renderer, bk_vec3 center, double radiu
 /// A debug line, drawn on top of the scene (overlays show what is inside solids).
 void bk_renderer_draw_line(bk_renderer* renderer, bk_vec3 a, bk_vec3 b, const float rgba[4]);
 
-/// One particle: a dust puff (kind 0, soft) or a debris chip (kind 1).
+/// One blended particle, a camera-facing quad: a dust puff (kind 0) or a glint (kind 1). Zero fields
+/// draw nothing (size and alpha 0).
 typedef struct bk_particle_instance {
-  float position[3];
-  float size;
+  float position[3]; ///< centre, world space
+  float size;        ///< radius in metres
+  /// Linear rgb and opacity. A puff's colour is its albedo, lit by the sun and the sky in the shader
+  /// (so dust is not a glowing disc); a glint's is emitted as is (a sparkle of glass in the sun).
   float color[4];
+  /// 0: a soft puff of dust, its shape a tileable noise texture under a soft round falloff, faded
+  /// where it meets the scene (the depth buffer) and near the eye. 1: a glint, a small hard sparkle.
   float kind;
+  /// Picks the puff's shape: a rotation and an offset into the noise (any value; each differs).
+  float seed;
 } bk_particle_instance;
 
-/// Particles for this frame (drawn instanced, blended, after the opaque pass).
+/// Particles for this frame (drawn instanced, blended, after the opaque pass and the chips). The
+/// array must stay valid until bk_renderer_end_frame.
 void bk_renderer_draw_particles(bk_renderer* renderer, const bk_particle_instance* particles, uint32_t count);
+
+/// One debris chip: a tiny lit mesh (one of a few irregular convex shapes built at bk_renderer_create)
+/// textured with its material's interior. Chips are opaque and cast no shadow. Zero fields: an
+/// unrotated, white-tinted stone chip of shape 0 and size 0 (not drawn).
+typedef struct bk_chip_instance {
+  float position[3]; ///< centre, world space
+  float size;        ///< radius in metres; 0 or less: not drawn
+  float rotation[4]; ///< quaternion (x, y, z, w), normalised in the shader; all zero = unrotated
+  float tint[3];     ///< multiplies the interior texture (linear); all zero = white
+  /// 0 = drawn, 1 = not drawn; between, that share of its pixels is left out in the ordered-dither
+  /// pattern of bk_node_draw.fade. Clamped to 0..1; NaN = 0.
+  float fade;
+  int material;   ///< bk_renderer_material's index; out of range = stone
+  uint32_t shape; ///< which prebuilt chip, modulo their number (bk_renderer_chip_shapes)
+} bk_chip_instance;
+
+/// Chips for this frame (instanced, one call per material and shape). The array must stay valid
+/// until bk_renderer_end_frame; a frame that does not call this draws none.
+void bk_renderer_draw_chips(bk_renderer* renderer, const bk_chip_instance* chips, uint32_t count);
+/// How many chip shapes there are.
+uint32_t bk_renderer_chip_shapes(void);
 
 /// Renders everything recorded. Returns the first GL error code seen this
 /// frame (GL_NO_ERROR = 0 when all went well).
@@ -92,6 +126,7 @@ bool bk_renderer_screenshot(bk_renderer* renderer, int width, int height, const 
 /// Counters of the last frame.
 typedef struct bk_render_stats {
   uint32_t draw_calls, triangles, particles, lines;
+  uint32_t chips; ///< debris chips drawn
 } bk_render_stats;
 
 bk_render_stats bk_renderer_stats(const bk_renderer* renderer);

@@ -38,8 +38,16 @@ static GLuint compile(const char* path, GLenum type, const char* variant, const 
   GLuint shader = glCreateShader(type);
   char* newline = strchr(source, '\n');
   GLint version_length = newline ? (GLint)(newline - source + 1) : 0;
-  char define[64] = "";
-  if (variant) snprintf(define, sizeof define, "#define %s 1\n", variant);
+  // Each space-separated word of the variant a macro (e.g. "SURFACE GLASS").
+  char define[256] = "";
+  size_t used = 0;
+  for (const char* word = variant; word && *word;) {
+    size_t length = strcspn(word, " ");
+    if (length > 0 && used + length + 12 < sizeof define)
+      used += (size_t)snprintf(define + used, sizeof define - used, "#define %.*s 1\n", (int)length, word);
+    word += length;
+    word += strspn(word, " ");
+  }
   // Keeps the info log's line numbers those of the file.
   const char* line_reset = "\n#line 2\n";
   const char* sources[5] = {source, define, common, line_reset, source + version_length};
@@ -67,19 +75,19 @@ GLuint bk_shader_load(const char* dir, const char* name, const char* variant, bk
   char* common = read_text(path);
   if (!common) return bk_error_set(err, "%s: cannot read shader", path), 0;
   snprintf(path, sizeof path, "%s/%s.vert", dir, name);
-  GLuint vertex = compile(path, GL_VERTEX_SHADER, variant, common, err);
+  GLuint vertex_shader = compile(path, GL_VERTEX_SHADER, variant, common, err);
   snprintf(path, sizeof path, "%s/%s.frag", dir, name);
-  GLuint fragment = vertex ? compile(path, GL_FRAGMENT_SHADER, variant, common, err) : 0;
+  GLuint fragment = vertex_shader ? compile(path, GL_FRAGMENT_SHADER, variant, common, err) : 0;
   free(common);
   if (!fragment) {
-    if (vertex) glDeleteShader(vertex);
+    if (vertex_shader) glDeleteShader(vertex_shader);
     return 0;
   }
   GLuint program = glCreateProgram();
-  glAttachShader(program, vertex);
+  glAttachShader(program, vertex_shader);
   glAttachShader(program, fragment);
   glLinkProgram(program);
-  glDeleteShader(vertex);
+  glDeleteShader(vertex_shader);
   glDeleteShader(fragment);
   GLint ok = 0;
   glGetProgramiv(program, GL_LINK_STATUS, &ok);

@@ -26,42 +26,76 @@ static unsigned char encode_srgb(const float decoded[256], float linear) {
   return (unsigned char)low;
 }
 
-void bk_texture_halve(const unsigned char* rgb, int width, int height, bool srgb, unsigned char* out) {
-  float decoded[256];
-  for (int value = 0; value < 256; ++value)
+// bk_texture_halve for `channels` bytes a texel; `srgb` decodes the first
+// three only (alpha, when there is one, is linear coverage or occlusion).
+static void halve(const unsigned char* pixels, int width, int height, int channels, bool srgb,
+                  unsigned char* out) {
+  float decoded[256], linear[256];
+  for (int value = 0; value < 256; ++value) {
+    linear[value] = (float)value;
     decoded[value] = srgb ? decode_srgb((unsigned char)value) : (float)value;
+  }
   int next_width = width > 1 ? width / 2 : 1, next_height = height > 1 ? height / 2 : 1;
-  // Row by row, each texel read before any write reaches it, so `out` may be `rgb`.
+  // Row by row, each texel read before any write reaches it, so `out` may be `pixels`.
   for (int y = 0; y < next_height; ++y)
     for (int x = 0; x < next_width; ++x)
-      for (int k = 0; k < 3; ++k) {
+      for (int k = 0; k < channels; ++k) {
         int x0 = 2 * x, y0 = 2 * y;
         int x1 = x0 + 1 < width ? x0 + 1 : x0, y1 = y0 + 1 < height ? y0 + 1 : y0;
-        float sum = decoded[rgb[3 * (y0 * width + x0) + k]] + decoded[rgb[3 * (y0 * width + x1) + k]] +
-                    decoded[rgb[3 * (y1 * width + x0) + k]] + decoded[rgb[3 * (y1 * width + x1) + k]];
-        out[3 * (y * next_width + x) + k] =
-            srgb ? encode_srgb(decoded, 0.25f * sum) : (unsigned char)(0.25f * sum + 0.5f);
+        bool colour = srgb && k < 3;
+        const float* table = colour ? decoded : linear;
+        float sum = table[pixels[channels * (y0 * width + x0) + k]] +
+                    table[pixels[channels * (y0 * width + x1) + k]] +
+                    table[pixels[channels * (y1 * width + x0) + k]] +
+                    table[pixels[channels * (y1 * width + x1) + k]];
+        out[channels * (y * next_width + x) + k] =
+            colour ? encode_srgb(decoded, 0.25f * sum) : (unsigned char)(0.25f * sum + 0.5f);
       }
 }
 
-// Uploads `pixels` (RGB bytes) as level 0 and the chain of bk_texture_halve
-// levels below it. Colour textures are stored as plain bytes and decoded in
+void bk_texture_halve(const unsigned char* rgb, int width, int height, bool srgb, unsigned char* out) {
+  halve(rgb, width, height, 3, srgb, out);
+}
+
+void bk_texture_halve_rgba(const unsigned char* rgba, int width, int height, unsigned char* out) {
+  halve(rgba, width, height, 4, false, out);
+}
+
+// Uploads `pixels` (RGB or, with `channels` 4, linear RGBA bytes) as level 0
+// and the chain of halved levels below it. Colour textures are stored as plain bytes and decoded in
 // the shader after filtering: a software renderer converts every texel of
 // an sRGB texture it samples (measured: 1-1.5 ms a frame in the settled
 // showcase). Their levels are still averaged in linear light, as the driver
 // would average an sRGB texture's, so distant surfaces keep their
 // brightness.
-static void upload_levels(const unsigned char* pixels, int width, int height, bool srgb) {
-  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB8, width, height, 0, GL_RGB, GL_UNSIGNED_BYTE, pixels);
-  unsigned char* level = bk_alloc((size_t)width * (size_t)height * 3);
-  memcpy(level, pixels, (size_t)width * (size_t)height * 3);
+static void upload_levels(const unsigned char* pixels, int width, int height, int channels, bool srgb) {
+  GLint internal = channels == 4 ? GL_RGBA8 : GL_RGB8;
+  GLenum format = channels == 4 ? GL_RGBA : GL_RGB;
+  size_t bytes = (size_t)width * (size_t)height * (size_t)channels;
+  glTexImage2D(GL_TEXTURE_2D, 0, internal, width, height, 0, format, GL_UNSIGNED_BYTE, pixels);
+  unsigned char* level = bk_alloc(bytes);
+  memcpy(level, pixels, bytes);
   for (int index = 1; width > 1 || height > 1; ++index) {
-    bk_texture_halve(level, width, height, srgb, level);
+    halve(level, width, height, channels, srgb, level);
     width = width > 1 ? width / 2 : 1;
     height = height > 1 ? height / 2 : 1;
-    glTexImage2D(GL_TEXTURE_2D, index, GL_RGB8, width, height, 0, GL_RGB, GL_UNSIGNED_BYTE, level);
+    glTexImage2D(GL_TEXTURE_2D, index, internal, width, height, 0, format, GL_UNSIGNED_BYTE, level);
   }
   free(level);
+}
+
+// Mipmapped (nearest level: trilinear costs on software GL) and repeating.
+static GLuint make_texture(const unsigned char* pixels, int width, int height, int channels, bool srgb) {
+  GLuint texture = 0;
+  glGenTextures(1, &texture);
+  glBindTexture(GL_TEXTURE_2D, texture);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  upload_levels(pixels, width, height, channels, srgb);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_NEAREST);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
+  return texture;
 }
 
 GLuint bk_texture_load(const char* path, bool srgb, float mean_rgb[3], bk_error* err) {
@@ -83,26 +117,26 @@ GLuint bk_texture_load(const char* path, bool srgb, float mean_rgb[3], bk_error*
       mean_rgb[k] = count ? (float)(sum / (double)count) : 0.0f;
     }
   }
-  GLuint texture = 0;
-  glGenTextures(1, &texture);
-  glBindTexture(GL_TEXTURE_2D, texture);
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-  upload_levels(pixels, width, height, srgb);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER,
-                  GL_LINEAR_MIPMAP_NEAREST); // trilinear costs on software GL
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
+  GLuint texture = make_texture(pixels, width, height, 3, srgb);
   stbi_image_free(pixels);
   return texture;
 }
 
-GLuint bk_texture_solid(const unsigned char rgb[3]) {
+GLuint bk_texture_load_rgba(const char* path, bk_error* err) {
+  int width = 0, height = 0, channels = 0;
+  unsigned char* pixels = stbi_load(path, &width, &height, &channels, 4);
+  if (!pixels) return bk_error_set(err, "%s: cannot load texture: %s", path, stbi_failure_reason()), 0;
+  GLuint texture = make_texture(pixels, width, height, 4, false);
+  stbi_image_free(pixels);
+  return texture;
+}
+
+GLuint bk_texture_solid(const unsigned char rgba[4]) {
   GLuint texture = 0;
   glGenTextures(1, &texture);
   glBindTexture(GL_TEXTURE_2D, texture);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB8, 1, 1, 0, GL_RGB, GL_UNSIGNED_BYTE, rgb);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, 1, 1, 0, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
   return texture;

@@ -118,6 +118,22 @@ void bk_ui_plot(const char* label, const float* values, int count, int offset, f
 /// Shows `text` in a tooltip while the mouse is over the previous widget.
 void bk_ui_tooltip(const char* text);
 
+// ---------------------------------------------------------------- overlay
+// Shapes drawn over everything else of the frame (windows too), in pixels
+// from the top left of the window, each colour r, g, b, a in [0, 1]. They
+// take no input: the mouse stays the application's.
+
+/// The window's size in pixels as the current frame sees it; 0 x 0 outside a frame.
+void bk_ui_display_size(float* width, float* height);
+/// A line from (x0, y0) to (x1, y1), `thickness` pixels wide.
+void bk_ui_overlay_line(float x0, float y0, float x1, float y1, const float rgba[4], float thickness);
+/// A filled rectangle from (x0, y0) to (x1, y1), its corners rounded by `rounding` pixels.
+void bk_ui_overlay_rect(float x0, float y0, float x1, float y1, const float rgba[4], float rounding);
+/// `text` with its top left at (x, y), in the UI's font.
+void bk_ui_overlay_text(float x, float y, const float rgba[4], const char* text);
+/// The size in pixels `text` takes in the UI's font (0 x 0 outside a frame).
+void bk_ui_text_size(const char* text, float* width, float* height);
+
 #ifdef __cplusplus
 }
 #endif

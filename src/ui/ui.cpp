@@ -75,6 +75,14 @@ void apply_scale() {
 
 inline bool in_frame() { return state.in_frame; }
 
+/// Packs a colour, each channel clamped to [0, 1] (NaN as 0).
+ImU32 overlay_color(const float rgba[4]) {
+  float c[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+  for (int i = 0; i < 4; ++i)
+    c[i] = rgba[i] >= 0.0f ? (rgba[i] <= 1.0f ? rgba[i] : 1.0f) : 0.0f;
+  return ImGui::ColorConvertFloat4ToU32(ImVec4(c[0], c[1], c[2], c[3]));
+}
+
 } // namespace
 
 extern "C" {
@@ -264,6 +272,34 @@ void bk_ui_plot(const char* label, const float* values, int count, int offset, f
 
 void bk_ui_tooltip(const char* text) {
   if (in_frame() && text != nullptr && ImGui::IsItemHovered()) ImGui::SetTooltip("%s", text);
+}
+
+void bk_ui_display_size(float* width, float* height) {
+  ImVec2 size = in_frame() ? ImGui::GetIO().DisplaySize : ImVec2(0.0f, 0.0f);
+  if (width != nullptr) *width = size.x;
+  if (height != nullptr) *height = size.y;
+}
+
+void bk_ui_overlay_line(float x0, float y0, float x1, float y1, const float rgba[4], float thickness) {
+  if (!in_frame() || rgba == nullptr) return;
+  ImGui::GetForegroundDrawList()->AddLine(ImVec2(x0, y0), ImVec2(x1, y1), overlay_color(rgba), thickness);
+}
+
+void bk_ui_overlay_rect(float x0, float y0, float x1, float y1, const float rgba[4], float rounding) {
+  if (!in_frame() || rgba == nullptr) return;
+  ImGui::GetForegroundDrawList()->AddRectFilled(ImVec2(x0, y0), ImVec2(x1, y1), overlay_color(rgba),
+                                                rounding);
+}
+
+void bk_ui_overlay_text(float x, float y, const float rgba[4], const char* text) {
+  if (!in_frame() || rgba == nullptr || text == nullptr) return;
+  ImGui::GetForegroundDrawList()->AddText(ImVec2(x, y), overlay_color(rgba), text);
+}
+
+void bk_ui_text_size(const char* text, float* width, float* height) {
+  ImVec2 size = in_frame() && text != nullptr ? ImGui::CalcTextSize(text) : ImVec2(0.0f, 0.0f);
+  if (width != nullptr) *width = size.x;
+  if (height != nullptr) *height = size.y;
 }
 
 } // extern "C"
