@@ -207,6 +207,15 @@ double bk_median(double* values, uint32_t count) {
   return count % 2 ? values[count / 2] : 0.5 * (values[count / 2 - 1] + values[count / 2]);
 }
 
+double bk_percentile(double* values, uint32_t count, double p) {
+  if (count == 0) return 0.0;
+  qsort(values, count, sizeof(double), compare_double);
+  // Nearest rank: the smallest value with at least p% of them at or below it.
+  double rank = ceil(p / 100.0 * count);
+  uint32_t index = rank < 1.0 ? 0u : rank >= count ? count - 1 : (uint32_t)rank - 1;
+  return values[index];
+}
+
 size_t bk_append_name(char* out, size_t size, size_t used, uint32_t index, uint32_t count, const char* name) {
   if (used >= size) return used;
   int n =

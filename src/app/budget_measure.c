@@ -1,24 +1,10 @@
 // What the physics budget changes, measured the same way by `sim` and
-// `bench`: percentiles of the step times, and the debris the player sees
-// (its mass and momentum) over the first second after each hit, when the
-// pieces fly and the budget has the most to do.
+// `bench`: the debris the player sees (its mass and momentum) over the
+// first second after each hit, when the pieces fly and the budget has the
+// most to do (the step times' percentiles are bk_percentile, app_util.c).
 #include <stdlib.h>
 
 #include "app.h"
-
-static int compare_double(const void* a, const void* b) {
-  double x = *(const double*)a, y = *(const double*)b;
-  return x < y ? -1 : x > y;
-}
-
-double bk_percentile(double* values, uint32_t count, double p) {
-  if (count == 0) return 0.0;
-  qsort(values, count, sizeof(double), compare_double);
-  // Nearest rank: the smallest value with at least p% of them at or below it.
-  double rank = ceil(p / 100.0 * count);
-  uint32_t index = rank < 1.0 ? 0u : rank >= count ? count - 1 : (uint32_t)rank - 1;
-  return values[index];
-}
 
 bk_debris_sample bk_debris_measure(bk_world* world) {
   bk_debris_sample s = {0.0, 0.0, 0.0};
