@@ -333,7 +333,7 @@ static void pattern_selector(bk_game* g) {
     names[1 + p] = bk_fracture_pattern_name((bk_fracture_pattern)p);
   bk_ui_combo("pattern", &pattern_setting, names, 1 + BK_PATTERN_COUNT);
   bk_ui_tooltip(
-      "how the objects break: the scene's choice (walls brick, pillar clustered, bunny, tower, bridge "
+      "how the objects break: the scene's choice (walls brick, pillar clustered, bunny, torus, tower, bridge "
       "and balcony radial round their aim points, eggshell voronoi, the rest planes) or one pattern "
       "for all (applies on re-fracture)");
   bk_fracture_def defaults = bk_default_fracture_def();

@@ -256,6 +256,7 @@ void bk_render_prepare_batches(bk_renderer* r) {
       t->frame = r->frame;
       t->lowest = UINT32_MAX;
       t->highest = 0;
+      t->shadow_dithered = false;
       r->drawn_trees[r->drawn_tree_count++] = item->tree.index;
     }
     uint32_t detailed = find_batch(r, item, false), simple = UINT32_MAX;
@@ -299,7 +300,9 @@ void bk_render_prepare_batches(bk_renderer* r) {
       t->node_batch[node] = b;
       t->node_level[node] = pixels < tiny_below_pixels * distance;
       t->node_distance[node] = distance;
-      write_row(&t->table[TABLE_FLOATS * node], item->rows, color, item->fade, shadow);
+      float* row = &t->table[TABLE_FLOATS * node];
+      write_row(row, item->rows, color, item->fade, shadow);
+      t->shadow_dithered |= row[17] > 0.0f;
       if (node < t->lowest) t->lowest = node;
       if (node > t->highest) t->highest = node;
       if (b != SHADOW_ONLY) r->batches[b].node_count++;

@@ -80,6 +80,7 @@ typedef struct tree_buffers {
   uint32_t frame;                                  // last frame that drew from this tree
   uint32_t lowest, highest;                        // span of nodes drawn that frame: what gets uploaded
   uint32_t first_shadow_range, shadow_range_count; // the shadow pass draws the whole tree at once
+  bool shadow_dithered;                            // a node drawn this frame thins its shadow
   float* node_distance;                            // from the eye, this frame: glass sorts by it
 } tree_buffers;
 
@@ -148,6 +149,8 @@ typedef struct sky_uniforms {
 } sky_uniforms;
 
 enum { SKY_DOME, SKY_SUN, SKY_PROGRAMS }; // sky.vert's variants
+// shadow.vert's: without discard, and leaving out a dithered share of texels.
+enum { SHADOW_SOLID, SHADOW_DITHERED, SHADOW_PROGRAMS };
 // The sun and the sky as the lit passes use them (render_passes.c), for the
 // chips and the dust (render_particles.c).
 typedef struct bk_render_light {
@@ -166,10 +169,10 @@ typedef struct line_vertex {
 } line_vertex;
 
 struct bk_renderer {
-  GLuint mesh_programs[MESH_PROGRAMS], shadow_program, sky_programs[SKY_PROGRAMS], particle_program,
-      line_program;
+  GLuint mesh_programs[MESH_PROGRAMS], shadow_programs[SHADOW_PROGRAMS], sky_programs[SKY_PROGRAMS],
+      particle_program, line_program;
   mesh_uniforms mesh_u[MESH_PROGRAMS];
-  GLint shadow_light_view_projection, line_view_projection;
+  GLint shadow_light_view_projection[SHADOW_PROGRAMS], line_view_projection;
   sky_uniforms sky_u[SKY_PROGRAMS];
   particle_uniforms particle_u;
   GLuint shadow_fbo, shadow_texture;

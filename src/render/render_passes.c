@@ -108,16 +108,26 @@ static void draw_spheres(bk_renderer* r, int level_pass) {
 
 // The shadow map: every tree in one call whatever its batches (the node
 // table thins the shadows of fading and glass nodes), spills and spheres.
-static void draw_shadow_casters(bk_renderer* r) {
+static void draw_shadow_casters(bk_renderer* r, const float* light_view_projection) {
+  for (int i = 0; i < SHADOW_PROGRAMS; ++i) {
+    glUseProgram(r->shadow_programs[i]);
+    glUniformMatrix4fv(r->shadow_light_view_projection[i], 1, GL_FALSE, light_view_projection);
+  }
+  int current = SHADOW_DITHERED;
   for (uint32_t i = 0; i < r->drawn_tree_count; ++i) {
     const tree_buffers* t = &r->trees[r->drawn_trees[i]];
     if (t->shadow_range_count == 0) continue;
+    // Discard costs a software renderer on every texel: only trees that thin a shadow pay it.
+    int program = t->shadow_dithered ? SHADOW_DITHERED : SHADOW_SOLID;
+    if (program != current) glUseProgram(r->shadow_programs[current = program]);
     use_tree(t);
     glMultiDrawElements(GL_TRIANGLES, &r->multi_counts[t->first_shadow_range], GL_UNSIGNED_INT,
                         &r->multi_offsets[t->first_shadow_range], (GLsizei)t->shadow_range_count);
     r->stats.draw_calls++;
   }
+  glUseProgram(r->shadow_programs[SHADOW_DITHERED]); // spills are rare: no need to sort them out
   draw_spills(r, -1, false);
+  glUseProgram(r->shadow_programs[SHADOW_SOLID]); // the projectiles are opaque and never fade
   draw_spheres(r, 1);
 }
 
@@ -253,11 +263,9 @@ unsigned bk_renderer_end_frame(bk_renderer* r) {
   glBindFramebuffer(GL_FRAMEBUFFER, r->shadow_fbo);
   glViewport(0, 0, r->shadow_size, r->shadow_size);
   glClear(GL_DEPTH_BUFFER_BIT);
-  glUseProgram(r->shadow_program);
-  glUniformMatrix4fv(r->shadow_light_view_projection, 1, GL_FALSE, (const float*)light_view_projection);
   glEnable(GL_POLYGON_OFFSET_FILL);
   glPolygonOffset(1.5f, 2.0f);
-  draw_shadow_casters(r);
+  draw_shadow_casters(r, (const float*)light_view_projection);
   glDisable(GL_POLYGON_OFFSET_FILL);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
 

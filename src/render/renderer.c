@@ -147,7 +147,7 @@ bk_renderer* bk_renderer_create(const bk_renderer_def* desc, bk_error* err) {
   bk_renderer* r = bk_calloc(1, sizeof *r);
   r->shadow_size = desc->shadow_size > 0 ? desc->shadow_size : 1024;
   r->max_particles = desc->max_particles ? desc->max_particles : 16384;
-  enum { PROGRAMS = MESH_PROGRAMS + 5 };
+  enum { OTHERS = 6, PROGRAMS = MESH_PROGRAMS + OTHERS };
   static const char* const mesh_variants[MESH_PROGRAMS] = {
       [SURFACE] = "SURFACE",
       [INTERIOR] = "INTERIOR",
@@ -158,14 +158,18 @@ bk_renderer* bk_renderer_create(const bk_renderer_def* desc, bk_error* err) {
       [GLASS_INTERIOR] = "INTERIOR GLASS",
       [GLASS_SIMPLE] = "SIMPLE GLASS",
   };
-  const char* programs[PROGRAMS] = {"shadow", "sky", "sky", "particle", "line"};
-  const char* variants[PROGRAMS] = {NULL, "DOME", "SUN"};
-  GLuint* slots[PROGRAMS] = {&r->shadow_program, &r->sky_programs[SKY_DOME], &r->sky_programs[SKY_SUN],
-                             &r->particle_program, &r->line_program};
+  const char* programs[PROGRAMS] = {"shadow", "shadow", "sky", "sky", "particle", "line"};
+  const char* variants[PROGRAMS] = {NULL, "DITHERED", "DOME", "SUN"};
+  GLuint* slots[PROGRAMS] = {&r->shadow_programs[SHADOW_SOLID],
+                             &r->shadow_programs[SHADOW_DITHERED],
+                             &r->sky_programs[SKY_DOME],
+                             &r->sky_programs[SKY_SUN],
+                             &r->particle_program,
+                             &r->line_program};
   for (int i = 0; i < MESH_PROGRAMS; ++i) {
-    programs[5 + i] = "mesh";
-    variants[5 + i] = mesh_variants[i];
-    slots[5 + i] = &r->mesh_programs[i];
+    programs[OTHERS + i] = "mesh";
+    variants[OTHERS + i] = mesh_variants[i];
+    slots[OTHERS + i] = &r->mesh_programs[i];
   }
   for (int i = 0; i < PROGRAMS; ++i)
     if (!(*slots[i] = bk_shader_load(desc->shader_dir, programs[i], variants[i], err))) {
@@ -197,10 +201,13 @@ bk_renderer* bk_renderer_create(const bk_renderer_def* desc, bk_error* err) {
     glUniform1i(uniform(p, "u_shadow_map"), 3);
     glUniform1i(uniform(p, "u_nodes"), TABLE_UNIT);
   }
-  glUseProgram(r->shadow_program);
-  glUniform1i(uniform(r->shadow_program, "u_nodes"), TABLE_UNIT);
+  for (int i = 0; i < SHADOW_PROGRAMS; ++i) {
+    p = r->shadow_programs[i];
+    glUseProgram(p);
+    glUniform1i(uniform(p, "u_nodes"), TABLE_UNIT);
+    r->shadow_light_view_projection[i] = uniform(p, "u_light_view_projection");
+  }
   glUseProgram(0);
-  r->shadow_light_view_projection = uniform(r->shadow_program, "u_light_view_projection");
   r->line_view_projection = uniform(r->line_program, "u_view_projection");
   for (int i = 0; i < SKY_PROGRAMS; ++i) {
     p = r->sky_programs[i];
@@ -263,9 +270,13 @@ void bk_renderer_destroy(bk_renderer* r) {
     if (r->trees[i].used) bk_renderer_release_tree(r, (bk_render_tree){i, r->trees[i].generation});
   free(r->trees);
   bk_render_free_particles(r);
-  GLuint programs[5] = {r->shadow_program, r->sky_programs[SKY_DOME], r->sky_programs[SKY_SUN],
-                        r->particle_program, r->line_program};
-  for (int i = 0; i < 5; ++i)
+  GLuint programs[6] = {r->shadow_programs[SHADOW_SOLID],
+                        r->shadow_programs[SHADOW_DITHERED],
+                        r->sky_programs[SKY_DOME],
+                        r->sky_programs[SKY_SUN],
+                        r->particle_program,
+                        r->line_program};
+  for (int i = 0; i < 6; ++i)
     if (programs[i]) glDeleteProgram(programs[i]);
   for (int i = 0; i < MESH_PROGRAMS; ++i)
     if (r->mesh_programs[i]) glDeleteProgram(r->mesh_programs[i]);
