@@ -1,5 +1,6 @@
 // breakables bench --quick, run as a user would: every section's table,
 // its CSV file and plots, the report's parts, and the command's errors.
+#include <math.h>
 #include <stdbool.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -149,15 +150,19 @@ static void test_bench_patterns(const char* out, const char* report) {
     ENSURE_MSG(strstr(out, lines[i]) != NULL, "stdout lacks '%s'", lines[i]);
 }
 
-// 9. Physics budget: each load without a budget, then with one.
+// 9. Physics budget: each load without a budget, with one, and with one
+// that keeps nothing of a new piece (fidelity 0 s).
 static void test_bench_budget(const char* report) {
   const csv_table* t = read_csv(
       "budget",
-      "load,fragments,shots,budget_ms,bodies_peak,step_ms_p50,step_ms_p95,step_ms_max,physics_ms_p50,"
+      "load,fragments,shots,budget_ms,fidelity_s,bodies_peak,step_ms_p50,step_ms_p95,step_ms_max,physics_ms_"
+      "p50,"
       "physics_ms_p95,physics_ms_max,step_cpu_ms_p95,step_cpu_ms_max,debris,simplified,frozen,retired,"
       "demotions,restorations,mass_retired_kg,"
-      "mass_retired_fraction,debris_mass_ratio,debris_momentum_ratio,debris_net_momentum_ratio,target_met",
-      6);
+      "mass_retired_fraction,debris_mass_ratio,debris_momentum_ratio,debris_net_momentum_ratio,near_mass_"
+      "ratio,"
+      "near_momentum_ratio,near_net_momentum_ratio,target_met,fidelity_kept,near_fidelity_kept",
+      9);
   const char* keys[] = {"bodies_peak",    "step_ms_p50",    "step_ms_p95",   "step_ms_max",
                         "physics_ms_p50", "physics_ms_p95", "physics_ms_max"};
   ensure_positive(t, keys, sizeof keys / sizeof *keys);
@@ -166,10 +171,11 @@ static void test_bench_budget(const char* report) {
   const double fragments[] = {768, 4096, 1024}; // --quick: 3 objects of 256, 4 walls and a cube of 1024
   double demotions = 0.0;
   for (uint32_t i = 0; i < t->row_count; ++i) {
-    ENSURE(strcmp(csv_field(t, i, "load"), loads[i / 2]) == 0);
-    ENSURE_MSG(csv_number(t, i, "fragments") >= fragments[i / 2], "row %u: %s fragments", i,
+    uint32_t load = i / 3, off = 3 * load;
+    ENSURE(strcmp(csv_field(t, i, "load"), loads[load]) == 0);
+    ENSURE_MSG(csv_number(t, i, "fragments") >= fragments[load], "row %u: %s fragments", i,
                csv_field(t, i, "fragments"));
-    ENSURE(csv_number(t, i, "fragments") == csv_number(t, i ^ 1u, "fragments"));
+    ENSURE(csv_number(t, i, "fragments") == csv_number(t, off, "fragments"));
     ENSURE(csv_number(t, i, "step_ms_p50") <= csv_number(t, i, "step_ms_p95") &&
            csv_number(t, i, "step_ms_p95") <= csv_number(t, i, "step_ms_max"));
     ENSURE(csv_number(t, i, "physics_ms_p50") <= csv_number(t, i, "physics_ms_p95") &&
@@ -177,22 +183,46 @@ static void test_bench_budget(const char* report) {
     ENSURE(csv_number(t, i, "physics_ms_max") <= csv_number(t, i, "step_ms_max"));
     double fraction = csv_number(t, i, "mass_retired_fraction");
     ENSURE(fraction >= 0.0 && fraction <= 1.0);
-    if (i % 2 == 0) {
+    if (i == off) {
       // Without a budget nothing is made cheaper, and the ratios are to itself.
-      ENSURE(csv_number(t, i, "budget_ms") == 0.0 && strcmp(csv_field(t, i, "target_met"), "-") == 0);
+      ENSURE(csv_number(t, i, "budget_ms") == 0.0 && strcmp(csv_field(t, i, "target_met"), "-") == 0 &&
+             strcmp(csv_field(t, i, "fidelity_s"), "-") == 0 &&
+             strcmp(csv_field(t, i, "fidelity_kept"), "-") == 0 &&
+             strcmp(csv_field(t, i, "near_fidelity_kept"), "-") == 0);
       for (size_t k = 0; k < sizeof tiers / sizeof *tiers; ++k)
         ENSURE_MSG(csv_number(t, i, tiers[k]) == 0.0, "row %u: %s without a budget", i, tiers[k]);
-      ENSURE(csv_number(t, i, "mass_retired_kg") == 0.0 && csv_number(t, i, "debris_mass_ratio") == 1.0);
-    } else {
-      ENSURE(csv_number(t, i, "budget_ms") == (i == 1 ? 10.0 : 8.0));
-      const char* met = csv_field(t, i, "target_met");
-      ENSURE_MSG(strcmp(met, "yes") == 0 || strcmp(met, "no") == 0, "target_met of row %u is '%s'", i, met);
-      ENSURE(csv_number(t, i, "debris_mass_ratio") > 0.0 && csv_number(t, i, "debris_momentum_ratio") > 0.0);
-      demotions += csv_number(t, i, "demotions");
+      ENSURE(csv_number(t, i, "mass_retired_kg") == 0.0 && csv_number(t, i, "debris_mass_ratio") == 1.0 &&
+             csv_number(t, i, "near_mass_ratio") == 1.0);
+      continue;
     }
+    ENSURE(csv_number(t, i, "budget_ms") == (load == 0 ? 10.0 : 8.0));
+    ENSURE(csv_number(t, i, "fidelity_s") == (i == off + 1 ? 1.0 : 0.0));
+    const char* flags[] = {"target_met", "fidelity_kept", "near_fidelity_kept"};
+    for (int k = 0; k < 3; ++k) {
+      const char* flag = csv_field(t, i, flags[k]);
+      ENSURE_MSG(strcmp(flag, "yes") == 0 || strcmp(flag, "no") == 0, "%s of row %u is '%s'", flags[k], i,
+                 flag);
+    }
+    // "yes" exactly when all three ratios are within 5%, of all the debris and of that near the focus.
+    const char* ratios[2][3] = {{"debris_mass_ratio", "debris_momentum_ratio", "debris_net_momentum_ratio"},
+                                {"near_mass_ratio", "near_momentum_ratio", "near_net_momentum_ratio"}};
+    const char* verdicts[2] = {"fidelity_kept", "near_fidelity_kept"};
+    for (int v = 0; v < 2; ++v) {
+      bool kept = true;
+      for (int k = 0; k < 3; ++k)
+        kept = kept && fabs(csv_number(t, i, ratios[v][k]) - 1.0) <= 0.05;
+      ENSURE_MSG(kept == (strcmp(csv_field(t, i, verdicts[v]), "yes") == 0), "row %u: %s '%s'", i,
+                 verdicts[v], csv_field(t, i, verdicts[v]));
+    }
+    ENSURE(csv_number(t, i, "debris_mass_ratio") > 0.0 && csv_number(t, i, "debris_momentum_ratio") > 0.0);
+    demotions += csv_number(t, i, "demotions");
   }
   ENSURE_MSG(demotions > 0.0, "the budget made nothing cheaper in any load");
-  ENSURE(strstr(report, "**Does what the player sees change?**") != NULL);
+  // Keeping nothing of a new piece lets the budget retire more of the walls.
+  ENSURE_MSG(csv_number(t, 5, "mass_retired_kg") > csv_number(t, 4, "mass_retired_kg"),
+             "the walls retired %s kg keeping nothing, %s kg keeping 1 s", csv_field(t, 5, "mass_retired_kg"),
+             csv_field(t, 4, "mass_retired_kg"));
+  ENSURE(strstr(report, "and does what the player sees stay?**") != NULL);
 }
 
 static void test_bench_quick(void) {

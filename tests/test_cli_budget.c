@@ -1,6 +1,7 @@
 // The physics budget on the command line, run as a user would: sim and
-// play's --budget-ms, sim's --copies, and what sim --json reports of the
-// budget (its tiers, the mass it retired, the debris the player sees).
+// play's --budget-ms, sim's --copies and --budget-fidelity, and what sim
+// --json reports of the budget (its tiers, the mass it retired, the debris
+// the player sees).
 #include <stdbool.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -33,12 +34,16 @@ static void test_errors(void) {
       {"sim --copies 0", "breakables sim: --copies '0' is out of range (1..64)"},
       {"sim --copies 65", "breakables sim: --copies '65' is out of range (1..64)"},
       {"sim --copies 2x", "breakables sim: --copies '2x' is not a whole number (1..64)"},
+      {"sim --budget-fidelity -1", "breakables sim: --budget-fidelity '-1' is out of range (0..60)"},
+      {"sim --budget-fidelity 61", "breakables sim: --budget-fidelity '61' is out of range (0..60)"},
+      {"sim --budget-fidelity 1s", "breakables sim: --budget-fidelity '1s' is not a decimal number (0..60)"},
+      {"sim --budget-fidelity", "breakables sim: --budget-fidelity needs a value"},
   };
   for (size_t i = 0; i < sizeof refused / sizeof *refused; ++i)
     expect_error(refused[i].args, 2, refused[i].message);
   run_result* r = run("sim --help");
   ENSURE(strstr(r->out, "--budget-ms X") && strstr(r->out, "--copies N") &&
-         strstr(r->out, "debris_momentum_1s"));
+         strstr(r->out, "--budget-fidelity S") && strstr(r->out, "debris_momentum_1s"));
   r = run("play --help");
   ENSURE(strstr(r->out, "--budget-ms X") != NULL);
 }
@@ -118,6 +123,12 @@ static void test_budget_json(void) {
   ENSURE(json_number(r->out, "physics_ms_median") <= json_number(r->out, "physics_ms_p95"));
   ENSURE(json_number(r->out, "step_ms_p95") <= json_number(r->out, "step_ms_max"));
   double mass_on = json_number(r->out, "debris_mass_1s");
+  // The wall stands within budget_fidelity_radius (8 m) of the eye: its debris is all near.
+  ENSURE_MSG(json_number(r->out, "debris_near_mass_1s") > 0.0 &&
+                 json_number(r->out, "debris_near_mass_1s") <= mass_on * (1.0 + 1e-12) &&
+                 json_number(r->out, "debris_near_momentum_1s") <=
+                     json_number(r->out, "debris_momentum_1s") * (1.0 + 1e-12),
+             "%s", r->out);
   strip_timings(r->out, first, sizeof first);
   ENSURE(strstr(first, "budget_retired") != NULL && strstr(first, "physics_ms") == NULL);
 
@@ -144,10 +155,32 @@ static void test_budget_json(void) {
   ENSURE_MSG(r->status == 0 && json_number(r->out, "debris_mass_1s") == 0.0, "%s", r->out);
 }
 
+// --budget-fidelity: for its seconds a new piece near the eye (within the
+// world's budget_fidelity_radius, 8 m) is never retired, so what the player
+// sees of one hit stays; at 0 the budget may take pieces at once. (Bricks
+// the shot throws past 8 m are fair game either way.)
+static void test_budget_fidelity(void) {
+  const char* args = "sim --scene wall --pieces 512 --shots 1 --steps 120 --budget-ms 0.3 --json";
+  run_result* r = run(args);
+  ENSURE_MSG(r->status == 0, "%s", r->err);
+  ENSURE(json_number(r->out, "budget_fidelity_s") == 1.0); // the world's default
+  double kept = json_number(r->out, "debris_mass_1s"), kept_retired = json_number(r->out, "budget_retired");
+  r = run("sim --scene wall --pieces 512 --shots 1 --steps 120 --budget-ms 0.3 --budget-fidelity 0 --json");
+  ENSURE_MSG(r->status == 0, "%s", r->err);
+  ENSURE(json_number(r->out, "budget_fidelity_s") == 0.0);
+  ENSURE_MSG(json_number(r->out, "budget_retired") > kept_retired,
+             "%g pieces retired at --budget-fidelity 0, %g at 1: %s", json_number(r->out, "budget_retired"),
+             kept_retired, r->out);
+  double taken = json_number(r->out, "debris_mass_1s");
+  ENSURE_MSG(taken < 0.6 * kept, "debris %g kg in the first second at --budget-fidelity 0, %g at 1", taken,
+             kept);
+}
+
 int main(void) {
   setenv("BREAKABLES_CACHE_DIR", BK_TEST_TMP "/cache", 1);
   RUN(test_errors);
   RUN(test_copies);
   RUN(test_budget_json);
+  RUN(test_budget_fidelity);
   return 0;
 }

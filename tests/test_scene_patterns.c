@@ -27,16 +27,16 @@ static const bk_scene_object* find_object(const char* scene, const char* mesh) {
   return NULL;
 }
 
-// The scenes' choices: the walls brick, the pillars clustered, the bunnies
-// and the structures (towers, bridges, balconies) radial, the eggshells
-// voronoi, everything else planes.
+// The scenes' choices: the walls brick, the pillars clustered, the bunnies,
+// the torus (broken round where it is hit) and the structures (towers,
+// bridges, balconies) radial, the eggshells voronoi, everything else planes.
 static void test_scene_table(void) {
   const struct {
     const char* mesh;
     bk_fracture_pattern pattern;
   } expected[] = {
       {"wall", BK_PATTERN_BRICK},       {"pillar", BK_PATTERN_CLUSTERED}, {"bunny", BK_PATTERN_RADIAL},
-      {"eggshell", BK_PATTERN_VORONOI}, {"slab", BK_PATTERN_PLANES},      {"torus", BK_PATTERN_PLANES},
+      {"eggshell", BK_PATTERN_VORONOI}, {"slab", BK_PATTERN_PLANES},      {"torus", BK_PATTERN_RADIAL},
       {"tower", BK_PATTERN_RADIAL},     {"bridge", BK_PATTERN_RADIAL},    {"balcony", BK_PATTERN_RADIAL}};
   for (uint32_t i = 0; i < bk_scene_count(); ++i) {
     const bk_scene* s = bk_scene_at(i);

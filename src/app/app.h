@@ -119,6 +119,10 @@ typedef struct bk_scene_options {
   /// world: the physics budget per step in ms (bk_world_def.physics_budget_ms;
   /// 0 = off); the default is the world's
   double physics_budget_ms;
+  /// world: how long (s) a new piece keeps what the player sees of it under
+  /// the budget (bk_world_def.budget_fidelity_time; sim --budget-fidelity);
+  /// the default is the world's
+  double budget_fidelity_time;
   /// Copies of the whole scene side by side along x (sim --copies; 1, the
   /// default: the scene alone), spaced so that they do not touch
   uint32_t copies;
@@ -191,6 +195,8 @@ enum { BK_COPIES_MAX = 64 };
 /// Parses the value of --budget-ms for `command` into options->physics_budget_ms;
 /// prints one line naming the option and returns false on a bad value.
 bool bk_app_parse_budget_ms(const char* command, const char* text, bk_scene_options* options);
+/// --budget-fidelity (sim): the first seconds a piece keeps under the budget, 0 .. this.
+#define BK_BUDGET_FIDELITY_MAX 60.0
 
 /// A scene object's breakable: its placement and its material (the object's
 /// preset, or options->material), with the options' overrides (options may be NULL).
@@ -284,12 +290,16 @@ typedef struct bk_fidelity {
   uint32_t open;                      ///< hits whose second is running
   double weight;                      ///< hit-steps summed
   bk_debris_sample sum;               ///< weighted sums
+  bk_debris_sample near_sum;          ///< the same, of the debris near the focus only
 } bk_fidelity;
 
 /// Takes the step just run, `hits` being the shots fired just before it.
 void bk_fidelity_step(bk_fidelity* f, bk_world* world, uint64_t step, uint32_t hits);
 /// The averages (zero when there was no hit).
 bk_debris_sample bk_fidelity_mean(const bk_fidelity* f);
+/// The averages of the debris within bk_world_budget_fidelity_radius of the
+/// world's focus (what the player sees up close; all of it with no focus).
+bk_debris_sample bk_fidelity_near_mean(const bk_fidelity* f);
 
 enum {
   BK_IMPACT_STEADY_STEPS = 30, ///< steps before the shot, and the last steps, for steady-state medians

@@ -6,7 +6,8 @@
 
 #include "app.h"
 
-bk_debris_sample bk_debris_measure(bk_world* world) {
+// The debris now: all of it, or (near) what is within `radius` of `focus`.
+static bk_debris_sample measure(bk_world* world, const bk_vec3* focus, double radius) {
   bk_debris_sample s = {0.0, 0.0, 0.0};
   const bk_physics* physics = bk_world_physics(world);
   bk_vec3 net = {0.0, 0.0, 0.0};
@@ -14,6 +15,9 @@ bk_debris_sample bk_debris_measure(bk_world* world) {
   for (uint32_t i = 0; i < count; ++i) {
     bk_body_view view = {0};
     if (!bk_world_body_view(world, i, &view) || view.is_static) continue;
+    if (focus &&
+        bk_v3_length(bk_v3_sub(bk_physics_body_transform(physics, view.body).position, *focus)) > radius)
+      continue;
     double mass = bk_physics_body_mass(physics, view.body);
     bk_vec3 p = bk_v3_scale(bk_physics_body_linear_velocity(physics, view.body), mass);
     s.mass += mass;
@@ -24,6 +28,19 @@ bk_debris_sample bk_debris_measure(bk_world* world) {
   return s;
 }
 
+bk_debris_sample bk_debris_measure(bk_world* world) { return measure(world, NULL, 0.0); }
+
+static void add_sample(bk_debris_sample* sum, uint32_t weight, bk_debris_sample now) {
+  sum->mass += weight * now.mass;
+  sum->momentum += weight * now.momentum;
+  sum->net_momentum += weight * now.net_momentum;
+}
+
+static bk_debris_sample mean(bk_debris_sample sum, double weight) {
+  if (weight <= 0.0) return (bk_debris_sample){0.0, 0.0, 0.0};
+  return (bk_debris_sample){sum.mass / weight, sum.momentum / weight, sum.net_momentum / weight};
+}
+
 void bk_fidelity_step(bk_fidelity* f, bk_world* world, uint64_t step, uint32_t hits) {
   // A hit's second is the BK_FIDELITY_STEPS steps from the one after it was
   // fired; it ends when the step count comes round to the same slot.
@@ -32,15 +49,16 @@ void bk_fidelity_step(bk_fidelity* f, bk_world* world, uint64_t step, uint32_t h
   f->ending[slot] = hits;
   f->open += hits;
   if (f->open == 0) return;
-  bk_debris_sample now = bk_debris_measure(world);
-  f->sum.mass += f->open * now.mass;
-  f->sum.momentum += f->open * now.momentum;
-  f->sum.net_momentum += f->open * now.net_momentum;
+  add_sample(&f->sum, f->open, bk_debris_measure(world));
+  // Near the focus: within the radius the budget keeps a new piece's first
+  // second in (everything, with no focus set).
+  bk_vec3 focus = {0.0, 0.0, 0.0};
+  bool has_focus = bk_world_focus(world, &focus);
+  add_sample(&f->near_sum, f->open,
+             measure(world, has_focus ? &focus : NULL, bk_world_budget_fidelity_radius(world)));
   f->weight += f->open;
 }
 
-bk_debris_sample bk_fidelity_mean(const bk_fidelity* f) {
-  if (f->weight <= 0.0) return (bk_debris_sample){0.0, 0.0, 0.0};
-  return (bk_debris_sample){f->sum.mass / f->weight, f->sum.momentum / f->weight,
-                            f->sum.net_momentum / f->weight};
-}
+bk_debris_sample bk_fidelity_mean(const bk_fidelity* f) { return mean(f->sum, f->weight); }
+
+bk_debris_sample bk_fidelity_near_mean(const bk_fidelity* f) { return mean(f->near_sum, f->weight); }

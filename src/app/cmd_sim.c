@@ -10,7 +10,7 @@ static const char* const sim_usage =
     "                      [--seed S] [--shots K] [--steps F] [--volley V]\n"
     "                      [--speed M/S] [--frailty X] [--density X] [--discrete|--accumulate] [--naive]\n"
     "                      [--no-stress] [--stress-scale X] [--drop KG] [--drop-radius M] [--drop-at STEP]\n"
-    "                      [--budget-ms X] [--copies N] [--max-memory MIB] [--json]\n"
+    "                      [--budget-ms X] [--budget-fidelity S] [--copies N] [--max-memory MIB] [--json]\n"
     "\n"
     "Runs a scene headless at a fixed 60 Hz: builds (or loads from the cache) the\n"
     "scene's mesh tree, fires K projectiles at the object at regular intervals\n"
@@ -55,6 +55,10 @@ static const char* const sim_usage =
     "                   the least important loose pieces (small, far from the scene's eye,\n"
     "                   slow, long at rest) get cheaper: no contacts among themselves, then\n"
     "                   a fitted sphere or box, then frozen, then retired\n"
+    "  --budget-fidelity S  for S seconds after it comes loose, 0..60 (default 1), a piece\n"
+    "                   keeps what the player sees of it: no contacts dropped while it lies\n"
+    "                   on others, its own shape, never retired; 0 makes every piece fair\n"
+    "                   game at once (faster, but piles fall through themselves)\n"
     "  --copies N       N copies of the scene side by side along x, 1..64 (default 1), a gap\n"
     "                   between them; each shot hits every copy in the same step\n"
     "  --max-memory MIB memory each fracture may use, 1..1073741824 MiB (default: the\n"
@@ -70,15 +74,20 @@ static const char* const sim_usage =
     "                   the steps the stress solve worked), pattern (the objects' pattern,\n"
     "                   or \"mixed\"), patterns (one per object), drop_kg (0: no weight) and\n"
     "                   drop_point (where the weight was set down, or null); step_ms_p95,\n"
-    "                   physics_ms_median, physics_ms_p95, physics_ms_max; budget_ms, the\n"
-    "                   budget's tiers now (budget_debris, budget_simplified, budget_frozen)\n"
+    "                   physics_ms_median, physics_ms_p95, physics_ms_max; budget_ms and\n"
+    "                   budget_fidelity_s (the options), the budget's tiers now\n"
+    "                   (budget_debris, budget_simplified, budget_frozen)\n"
     "                   and since the start (budget_retired, budget_demotions,\n"
     "                   budget_restorations), mass_retired (kg; mass_rel_error counts it as\n"
     "                   kept); copies; and what the player sees of the debris (every dynamic\n"
     "                   piece still simulated), averaged over the first second after each\n"
     "                   shot: debris_mass_1s (kg), debris_momentum_1s (the sum of |m v| over\n"
     "                   the pieces: how much moves) and debris_net_momentum_1s (|sum of m v|),\n"
-    "                   to compare a run with a budget against one without\n"
+    "                   and the same of the pieces within budget_fidelity_radius (8 m) of\n"
+    "                   the scene's eye\n"
+    "                   (debris_near_mass_1s, debris_near_momentum_1s,\n"
+    "                   debris_near_net_momentum_1s), to compare a run with a budget against\n"
+    "                   one without\n"
     "  -h, --help       show this help\n"
     "\n"
     "Mesh trees are cached in $BREAKABLES_CACHE_DIR (else $XDG_CACHE_HOME/breakables,\n"
@@ -190,10 +199,10 @@ int bk_cmd_sim(int argc, char** argv) {
       flag = false;
     }
     if (flag) continue;
-    const char* known[] = {"--scene",      "--pieces",       "--seed",      "--shots",
-                           "--steps",      "--volley",       "--speed",     "--frailty",
-                           "--density",    "--mesh",         "--material",  "--pattern",
-                           "--max-memory", "--stress-scale", "--budget-ms", "--copies"};
+    const char* known[] = {"--scene",    "--pieces",         "--seed",       "--shots",        "--steps",
+                           "--volley",   "--speed",          "--frailty",    "--density",      "--mesh",
+                           "--material", "--pattern",        "--max-memory", "--stress-scale", "--budget-ms",
+                           "--copies",   "--budget-fidelity"};
     bool is_known = false;
     for (size_t k = 0; k < sizeof known / sizeof *known; ++k)
       is_known = is_known || strcmp(arg, known[k]) == 0;
@@ -241,6 +250,9 @@ int bk_cmd_sim(int argc, char** argv) {
       if (!bk_option_double("sim", arg, value, 1e-6, 1e6, &options.stress_scale)) return 2;
     } else if (strcmp(arg, "--budget-ms") == 0) {
       if (!bk_app_parse_budget_ms("sim", value, &options)) return 2;
+    } else if (strcmp(arg, "--budget-fidelity") == 0) {
+      if (!bk_option_double("sim", arg, value, 0.0, BK_BUDGET_FIDELITY_MAX, &options.budget_fidelity_time))
+        return 2;
     } else if (strcmp(arg, "--copies") == 0) {
       if (!bk_option_u64("sim", arg, value, 1, BK_COPIES_MAX, &number)) return 2;
       options.copies = (uint32_t)number;
@@ -324,6 +336,7 @@ int bk_cmd_sim(int argc, char** argv) {
   double physics_median = bk_median(physics_ms, (uint32_t)steps);
   double physics_p95 = bk_percentile(physics_ms, (uint32_t)steps, 95.0);
   bk_debris_sample debris = bk_fidelity_mean(&fidelity);
+  bk_debris_sample near = bk_fidelity_near_mean(&fidelity);
   // The last second alone: the steady cost of what the shots left behind.
   uint32_t tail = steps < 60 ? (uint32_t)steps : 60;
   double last_median = bk_median(step_ms + (steps - tail), tail);
@@ -353,14 +366,16 @@ int bk_cmd_sim(int argc, char** argv) {
     else
       printf("null, ");
     printf("\"copies\": %u, \"step_ms_p95\": %.4f, \"physics_ms_median\": %.4f, \"physics_ms_p95\": %.4f, "
-           "\"physics_ms_max\": %.4f, \"budget_ms\": %g, \"budget_debris\": %u, \"budget_simplified\": %u, "
+           "\"physics_ms_max\": %.4f, \"budget_ms\": %g, \"budget_fidelity_s\": %g, \"budget_debris\": %u, "
+           "\"budget_simplified\": %u, "
            "\"budget_frozen\": %u, \"budget_retired\": %u, \"budget_demotions\": %u, "
            "\"budget_restorations\": %u, \"mass_retired\": %.6g, \"debris_mass_1s\": %.6g, "
-           "\"debris_momentum_1s\": %.6g, \"debris_net_momentum_1s\": %.6g}\n",
+           "\"debris_momentum_1s\": %.6g, \"debris_net_momentum_1s\": %.6g, \"debris_near_mass_1s\": %.6g, "
+           "\"debris_near_momentum_1s\": %.6g, \"debris_near_net_momentum_1s\": %.6g}\n",
            loaded.copies, step_p95, physics_median, physics_p95, physics_max, options.physics_budget_ms,
-           final.budget_debris, final.budget_simplified, final.budget_frozen, final.budget_retired,
-           final.budget_demotions, final.budget_restorations, final.retired_mass, debris.mass,
-           debris.momentum, debris.net_momentum);
+           options.budget_fidelity_time, final.budget_debris, final.budget_simplified, final.budget_frozen,
+           final.budget_retired, final.budget_demotions, final.budget_restorations, final.retired_mass,
+           debris.mass, debris.momentum, debris.net_momentum, near.mass, near.momentum, near.net_momentum);
   } else {
     if (loaded.copies > 1) printf("%u copies %.3g m apart, ", loaded.copies, loaded.copy_spacing);
     printf("%s: %u fragments, %u shots over %llu steps (%.1f s)\n", scene->name, pieces, fired,

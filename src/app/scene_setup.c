@@ -15,6 +15,7 @@ bk_scene_options bk_default_scene_options(void) {
                             .stress = true,
                             .stress_scale = 1.0,
                             .physics_budget_ms = bk_default_world_def().physics_budget_ms,
+                            .budget_fidelity_time = bk_default_world_def().budget_fidelity_time,
                             .copies = 1};
 }
 
@@ -116,6 +117,7 @@ bool bk_loaded_scene_create(const bk_scene* scene, const bk_scene_options* optio
   wd.retire_volume = options->retire_volume;
   wd.stress = options->stress;
   wd.physics_budget_ms = options->physics_budget_ms;
+  wd.budget_fidelity_time = options->budget_fidelity_time;
   out->world = bk_world_create(&wd, err);
   if (!out->world) return false;
   for (uint32_t i = 0; i < scene->object_count; ++i) {

@@ -30,7 +30,8 @@ bk_world_def bk_default_world_def(void) {
                         .physics_budget_measured = false,
                         .budget_large_volume = 0.008,
                         .budget_focus_radius = 2.0,
-                        .budget_fidelity_time = 1.0};
+                        .budget_fidelity_time = 1.0,
+                        .budget_fidelity_radius = 8.0};
 }
 
 // The runtime asks where a cluster's body is; Bullet knows.
@@ -70,6 +71,10 @@ bk_world* bk_world_create(const bk_world_def* def, bk_error* err) {
   if (!(d.budget_fidelity_time >= 0.0) || !isfinite(d.budget_fidelity_time))
     return bk_error_set(err, "world: budget_fidelity_time must be finite and >= 0 (got %g)",
                         d.budget_fidelity_time),
+           NULL;
+  if (!(d.budget_fidelity_radius >= 0.0) || !isfinite(d.budget_fidelity_radius))
+    return bk_error_set(err, "world: budget_fidelity_radius must be finite and >= 0 (got %g)",
+                        d.budget_fidelity_radius),
            NULL;
 
   bk_world* w = bk_calloc(1, sizeof *w);

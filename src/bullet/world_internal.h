@@ -35,6 +35,7 @@ typedef struct world_body {
   uint32_t calm_steps;   // steps in a row it has moved slower than the budget's calm speed
   uint64_t piled;        // last step it pressed on another loose body at a low relative speed
   uint64_t shaken;       // last step a moving body pressed on it while it was frozen
+  double pressed;        // normal impulse (N s) dynamic bodies pressed on it in the last step, frozen
 } world_body;
 
 /// The physics budget's state (world_budget.c).
@@ -50,6 +51,7 @@ typedef struct world_budget {
   struct budget_candidate* candidates;
   uint32_t candidate_capacity;
   bk_retired_body* retired_bodies; // the last step's
+  uint32_t* retired_index;         // and their bodies' indices (released together, at the step's end)
   uint32_t retired_count, retired_capacity;
 } world_budget;
 
