@@ -1,9 +1,12 @@
 // Shared by the physics budget's tests: free glass cubes on the ground, as
-// the benchmark's, and the shot that shatters one.
+// the benchmark's, the shot that shatters one, and a world definition that
+// must be refused.
 #ifndef BK_TESTS_BUDGET_CUBES_H
 #define BK_TESTS_BUDGET_CUBES_H
 
 #include <breakables/bullet.h>
+
+#include <string.h>
 
 #include "ensure.h"
 
@@ -43,6 +46,13 @@ static inline void shoot(bk_world* world, double x) {
   shot.mass = 8.0;
   bk_error err = {0};
   ENSURE_MSG(!bk_body_is_null(bk_world_fire(world, &shot, &err)), "%s", err.message);
+}
+
+// bk_world_create refuses wd with exactly this message.
+static inline void expect_refused(bk_world_def wd, const char* message) {
+  bk_error err = {0};
+  bk_world* world = bk_world_create(&wd, &err);
+  ENSURE_MSG(!world && strcmp(err.message, message) == 0, "got '%s'", err.message);
 }
 
 #endif

@@ -140,12 +140,6 @@ static void test_fidelity_radius(void) {
   bk_mesh_tree_free(&tree);
 }
 
-static void expect_refused(bk_world_def wd, const char* message) {
-  bk_error err = {0};
-  bk_world* world = bk_world_create(&wd, &err);
-  ENSURE_MSG(!world && strcmp(err.message, message) == 0, "got '%s'", err.message);
-}
-
 static void test_bad_radius(void) {
   bk_world_def wd = bk_default_world_def();
   ENSURE(wd.budget_fidelity_radius == 8.0);

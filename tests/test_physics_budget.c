@@ -317,12 +317,6 @@ static void test_measured(void) {
   bk_mesh_tree_free(&tree);
 }
 
-static void expect_refused(bk_world_def wd, const char* message) {
-  bk_error err = {0};
-  bk_world* world = bk_world_create(&wd, &err);
-  ENSURE_MSG(!world && strcmp(err.message, message) == 0, "got '%s'", err.message);
-}
-
 static void test_bad_defs(void) {
   bk_world_def wd = bk_default_world_def();
   ENSURE(wd.physics_budget_ms == 0.0 && !wd.physics_budget_measured);
