@@ -330,10 +330,57 @@ static bool dae_arrays_counted(const char* name, const char* text, const char* e
   return true;
 }
 
+// A primitive list (<triangles>, <polylist>, <polygons>, <trifans>,
+// <tristrips>) that claims primitives (count > 0) but holds no index list
+// <p>: assimp's build asserts that it read as many as the count, and aborts.
+static bool dae_primitives_listed(const char* name, const char* text, const char* end, bk_error* err) {
+  static const char* const lists[] = {"<triangles", "<polylist", "<polygons", "<trifans", "<tristrips"};
+  for (const char* at = text; at < end; ++at) {
+    if (*at != '<') continue;
+    for (size_t l = 0; l < sizeof lists / sizeof *lists; ++l) {
+      size_t length = strlen(lists[l]);
+      if ((size_t)(end - at) <= length || memcmp(at, lists[l], length) != 0) continue;
+      if (at[length] != ' ' && at[length] != '\t' && at[length] != '\n' && at[length] != '\r' &&
+          at[length] != '>')
+        continue;
+      const char* open_end = memchr(at, '>', (size_t)(end - at));
+      if (!open_end)
+        return bk_error_set(err, "%s: Collada element at byte %zu is not closed", name, (size_t)(at - text));
+      // Its count attribute, if any, and whether a <p> follows before it closes.
+      unsigned long long count = 0;
+      for (const char* c = at + length; c + 7 <= open_end; ++c)
+        if ((c[0] == ' ' || c[0] == '\t' || c[0] == '\n' || c[0] == '\r') && memcmp(c + 1, "count", 5) == 0) {
+          const char* v = c + 6;
+          while (v < open_end && (*v == ' ' || *v == '=' || *v == '"' || *v == '\''))
+            ++v;
+          while (v < open_end && *v >= '0' && *v <= '9' && count < 1000000000ULL)
+            count = count * 10 + (unsigned long long)(*v++ - '0');
+          break;
+        }
+      if (count == 0 || open_end[-1] == '/') {
+        if (count > 0)
+          return bk_error_set(err, "%s: Collada %s> at byte %zu claims %llu primitives and lists none", name,
+                              lists[l], (size_t)(at - text), count);
+        continue;
+      }
+      bool listed = false;
+      for (const char* c = open_end + 1; c + 2 < end && !listed; ++c) {
+        if (*c != '<') continue;
+        if (c[1] == '/' && (size_t)(end - c) > length && memcmp(c + 2, lists[l] + 1, length - 1) == 0) break;
+        listed = c[1] == 'p' && (c[2] == '>' || c[2] == ' ' || c[2] == '/');
+      }
+      if (!listed)
+        return bk_error_set(err, "%s: Collada %s> at byte %zu claims %llu primitives and lists none", name,
+                            lists[l], (size_t)(at - text), count);
+    }
+  }
+  return true;
+}
+
 static bool precheck_dae(const char* name, const void* data, size_t size, bk_error* err) {
   const char* text = data;
   const char* end = text + size;
-  if (!dae_arrays_counted(name, text, end, err)) return false;
+  if (!dae_arrays_counted(name, text, end, err) || !dae_primitives_listed(name, text, end, err)) return false;
   static const char* const tags[] = {"<p>", "<p ", "<vcount>", "<vcount ", "<v>", "<v "};
   for (const char* at = text; at < end; ++at) {
     if (*at != '<') continue;
