@@ -2,7 +2,7 @@
 # Builds the libFuzzer harnesses of tests/fuzz (clang, ASan+UBSan) in
 # build-fuzz and runs each for SECONDS (default 60), one after the other.
 #
-#   scripts/fuzz.sh [SECONDS] [HARNESS...]     harnesses: fuzz_obj fuzz_mtree fuzz_bonds fuzz_fracture fuzz_gltf fuzz_import fuzz_seeds
+#   scripts/fuzz.sh [SECONDS] [HARNESS...]     harnesses: fuzz_obj fuzz_mtree fuzz_bonds fuzz_fracture fuzz_gltf fuzz_import fuzz_seeds fuzz_runtime
 #
 # Each harness starts from its committed seeds and regressions
 # (tests/fuzz/corpus/<harness>, tests/fuzz/regressions/<harness>), which it only
@@ -16,7 +16,7 @@ set -euo pipefail
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$repo"
 
-all_harnesses=(fuzz_obj fuzz_mtree fuzz_bonds fuzz_fracture fuzz_gltf fuzz_import fuzz_seeds)
+all_harnesses=(fuzz_obj fuzz_mtree fuzz_bonds fuzz_fracture fuzz_gltf fuzz_import fuzz_seeds fuzz_runtime)
 seconds="${1:-60}"
 if [[ $# -gt 0 ]]; then shift; fi
 if ! [[ "$seconds" =~ ^[0-9]+$ ]] || ((10#$seconds < 1)); then
@@ -49,6 +49,7 @@ echo "fuzz: built ${harnesses[*]} in $((SECONDS - build_start)) s"
 max_len() {
   case "$1" in
   fuzz_obj | fuzz_fracture | fuzz_seeds) echo 4096 ;;
+  fuzz_runtime) echo 2048 ;; # a program of calls: a few hundred are plenty
   fuzz_import) echo 8192 ;; # the model seeds are up to about 5 KiB
   fuzz_gltf) echo 32768 ;; # the .glb/.gltf seeds are up to about 24 KiB
   *) echo 16384 ;; # the .mtree seeds are up to about 8 KiB

@@ -29,13 +29,30 @@ static bk_fracture_def def_of(bk_fracture_pattern pattern, uint32_t pieces) {
 }
 
 // The area of the cut-face triangles of leaf a whose face (tag) leaf b has too.
+// True when triangle i of a and triangle j of b have the same three positions.
+static bool same_triangle(const bk_mesh* a, uint32_t i, const bk_mesh* b, uint32_t j) {
+  for (uint32_t k = 0; k < 3; ++k) {
+    bk_vec3 p = a->positions[bk_mesh_tri_position(a, i, k)];
+    bool found = false;
+    for (uint32_t m = 0; m < 3 && !found; ++m) {
+      bk_vec3 q = b->positions[bk_mesh_tri_position(b, j, m)];
+      found = p.x == q.x && p.y == q.y && p.z == q.z;
+    }
+    if (!found) return false;
+  }
+  return true;
+}
+
+// The area of the cut-face triangles both leaves carry (the same face, the
+// same positions: a face that crosses the source twice may separate other
+// leaves at its other crossing).
 static double shared_area(const bk_mesh* a, const bk_mesh* b) {
   double area = 0.0;
   for (uint32_t i = 0; i < a->triangle_count; ++i) {
     if (!a->tags[i]) continue;
     bool shared = false;
     for (uint32_t j = 0; j < b->triangle_count && !shared; ++j)
-      shared = b->tags[j] == a->tags[i];
+      shared = b->tags[j] == a->tags[i] && same_triangle(a, i, b, j);
     if (!shared) continue;
     bk_vec3 p0 = a->positions[bk_mesh_tri_position(a, i, 0)];
     area += 0.5 * bk_v3_length(bk_v3_cross(bk_v3_sub(a->positions[bk_mesh_tri_position(a, i, 1)], p0),

@@ -102,8 +102,11 @@ static void test_errors(void) {
   expect_error("fracture --mesh '" BK_TEST_TMP "/bad.obj'", 1, "bad.obj:3:");
   write_file("nan.obj", "v 0 0 0\nv 1 nan 0\nv 0 1 0\nf 1 2 3\n");
   expect_error("fracture --mesh '" BK_TEST_TMP "/nan.obj'", 1, "nan.obj:2:");
-  // Two triangles sharing an edge in the same direction: cannot be repaired.
-  write_file("twisted.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 2 4\nf 1 3 4\nf 2 3 4\n");
+  // A double pyramid with a face across its middle: the hole it leaves in
+  // either half cannot be filled.
+  write_file("twisted.obj",
+             "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0.5 0.5 1\nv 0.5 0.5 -1\nf 1 2 5\nf 2 3 5\n"
+             "f 3 4 5\nf 4 1 5\nf 2 1 6\nf 3 2 6\nf 4 3 6\nf 1 4 6\nf 1 3 5\n");
   expect_error("fracture --mesh '" BK_TEST_TMP "/twisted.obj'", 1, "not watertight");
   expect_error("fracture --mesh cube --out /nonexistent-dir/x.mtree", 1, "cannot write");
 }

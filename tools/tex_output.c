@@ -5,6 +5,7 @@
 
 #include <stb_image_write.h>
 
+#include "bk_geom.h"
 #include "tex.h"
 
 const char* tex_outdir = ".";
@@ -12,11 +13,26 @@ int tex_failed;
 
 static unsigned char to8(float x) { return (unsigned char)lrintf(clampf(x, 0.0f, 1.0f) * 255.0f); }
 
+static void write_to_stream(void* context, void* data, int size) {
+  fwrite(data, 1, (size_t)size, context); /* a short write leaves the stream in error: commit reports it */
+}
+
+/* Written beside the target and renamed over it (bk_file_begin_atomic), like
+ * every file the project writes: a symlink planted there is never followed. */
 static void write_png(const char* name, const unsigned char* px, int channels) {
+  static const bk_atomic_messages messages = {"cannot write", "cannot write", "cannot write"};
   char path[4096];
   snprintf(path, sizeof path, "%s/%s.png", tex_outdir, name);
-  if (!stbi_write_png(path, N, N, channels, px, N * channels)) {
-    fprintf(stderr, "make_textures: cannot write %s\n", path);
+  bk_atomic_file file = {0};
+  bk_error err = {{0}};
+  bool ok = bk_file_begin_atomic(path, &messages, &file, &err);
+  if (ok && !stbi_write_png_to_func(write_to_stream, file.stream, N, N, channels, px, N * channels)) {
+    bk_file_abort_atomic(&file);
+    ok = bk_error_set(&err, "%s: cannot encode the PNG", path);
+  }
+  if (ok) ok = bk_file_commit_atomic(&file, path, &messages, &err);
+  if (!ok) {
+    fprintf(stderr, "make_textures: %s\n", err.message);
     tex_failed = 1;
     return;
   }

@@ -225,9 +225,9 @@ typedef struct bk_import_material {
   /// directory, or "" when there is none or it is embedded.
   char texture[BK_IMPORT_TEXT_MAX];
   /// An embedded base-colour image (owned by the bk_import_info): PNG or
-  /// JPEG bytes as the file holds them, or uncompressed texels the import
-  /// encoded as PNG; NULL when there is none (or it is in another format:
-  /// then image_unsupported).
+  /// JPEG bytes as the file holds them, or a TGA, BMP or GIF file or
+  /// uncompressed texels the import encoded as PNG; NULL when there is none
+  /// (or it is in another format: then image_unsupported).
   uint8_t* image;
   size_t image_size;
   char image_format[8];   ///< "png" or "jpeg" when image is set
@@ -258,6 +258,13 @@ typedef struct bk_import_info {
   bool normals_computed;         ///< some corners had no normal in the file
   bool uvs_projected;            ///< some corners had no UV in the file (box projection)
   bool flipped;                  ///< the whole mesh was inside out (negative volume): winding reversed
+  /// The file states its unit of length (FBX, glTF, Collada): the mesh is in
+  /// metres, `metres_per_unit` applied. Else the file's numbers are kept.
+  bool units_given;
+  double metres_per_unit; ///< the scale the import applied (1 unless the file's unit is not the metre)
+  /// How the file was read when that needs saying ("" if nothing): a PLY
+  /// header line taken as a comment, a PLY header read by assimp.
+  char note[200];
 } bk_import_info;
 
 /// Imports a model file as one welded bk_mesh: positions (double), normals
@@ -342,15 +349,22 @@ uint32_t bk_mesh_split_nonmanifold(bk_mesh* mesh);
 
 /// What bk_mesh_repair found and did.
 typedef struct bk_repair_info {
-  uint32_t open_edges;      ///< open edges before repair (after splitting)
-  uint32_t positions_split; ///< positions added by bk_mesh_split_nonmanifold
-  uint32_t holes_closed;    ///< boundary loops filled by bk_mesh_fill_holes
-  uint32_t shells;          ///< connected shells after repair
+  uint32_t open_edges;         ///< open edges before repair (after splitting)
+  uint32_t positions_split;    ///< positions added by bk_mesh_split_nonmanifold
+  uint32_t holes_closed;       ///< boundary loops filled by bk_mesh_fill_holes
+  uint32_t shells;             ///< connected shells after repair
+  uint32_t faces_turned;       ///< triangles wound against all their neighbours, turned
+  uint32_t duplicates_removed; ///< triangles given twice (same positions, same turn), removed
+  uint32_t sheets_removed;     ///< shells enclosing no volume (a face and its own back), removed
+  bk_vec3 sheet_near;          ///< the middle of the first shell removed
 } bk_repair_info;
 
 /// Makes a mesh from an art tool fit for bk_mesh_tree_build when that is
-/// possible: splits shells touching at vertices, edges or faces, then fills
-/// simple holes. What still is not closed is refused with the count and
+/// possible: removes triangles given twice, turns single triangles and
+/// patches of them wound against their neighbours, splits
+/// shells touching at vertices, edges or faces, then fills
+/// simple holes, and removes shells that then enclose no volume (unless all
+/// do). What still is not closed is refused with the count and
 /// location of the problem ("12 open edges, the first near (x, y, z)"); the
 /// mesh is then left split but unfilled. `info` may be NULL.
 bool bk_mesh_repair(bk_mesh* mesh, bk_repair_info* info, bk_error* err);
@@ -416,7 +430,9 @@ typedef struct bk_fracture_def {
   /// Voronoi: the caller's seed points (source coordinates; borrowed for the
   /// build only, cleared in bk_mesh_tree.desc). NULL (the default) spreads
   /// `pieces` seeds uniformly through the volume. With points, every point
-  /// inside the source makes one cell and `pieces` is ignored.
+  /// inside the source makes one cell and `pieces` is ignored; never more
+  /// pieces than points (a cell a concave source cuts in two joins a
+  /// neighbour).
   const bk_vec3* seed_points;
   uint32_t seed_point_count;
   /// Clustered: how many large chunks, >= 1 (at most `pieces` are made); default 6.
@@ -444,7 +460,9 @@ typedef struct bk_fracture_def {
   /// Cut-out: the fracture map, width x height grey pixels (row 0 at the
   /// top; borrowed for the build only, cleared in bk_mesh_tree.desc): pixels
   /// of 128 and above are lines, each region enclosed by them becomes a
-  /// piece. It is stretched over the source's bounds seen along cutout_axis;
+  /// piece. It is stretched over the source's bounds seen along cutout_axis
+  /// and sampled by about 3,000 seeds whatever its shape (the memory
+  /// estimate counts them and the pixels); never more pieces than samples.
   /// `pieces` is ignored.
   const uint8_t* cutout_pixels;
   uint32_t cutout_width, cutout_height;
@@ -508,11 +526,26 @@ typedef struct bk_fracture_shortfall {
   uint32_t cap_failed; ///< ... their cut's cross-section could not be closed (overlapping or crossing shells)
   uint32_t not_closed; ///< ... a cut left a piece open
   uint32_t volume_changed; ///< ... the cut pieces' volumes did not add up to the whole's
-  uint32_t missed;         ///< ... the plane left everything on one side (thinner than the cut tolerance)
+  /// ... a cut piece's mass was not a solid's (its centre of mass outside
+  /// it, or a principal moment of inertia not positive: the source's
+  /// surface crosses itself there)
+  uint32_t not_solid;
+  uint32_t missed; ///< ... the plane left everything on one side (thinner than the cut tolerance)
   /// Brick pattern: pieces spanning several bricks whose mortar or head-joint
   /// cut did not hold, cut by random planes instead (their bricks broken
   /// across); such a piece is not short of anything, so `uncut` leaves it out.
   uint32_t bond_fallbacks;
+  /// Planes and brick: pieces of a cut that enclosed no volume (a face of
+  /// the source closed against its own back), each joined to the nearest
+  /// piece that does instead of becoming a fragment; the tree is not short
+  /// of anything for them.
+  uint32_t sheets_merged;
+  /// Cell patterns: cut faces between two cells that could not be made (the
+  /// face's outline crosses itself where the source's surface crosses
+  /// itself), each pair of cells kept together in one piece instead, as the
+  /// planes pattern leaves a piece uncut whose every cut fails; the tree may
+  /// then have fewer leaves than asked for.
+  uint32_t cells_joined;
 } bk_fracture_shortfall;
 
 /// Closed solid shells of a source that overlap or touch another
@@ -594,6 +627,22 @@ typedef struct bk_mesh_tree {
 bool bk_mesh_tree_build(const bk_mesh* source, const bk_fracture_def* def, bk_mesh_tree* out, bk_error* err);
 /// Releases everything; safe on a zeroed tree.
 void bk_mesh_tree_free(bk_mesh_tree* tree);
+/// Checks that a tree (built, loaded, or made or edited by the caller) is
+/// one the runtime, the cache file and the glTF export can use: its
+/// structure (desc, arrays present, every index and leaf range in range, a
+/// real tree shape, bounds that are its meshes', every value finite) and its
+/// physics: every node's volume positive, a leaf's that of its mesh and an
+/// inner node's the sum of its children's (within 1e-9 relative, plus
+/// rounding); every centre of mass inside its node's bounds; every inertia
+/// finite, with principal moments that are positive, at most volume x
+/// diagonal^2 and each at most the other two together, in an orthonormal
+/// frame; every bond's area positive and no more than the smaller of its
+/// leaves' surface areas, its centroid inside both leaves' bounds (within
+/// 1e-6 of their diagonal) and its normal of unit length. False with one line
+/// naming the first problem's node, leaf or bond and field ("leaf 12 (node
+/// 40): volume -0.003 is not positive"). O(total triangles of all nodes):
+/// bk_runtime_add_breakable, bk_mesh_tree_save and the loaders call it.
+bool bk_mesh_tree_validate(const bk_mesh_tree* tree, bk_error* err);
 /// The point the nodes' moments are taken about: the centre of the source's
 /// bounds (on a grid of half its size, so moments stay exact for a mesh far
 /// from the world origin). Derived from the root's bounds.
@@ -601,8 +650,9 @@ bk_vec3 bk_mesh_tree_origin(const bk_mesh_tree* tree);
 /// Mass properties (unit density) of a sum of this tree's node moments, with
 /// the centroid in the tree's frame (the source mesh's coordinates).
 bk_mass_properties bk_mesh_tree_mass(const bk_mesh_tree* tree, bk_moments moments);
-/// One line saying why the tree has fewer leaves than desc.pieces, written to
-/// `text`; false (and an empty text) when it has them all.
+/// One line saying why the tree has fewer leaves than desc.pieces, or that
+/// cells were joined (shortfall.cells_joined), written to `text`; false (and
+/// an empty text) when it has them all and none were.
 bool bk_mesh_tree_shortfall_text(const bk_mesh_tree* tree, char* text, size_t size);
 /// One line naming the shells that overlapped and were fractured each on its
 /// own ("shells 1 and 2 overlap (volumes 1 and 0.125 near (x, y, z)); each was
@@ -669,7 +719,8 @@ bk_mesh_tree_quality bk_mesh_tree_measure_quality(const bk_mesh_tree* tree);
 /// Estimated peak memory, in bytes, of bk_mesh_tree_build(source, def)
 /// (including 10 MB for the process, as the command line tool measures it),
 /// known before building: a model of the source's triangle count, the
-/// pieces asked for (the seed points for voronoi with seed_points), the
+/// pieces asked for (the seed points for voronoi with seed_points; for
+/// cut-out the map's samples, regions and pixels, 9 bytes each), the
 /// pattern and, with noise, the triangles the noisy cut faces get (from the
 /// noise frequency times the source's size, as the meshers place them),
 /// fitted to measured peaks: 0.9 to 1.5 times each for planes and brick,
@@ -689,10 +740,12 @@ uint64_t bk_mesh_tree_estimate_file_bytes(const bk_mesh* source, const bk_fractu
 #define BK_MTREE_VERSION 4u
 
 /// Writes the tree to a versioned, checksummed binary file (via a temporary
-/// file and rename, so an existing file is never half-written).
+/// file and rename, so an existing file is never half-written); a tree
+/// bk_mesh_tree_validate refuses is not written.
 bool bk_mesh_tree_save(const bk_mesh_tree* tree, const char* path, bk_error* err);
-/// Loads a tree; verifies magic, version, sizes, checksum and every index.
-/// On failure *out stays zeroed and err says what is wrong.
+/// Loads a tree; verifies magic, version, sizes, checksum, and the tree as
+/// bk_mesh_tree_validate does ("tree.mtree: corrupt: bond 3 (leaves 1 and
+/// 4): area 0 is not positive"). On failure *out stays zeroed and err says what is wrong.
 bool bk_mesh_tree_load(const char* path, bk_mesh_tree* out, bk_error* err);
 
 // ---------------------------------------------------------------- glTF export

@@ -71,9 +71,9 @@ uint32_t bk_collider_nodes(const bk_mesh_tree* tree, const uint32_t* nodes, uint
 /// properties a physics engine needs (the runtime keeps those for it).
 typedef struct bk_material {
   const char* name;     ///< at most BK_MATERIAL_NAME_MAX bytes; the runtime keeps its own copy
-  double density;       ///< kg/m^3, > 0
+  double density;       ///< kg/m^3, in [BK_MATERIAL_DENSITY_MIN, BK_MATERIAL_DENSITY_MAX]
   double frailty;       ///< damage = frailty x impulse / distance^3; >= 0 (0: unbreakable)
-  double bond_strength; ///< hit points per m^2 of bond area, > 0
+  double bond_strength; ///< hit points per m^2 of bond area, in [BK_MATERIAL_BOND_STRENGTH_MIN, _MAX]
   bool accumulate;      ///< bonds lose hit points over hits (else discrete: one hit must exceed them)
   double friction;      ///< >= 0
   double restitution;   ///< in [0, 1]
@@ -87,6 +87,14 @@ typedef struct bk_material {
 } bk_material;
 
 #define BK_MATERIAL_NAME_MAX 31
+/// The densities (kg/m^3) and bond strengths (per m^2) a material may have.
+/// Far outside any material's, a fragment's mass, inertia or hit points
+/// would underflow to 0 or overflow (a denormal density gives bodies no
+/// inertia, which no physics engine can move).
+#define BK_MATERIAL_DENSITY_MIN 1e-6
+#define BK_MATERIAL_DENSITY_MAX 1e9
+#define BK_MATERIAL_BOND_STRENGTH_MIN 1e-6
+#define BK_MATERIAL_BOND_STRENGTH_MAX 1e15
 
 /// Presets: stone, concrete, glass, porcelain, eggshell, wood.
 const bk_material* bk_material_find(const char* name);
@@ -156,7 +164,10 @@ typedef struct bk_breakable_def {
 bk_breakable_def bk_default_breakable_def(void);
 /// Adds a breakable as one cluster, reported as created: its body frame
 /// starts at def.transform x the cluster's principal frame, at rest. Null id
-/// with err naming the bad field.
+/// with err naming the bad field; def.tree is checked by
+/// bk_mesh_tree_validate on every call (it is the caller's, and may have
+/// changed since the last), before anything is allocated: "breakable: tree:
+/// leaf 12 (node 40): volume -0.003 is not positive".
 bk_breakable_id bk_runtime_add_breakable(bk_runtime* runtime, const bk_breakable_def* def, bk_error* err);
 /// The tree a breakable was made from (NULL for a stale id).
 const bk_mesh_tree* bk_runtime_breakable_tree(const bk_runtime* runtime, bk_breakable_id id);
@@ -195,7 +206,8 @@ typedef struct bk_cluster_info {
 
 /// False for a stale id.
 bool bk_runtime_cluster(const bk_runtime* runtime, bk_cluster_id id, bk_cluster_info* out);
-/// Live clusters in index order; writes at most capacity, returns how many live.
+/// Live clusters in index order; writes at most capacity (none to NULL),
+/// returns how many live.
 uint32_t bk_runtime_clusters(const bk_runtime* runtime, bk_cluster_id* out, uint32_t capacity);
 /// The cluster a fragment belongs to (null once its cluster was removed).
 bk_cluster_id bk_runtime_leaf_cluster(const bk_runtime* runtime, bk_breakable_id id, uint32_t leaf);
@@ -209,7 +221,8 @@ typedef struct bk_damage_contact {
 } bk_damage_contact;
 
 /// Damages bonds from contacts that pass the thresholds; stale clusters are
-/// skipped. Results: broken bonds.
+/// skipped; contacts may be NULL with count 0 (NULL applies none). Results:
+/// broken bonds.
 void bk_runtime_apply_contacts(bk_runtime* runtime, const bk_damage_contact* contacts, uint32_t count);
 /// Damages every live cluster as if a contact with this impulse happened at
 /// the world point (explosions, scripted destruction), without the
@@ -249,7 +262,7 @@ typedef struct bk_bond_break {
 } bk_bond_break;
 
 /// Results of the last call: each writes at most capacity entries and
-/// returns the total.
+/// returns the total (out may be NULL: it writes none).
 uint32_t bk_runtime_created_clusters(const bk_runtime* runtime, bk_cluster_created* out, uint32_t capacity);
 uint32_t bk_runtime_removed_clusters(const bk_runtime* runtime, bk_cluster_id* out, uint32_t capacity);
 uint32_t bk_runtime_broken_bonds(const bk_runtime* runtime, bk_bond_break* out, uint32_t capacity);

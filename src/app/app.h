@@ -25,6 +25,41 @@ bool bk_app_load_mesh(const char* spec, bk_mesh* out, bk_error* err);
 /// info (may be NULL) gets what the import found (materials, textures); the
 /// caller releases it with bk_import_info_free.
 bool bk_app_load_model(const char* spec, const char* node, bk_mesh* out, bk_import_info* info, bk_error* err);
+/// --scale S (a factor) and --units mm|cm|m|in (of a format that does not
+/// state its own) for every model file the command loads (not the built-in
+/// shapes). Sizes outside 1 cm..100 m across are warned about.
+#define BK_MODEL_SCALE_MIN 1e-6
+#define BK_MODEL_SCALE_MAX 1e6
+#define BK_MODEL_SIZE_MIN 0.01
+#define BK_MODEL_SIZE_MAX 100.0
+/// The two options' lines for a command's --help.
+#define BK_MODEL_UNITS_USAGE                                                                                 \
+  "  --scale S             multiply a model file's size by S, 1e-06..1e+06 (default: 1)\n"                   \
+  "  --units mm|cm|m|in    the unit of a model file whose format gives none (OBJ, STL,\n"                    \
+  "                        PLY, ...; FBX, glTF and Collada give theirs; default: m)\n"
+/// Parses --scale or --units for `command`: 0 if argv[*i] was one (its value
+/// consumed), 1 if not, 2 on a bad value (one line printed naming the option).
+int bk_parse_model_units_option(const char* command, int argc, char** argv, int* i);
+/// Back to scale 1 and no --units (for tests running several command lines).
+void bk_app_reset_model_units(void);
+/// Scales a model file's mesh as --scale and --units ask (--units ignored,
+/// with a warning, when info says the file gives its unit) and warns on
+/// stderr when it is outside 1 cm..100 m across.
+void bk_app_apply_model_units(const char* path, bk_mesh* mesh, const bk_import_info* info);
+/// The size warning for `mesh` into out (one line); false when its size is fine.
+bool bk_app_model_size_note(const bk_mesh* mesh, char* out, size_t size);
+/// A model file's own surface (model_surface.c): the base-colour texture
+/// (the image file's bytes, or NULL) and colour (linear RGB) of the
+/// material most of its triangles use.
+typedef struct bk_app_model_surface {
+  void* image;
+  size_t image_size;
+  float color[3];
+} bk_app_model_surface;
+/// Reads `path`'s surface; false (nothing held) when it is not a model file
+/// or has no texture or colour of its own (white and untextured).
+bool bk_app_read_model_surface(const char* path, bk_app_model_surface* out);
+void bk_app_model_surface_free(bk_app_model_surface* surface);
 /// The materials a glTF export carries (bk_gltf_def.materials), with the
 /// texture files read into memory so the export holds them.
 typedef struct bk_app_export_materials {
@@ -62,6 +97,11 @@ bool bk_parse_double(const char* text, double min, double max, double* out);
 /// --seed ' -1' is not a whole number (0..18446744073709551615)".
 bool bk_option_u64(const char* command, const char* option, const char* text, uint64_t min, uint64_t max,
                    uint64_t* out);
+/// The command line with every `--name=value` (GNU form) given as the two
+/// arguments `--name` `value`, so that each command's parser takes both
+/// forms alike; other arguments are kept as they are. The new array (and
+/// *argc) stays valid until the program exits.
+char** bk_split_option_values(int* argc, char** argv);
 /// Which of `names` argv[*i] is (-1: none of them), taking its value into
 /// *value and moving *i past it; -2 when the value is missing, with the
 /// message printed. For a command's group of options that each take one.
@@ -90,6 +130,19 @@ bool bk_app_parse_max_memory(const char* command, const char* text);
 /// limit, naming the request by its pieces and `mesh_spec`.
 bool bk_app_check_fracture_memory(const char* mesh_spec, const bk_mesh* source, const bk_fracture_def* desc,
                                   bool saving, bk_error* err);
+/// What bk_app_load_model last repaired on this thread (all zero after a
+/// built-in shape or before any load).
+const bk_repair_info* bk_app_last_repair(void);
+/// The repairs of `r` as one line ("removed 1 triangles given twice; ..."),
+/// "" when there were none; returns its length.
+size_t bk_app_repair_text(const bk_repair_info* r, char* out, size_t size);
+/// Refuses, before it is decoded, a fracture map (`path`, its header read:
+/// width x height, `channels`, 16 bits a channel or 8) whose decoding with
+/// the build's use of it would exceed the same limit; `file_bytes` are held
+/// while it decodes. err gets one line naming the file, its size, the
+/// estimate and the limit.
+bool bk_app_check_map_memory(const char* path, uint32_t width, uint32_t height, int channels,
+                             bool sixteen_bit, uint64_t file_bytes, bk_error* err);
 
 /// Overrides for a scene's defaults (zero = the scene's or material's value).
 typedef struct bk_scene_options {
@@ -335,9 +388,27 @@ bool bk_app_load_scene_tree(uint64_t seed, const bk_scene* scene, uint32_t piece
 /// Runs an impact in a fresh world.
 bool bk_impact_run(const bk_impact* setup, bk_impact_result* out, bk_error* err);
 
+/// Prints "breakables: warning: <text>" on stderr, the text escaped like
+/// every error (bk_escape_text): warnings quote names from model files.
+void bk_app_warning(const char* format, ...) __attribute__((format(printf, 1, 2)));
 /// An option's text as it can be shown in a one-line message: control
-/// characters as \xNN, long text cut short with "...".
+/// characters as \xNN (bk_escape_text), long text cut short with "...".
 void bk_quote_text(const char* text, char* out, size_t size);
+
+/// A file a command reads or writes, named by its option ("--out").
+typedef struct bk_app_file {
+  const char* option;
+  const char* path;       ///< NULL: not given (skipped)
+  const char* extensions; ///< outputs: the accepted endings, space-separated (".glb .gltf"); NULL = any
+  bool any_case;          ///< the endings match in any case (".GLB")
+} bk_app_file;
+/// Checks a command's output files before any work (output_files.c): each
+/// ends in one of its extensions, bk_file_check_write accepts it (directory
+/// there, target not read-only nor a directory), none is one of the inputs
+/// and no two are the same file (bk_file_same). False with one line in err
+/// naming the option, the file and why.
+bool bk_app_check_files(const bk_app_file* inputs, uint32_t input_count, const bk_app_file* outputs,
+                        uint32_t output_count, bk_error* err);
 
 /// Appends name number `index` of `count` to a list in out ("a", "a or b",
 /// "a, b or c"); returns the new length (at most size - 1 is written).

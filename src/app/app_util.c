@@ -2,6 +2,7 @@
 #include <errno.h>
 #include <limits.h>
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -104,20 +105,24 @@ void bk_format_number(double value, char* out, size_t size) {
   }
 }
 
+void bk_app_warning(const char* format, ...) {
+  char text[1024], shown[4096];
+  va_list args;
+  va_start(args, format);
+  vsnprintf(text, sizeof text, format, args);
+  va_end(args);
+  bk_escape_text(text, strlen(text), shown, sizeof shown);
+  fprintf(stderr, "breakables: warning: %s\n", shown);
+}
+
 void bk_quote_text(const char* text, char* out, size_t size) {
-  size_t used = 0;
-  for (const char* p = text; *p && used + 8 < size; ++p) {
-    unsigned char c = (unsigned char)*p;
-    if (used >= 60) {
-      used += (size_t)snprintf(out + used, size - used, "...");
-      break;
-    }
-    if (c < 0x20 || c == 0x7f)
-      used += (size_t)snprintf(out + used, size - used, "\\x%02x", c);
-    else
-      out[used++] = (char)c;
+  if (size < 4) {
+    if (size > 0) out[0] = 0;
+    return;
   }
-  out[used] = 0;
+  // At most 60 bytes shown, escaped as every message is, with room for "...".
+  size_t length = strlen(text), room = size - 3 < 61 ? size - 3 : 61;
+  if (bk_escape_text(text, length, out, room) < length) strcat(out, "...");
 }
 
 bool bk_option_u64(const char* command, const char* option, const char* text, uint64_t min, uint64_t max,
@@ -130,6 +135,45 @@ bool bk_option_u64(const char* command, const char* option, const char* text, ui
           status == NUMBER_MALFORMED ? "not a whole number" : "out of range", (unsigned long long)min,
           (unsigned long long)max);
   return false;
+}
+
+// The arguments bk_split_option_values made, kept for the program's life.
+static char** split_arguments;
+
+// "--name=value" with a name of lower-case letters, digits and dashes: an
+// option and its value. Anything else (a value such as "a=b.obj", "--=x")
+// is an argument as it stands.
+static size_t option_name_length(const char* arg) {
+  if (strncmp(arg, "--", 2) != 0) return 0;
+  size_t n = 2;
+  while ((arg[n] >= 'a' && arg[n] <= 'z') || is_digit(arg[n]) || arg[n] == '-')
+    ++n;
+  return n > 2 && arg[n] == '=' ? n : 0;
+}
+
+char** bk_split_option_values(int* argc, char** argv) {
+  int count = *argc, extra = 0;
+  for (int i = 1; i < count; ++i)
+    extra += option_name_length(argv[i]) > 0;
+  if (extra == 0) return argv;
+  char** out = bk_alloc(sizeof(char*) * ((size_t)count + (size_t)extra + 1));
+  int n = 0;
+  for (int i = 0; i < count; ++i) {
+    size_t length = i > 0 ? option_name_length(argv[i]) : 0;
+    if (length == 0) {
+      out[n++] = argv[i];
+      continue;
+    }
+    char* name = bk_alloc(length + 1);
+    memcpy(name, argv[i], length);
+    name[length] = 0;
+    out[n++] = name;
+    out[n++] = argv[i] + length + 1;
+  }
+  out[n] = NULL;
+  split_arguments = out;
+  *argc = n;
+  return out;
 }
 
 int bk_take_option(const char* command, int argc, char** argv, int* i, const char* const* names, int count,

@@ -4,38 +4,53 @@
 
 #include <errno.h>
 #include <math.h>
+#include <spawn.h>
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <sys/types.h>
+#include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
 
 #include "app.h"
 
+extern char** environ; // for gnuplot's environment (posix_spawnp)
+
 // ---------------------------------------------------------------- output files
 
+// The bench reports every write failure the same way.
+static const bk_atomic_messages bench_write_messages = {"cannot write", "cannot write", "cannot write"};
+
 bool bench_output_open(const bench* b, const char* name, bench_output* out) {
-  snprintf(out->path, sizeof out->path, "%s/%s", b->dir, name);
-  snprintf(out->temp, sizeof out->temp, "%s.tmp", out->path);
-  out->file = fopen(out->temp, "wb");
-  if (out->file) return true;
-  fprintf(stderr, "breakables bench: cannot write %s: %s\n", out->path, strerror(errno));
-  return false;
+  out->file = NULL;
+  if (snprintf(out->path, sizeof out->path, "%s/%s", b->dir, name) >= (int)sizeof out->path) {
+    fprintf(stderr, "breakables bench: cannot write %s/%s: the path is too long\n", b->dir, name);
+    return false;
+  }
+  bk_error err = {{0}};
+  // bk_file_check_write first: a directory made read-only is refused even for root.
+  if (!bk_file_check_write(out->path, &err) ||
+      !bk_file_begin_atomic(out->path, &bench_write_messages, &out->atomic, &err)) {
+    fprintf(stderr, "breakables bench: %s\n", err.message);
+    return false;
+  }
+  out->file = out->atomic.stream;
+  return true;
 }
 
 /// Closes the file and renames it into place (keep = true), or removes it.
 bool bench_output_close(bench_output* out, bool keep) {
   if (!out->file) return false;
-  errno = 0;
-  bool ok = !ferror(out->file);
-  ok = fclose(out->file) == 0 && ok;
   out->file = NULL;
-  if (keep && ok && rename(out->temp, out->path) == 0) return true;
-  int saved = errno ? errno : EIO;
-  remove(out->temp);
-  if (keep) fprintf(stderr, "breakables bench: cannot write %s: %s\n", out->path, strerror(saved));
+  if (!keep) {
+    bk_file_abort_atomic(&out->atomic);
+    return false;
+  }
+  bk_error err = {{0}};
+  if (bk_file_commit_atomic(&out->atomic, out->path, &bench_write_messages, &err)) return true;
+  fprintf(stderr, "breakables bench: %s\n", err.message);
   return false;
 }
 
@@ -213,27 +228,55 @@ bool bench_plot(const bench* b, const char* name, const char* caption, int width
     bench_say(b, "*Plot %s.png (%s) skipped: gnuplot is not on PATH.*\n\n", name, caption);
     return true;
   }
+  // gnuplot draws to its standard output, which is the plot's temporary
+  // (made like every output file): gnuplot's own 'set output' would follow a
+  // symlink planted at DIR/<name>.png and overwrite its target.
+  char file_name[256];
+  snprintf(file_name, sizeof file_name, "%.200s.png", name);
+  bench_output png = {0};
+  if (!bench_output_open(b, file_name, &png)) return false;
   fflush(NULL);
-  FILE* gnuplot = popen("gnuplot", "w");
+  int script_pipe[2] = {-1, -1};
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  pid_t pid = 0;
+  int code = pipe(script_pipe) != 0 ? errno : 0;
+  if (code == 0) {
+    posix_spawn_file_actions_adddup2(&actions, script_pipe[0], STDIN_FILENO);
+    posix_spawn_file_actions_adddup2(&actions, fileno(png.file), STDOUT_FILENO);
+    posix_spawn_file_actions_addclose(&actions, script_pipe[1]);
+    char* gnuplot_argv[] = {"gnuplot", NULL};
+    code = posix_spawnp(&pid, "gnuplot", &actions, NULL, gnuplot_argv, environ);
+    close(script_pipe[0]);
+  }
+  posix_spawn_file_actions_destroy(&actions);
+  FILE* gnuplot = code == 0 ? fdopen(script_pipe[1], "w") : NULL;
   if (!gnuplot) {
-    fprintf(stderr, "breakables bench: cannot run gnuplot: %s\n", strerror(errno));
+    if (script_pipe[1] >= 0) close(script_pipe[1]);
+    if (code == 0) waitpid(pid, NULL, 0);
+    fprintf(stderr, "breakables bench: cannot run gnuplot: %s\n", strerror(code ? code : errno));
+    bench_output_close(&png, false);
     return false;
   }
   fputs("cd ", gnuplot);
   gnuplot_quoted(gnuplot, b->dir);
   fprintf(gnuplot, "\nset terminal %s size %d,%d%s\n", b->terminal, width, height,
           strcmp(b->terminal, "pngcairo") == 0 ? " font 'sans,10' linewidth 1.5" : "");
-  fprintf(gnuplot, "set output '%s.png'\nset datafile separator ','\nset datafile columnheaders\n", name);
+  fputs("set output\nset datafile separator ','\nset datafile columnheaders\n", gnuplot);
   // The key goes under the plot, where it hides no data; its blank title keeps it off the axis label.
   fputs("set key outside bottom center horizontal maxrows 2 title ' '\n"
         "set grid\nset logscale xy\nset format x '%g'\nset format y '%g'\n",
         gnuplot);
   fprintf(gnuplot, "%s\nunset output\n", script->text);
-  int status = pclose(gnuplot);
-  char path[PATH_MAX];
-  snprintf(path, sizeof path, "%s/%s.png", b->dir, name);
-  if (status != 0 || access(path, R_OK) != 0) {
-    fprintf(stderr, "breakables bench: gnuplot could not draw %s\n", path);
+  fclose(gnuplot);
+  int status = -1;
+  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  struct stat drawn_stat = {0};
+  bool drawn = WIFEXITED(status) && WEXITSTATUS(status) == 0 && fstat(fileno(png.file), &drawn_stat) == 0 &&
+               drawn_stat.st_size > 0;
+  if (!bench_output_close(&png, drawn) || !drawn) {
+    if (!drawn) fprintf(stderr, "breakables bench: gnuplot could not draw %s\n", png.path);
     return false;
   }
   bench_say(b, "![%s](%s.png)\n\n", caption, name);

@@ -10,6 +10,8 @@
 
 #include <breakables/authoring.h>
 
+#include "bk_geom.h"
+
 #include "scenes.h"
 
 enum {
@@ -27,11 +29,13 @@ typedef struct bench {
 
 // ---------------------------------------------------------------- output files
 
-/// A file written under a temporary name and renamed into place when complete.
+/// A file written under a temporary name and renamed into place when
+/// complete (bk_file_begin_atomic: a file or symlink planted at a temporary
+/// name is never opened or followed).
 typedef struct bench_output {
-  FILE* file;
+  FILE* file; ///< write here
   char path[PATH_MAX];
-  char temp[PATH_MAX + 8];
+  bk_atomic_file atomic;
 } bench_output;
 
 /// Opens DIR/<name> under its temporary name; prints why on stderr when it cannot.

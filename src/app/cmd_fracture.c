@@ -23,7 +23,8 @@ static void print_usage(void) {
   bk_format_number(TEXTURE_SCALE_MAX, scale_max, sizeof scale_max);
   bk_format_number(d.texture_scale, texture_scale, sizeof texture_scale);
   printf(
-      "usage: breakables fracture [--mesh NAME|PATH] [--node NAME] [--pieces N] [--seed S]\n"
+      "usage: breakables fracture [--mesh NAME|PATH] [--node NAME] [--scale S] [--units U]\n"
+      "                           [--pieces N] [--seed S]\n"
       "                           [--texture-scale X] [--out FILE.mtree] [--export-obj FILE.obj] [--json]\n"
       "                           [--export-gltf FILE.glb|FILE.gltf] [--gltf-levels all|leaves]\n"
       "                           [--max-memory MIB] [--pattern NAME] [pattern options]\n"
@@ -46,7 +47,8 @@ static void print_usage(void) {
       "                        count and place of the open edges. Closed shells that overlap\n"
       "                        (nested or interpenetrating) or touch along a line or a face\n"
       "                        are fractured each on its own, with a warning naming them.\n"
-      "  --node NAME           take only this node of the model's scene (and its children)\n"
+      "  --node NAME           take only this node of the model's scene (and its "
+      "children)\n" BK_MODEL_UNITS_USAGE
       "  --pieces N            number of fragments, 1..%u (default: %u). Exactly N\n"
       "                        unless no cut of a piece keeps it closed with its volume\n"
       "                        (fewer: a warning on stderr and in --json says why); a cut\n"
@@ -71,13 +73,15 @@ static void print_usage(void) {
       "                        nodes, max_depth, ms, leaf_triangles, bonds, watertight,\n"
       "                        volume_rel_error, child_volume_rel_error, seed, texture_scale,\n"
       "                        source_triangles, source_materials, peak_rss_mb,\n"
-      "                        pieces_requested, pieces_made, pattern and the parameters\n"
+      "                        pieces_requested (the seed points with --seeds, null for\n"
+      "                        cutout), pieces_made, pattern and the parameters\n"
       "                        of that pattern (named as its options: clusters,\n"
       "                        cluster_border, impact, ...; seed_points and seeds for\n"
       "                        voronoi, cutout and its width and height for cutout),\n"
       "                        slivers, sliver_fraction, volume_ratio_p95_p5, min_aspect,\n"
       "                        median_aspect (fragment quality, see below),\n"
       "                        warnings (why fewer pieces were made than asked for,\n"
+      "                        cells kept together where a cut face could not be made,\n"
       "                        which shells overlapped) and\n"
       "                        export_gltf (the path written, or null)\n"
       "  --max-memory MIB      memory the fracture may use, 1..1073741824 MiB (default: the\n"
@@ -144,6 +148,7 @@ typedef struct fracture_result {
   uint32_t source_triangles, source_materials;
   const char* shortfall; ///< NULL when every piece was made
   const char* overlap;   ///< NULL when no shells overlapped
+  const char* size;      ///< NULL when the model is 1 cm..100 m across
   bool written;          ///< every file asked for was written
 } fracture_result;
 
@@ -152,15 +157,23 @@ static void print_json(const fracture_request* r, const fracture_result* f) {
   const bk_mesh_tree_stats* st = &f->stats;
   fputs("{\"mesh\": ", stdout);
   bk_app_json_string(stdout, r->mesh_spec);
-  printf(", \"pieces\": %u, \"pieces_requested\": %u, \"pieces_made\": %u, \"nodes\": %u, "
-         "\"max_depth\": %u, \"ms\": %.3f, "
-         "\"leaf_triangles\": %u, \"bonds\": %u, \"watertight\": %s, \"volume_rel_error\": %.3e, "
-         "\"child_volume_rel_error\": %.3e, \"seed\": %llu, \"texture_scale\": %g, "
-         "\"source_triangles\": %u, \"source_materials\": %u, \"peak_rss_mb\": %.1f",
-         tree->leaf_count, r->desc.pieces, tree->leaf_count, tree->node_count, tree->max_depth, f->ms,
-         st->leaf_triangles, tree->bond_count, st->open_nodes == 0 ? "true" : "false", f->volume_error,
-         st->max_child_rel_error, (unsigned long long)tree->desc.seed, tree->desc.texture_scale,
-         f->source_triangles, f->source_materials, bk_peak_rss_mb());
+  // What was asked for: with --seeds one piece per point (--pieces is then
+  // ignored); with a fracture map nothing (its regions decide: null).
+  char requested[16] = "null";
+  if (r->desc.pattern != BK_PATTERN_CUTOUT)
+    snprintf(requested, sizeof requested, "%u",
+             r->desc.seed_points ? r->desc.seed_point_count : r->desc.pieces);
+  printf(", \"pieces\": %u, \"pieces_requested\": %s, \"pieces_made\": %u, \"nodes\": %u, "
+         "\"max_depth\": %u, \"ms\": %s, "
+         "\"leaf_triangles\": %u, \"bonds\": %u, \"watertight\": %s, \"volume_rel_error\": %s, "
+         "\"child_volume_rel_error\": %s, \"seed\": %llu, \"texture_scale\": %s, "
+         "\"source_triangles\": %u, \"source_materials\": %u, \"peak_rss_mb\": %s",
+         tree->leaf_count, requested, tree->leaf_count, tree->node_count, tree->max_depth,
+         BK_APP_JSON_NUMBER("%.3f", f->ms), st->leaf_triangles, tree->bond_count,
+         st->open_nodes == 0 ? "true" : "false", BK_APP_JSON_NUMBER("%.3e", f->volume_error),
+         BK_APP_JSON_NUMBER("%.3e", st->max_child_rel_error), (unsigned long long)tree->desc.seed,
+         BK_APP_JSON_NUMBER("%g", tree->desc.texture_scale), f->source_triangles, f->source_materials,
+         BK_APP_JSON_NUMBER("%.1f", bk_peak_rss_mb()));
   // The parameters are those the tree was built with: the request's def
   // (the tree's own copy no longer holds the borrowed seed points and map).
   bk_pattern_options_json(stdout, &r->desc, &r->patterns);
@@ -173,10 +186,15 @@ static void print_json(const fracture_request* r, const fracture_result* f) {
   fputs(", \"median_aspect\": ", stdout);
   bk_app_json_number(stdout, f->quality.median_aspect);
   fputs(", \"warnings\": [", stdout);
-  if (f->shortfall) bk_app_json_string(stdout, f->shortfall);
-  if (f->overlap) {
-    if (f->shortfall) fputs(", ", stdout);
-    bk_app_json_string(stdout, f->overlap);
+  // What the source was repaired of comes first: the fragments are of the repaired source.
+  char repaired[400] = "";
+  const char* listed[5] = {NULL, r->patterns.cutout_warning[0] ? r->patterns.cutout_warning : NULL,
+                           f->shortfall, f->overlap, f->size};
+  if (bk_app_repair_text(bk_app_last_repair(), repaired, sizeof repaired)) listed[0] = repaired;
+  for (int i = 0, written = 0; i < 5; ++i) {
+    if (!listed[i]) continue;
+    if (written++) fputs(", ", stdout);
+    bk_app_json_string(stdout, listed[i]);
   }
   fputs("], \"export_gltf\": ", stdout);
   if (r->gltf_path && f->written)
@@ -236,6 +254,9 @@ static int run_fracture(const fracture_request* r) {
     gltf.material_count = materials.count;
   }
   fracture_result f = {0};
+  char size_note[200];
+  if (bk_model_import_supports(r->mesh_spec) && bk_app_model_size_note(&source, size_note, sizeof size_note))
+    f.size = size_note;
   f.source_materials = imported.materials ? imported.materials : 1;
   bk_import_info_free(&imported);
   bk_fracture_def desc = r->desc;
@@ -278,6 +299,8 @@ static int run_fracture(const fracture_request* r) {
     return fail(message);
   }
   f.quality = bk_mesh_tree_measure_quality(&tree);
+  if (r->patterns.cutout_warning[0])
+    fprintf(stderr, "breakables fracture: warning: %s\n", r->patterns.cutout_warning);
   char shortfall[400];
   if (bk_mesh_tree_shortfall_text(&tree, shortfall, sizeof shortfall)) {
     fprintf(stderr, "breakables fracture: warning: %s: %s\n", r->mesh_spec, shortfall);
@@ -298,6 +321,34 @@ static int run_fracture(const fracture_request* r) {
   return f.written ? 0 : 1;
 }
 
+// The output files, checked before anything is read or built: a name the
+// writer takes, a place to write it, and no file lost (an input or another output).
+static bool check_files(const fracture_request* r) {
+  bk_shape shape = BK_SHAPE_CUBE;
+  char bunny[4096] = "";
+  const char* mesh_path = r->mesh_spec;
+  if (bk_shape_from_name(r->mesh_spec, &shape)) {
+    mesh_path = NULL;
+  } else if (strcmp(r->mesh_spec, "bunny") == 0) {
+    snprintf(bunny, sizeof bunny, "%s/meshes/bunny.obj", bk_app_asset_dir());
+    mesh_path = bunny;
+  }
+  const bk_app_file inputs[] = {
+      {"--mesh", mesh_path, NULL, false},
+      {"--seeds", r->patterns.seeds_path, NULL, false},
+      {"--cutout", r->patterns.cutout_path, NULL, false},
+  };
+  const bk_app_file outputs[] = {
+      {"--out", r->out_path, ".mtree", false}, // sim, play and the editor know a tree by this ending
+      {"--export-obj", r->obj_path, ".obj", true},
+      {"--export-gltf", r->gltf_path, ".glb .gltf", true},
+  };
+  bk_error err = {0};
+  if (bk_app_check_files(inputs, 3, outputs, 3, &err)) return true;
+  fail(err.message);
+  return false;
+}
+
 int bk_cmd_fracture(int argc, char** argv) {
   fracture_request r = {
       .mesh_spec = "bunny", .gltf = bk_default_gltf_def(), .desc = bk_default_fracture_def()};
@@ -306,6 +357,9 @@ int bk_cmd_fracture(int argc, char** argv) {
     const char* value = i + 1 < argc ? argv[i + 1] : NULL;
     bool takes_value = true;
     bk_pattern_option_result pattern_arg = BK_PATTERN_OPTION_NOT_MINE;
+    int units = bk_parse_model_units_option("fracture", argc, argv, &i);
+    if (units == 0) continue;
+    if (units == 2) return 2;
     if (strcmp(arg, "-h") == 0 || strcmp(arg, "--help") == 0) {
       print_usage();
       return 0;
@@ -356,6 +410,7 @@ int bk_cmd_fracture(int argc, char** argv) {
     }
     if (takes_value) ++i;
   }
+  if (!check_files(&r)) return 1;
   // Reads --seeds and --cutout into r.desc, which borrows them from r.patterns.
   int status = bk_pattern_options_finish(&r.patterns, &r.desc);
   if (status == 0) status = run_fracture(&r);

@@ -4,9 +4,11 @@
 #include <string.h>
 
 #include "app.h"
+#include "fracture_patterns.h"
 
 static const char* const sim_usage =
     "usage: breakables sim [--scene NAME | --mesh PATH] [--material NAME] [--pattern NAME] [--pieces N]\n"
+    "                      [--scale S] [--units mm|cm|m|in]\n"
     "                      [--seed S] [--shots K] [--steps F] [--volley V]\n"
     "                      [--speed M/S] [--frailty X] [--density X] [--discrete|--accumulate] [--naive]\n"
     "                      [--no-stress] [--stress-scale X] [--drop KG] [--drop-radius M] [--drop-at STEP]\n"
@@ -22,6 +24,9 @@ static const char* const sim_usage =
     "  --mesh PATH      your own model instead of a scene (what fracture --mesh reads, an\n"
     "                   .mtree, or a .glb/.gltf exported by fracture): stood on the ground\n"
     "                   and shot at from the front\n"
+    "  --scale S        multiply a model file's size by S, 1e-06..1e+06 (default: 1)\n"
+    "  --units U        mm, cm, m or in: the unit of a model file whose format gives none\n"
+    "                   (OBJ, STL, PLY, ...; FBX, glTF and Collada give theirs; default: m)\n"
     "  --material NAME  stone, concrete, glass, porcelain, eggshell, wood: every object's\n"
     "                   material (default: the scene's; stone for --mesh)\n"
     "  --pattern NAME   how every object breaks: planes, voronoi, clustered, radial, brick\n"
@@ -182,6 +187,9 @@ int bk_cmd_sim(int argc, char** argv) {
     int dropped = bk_parse_drop_option("sim", argc, argv, &i, &drop);
     if (dropped == 0) continue;
     if (dropped == 2) return 2;
+    int units = bk_parse_model_units_option("sim", argc, argv, &i);
+    if (units == 0) continue;
+    if (units == 2) return 2;
     if (strcmp(arg, "-h") == 0 || strcmp(arg, "--help") == 0) {
       fputs(sim_usage, stdout);
       return 0;
@@ -282,7 +290,12 @@ int bk_cmd_sim(int argc, char** argv) {
 
   bk_loaded_scene loaded = {0};
   if (!bk_loaded_scene_create(scene, &options, &loaded, &err)) {
-    fprintf(stderr, "breakables sim: %s: %s\n", scene->name, err.message);
+    // A user's model: what failed to read or load it names its file already
+    // (once is enough); a built-in scene's name says which scene failed.
+    if (scene->fit_to_mesh && strstr(err.message, scene->objects[0].mesh))
+      fprintf(stderr, "breakables sim: %s\n", err.message);
+    else
+      fprintf(stderr, "breakables sim: %s: %s\n", scene->name, err.message);
     return 1;
   }
   // The budget keeps what is near the eye fully simulated (with copies,
@@ -346,36 +359,47 @@ int bk_cmd_sim(int argc, char** argv) {
   uint32_t fallen = fragments_fallen(&loaded, rest_heights);
   double stress_median = bk_median(stress_ms, stress_steps), stress_max = maximum(stress_ms, stress_steps);
   if (json) {
-    printf(
-        "{\"scene\": \"%s\", \"pieces\": %u, \"shots\": %u, \"steps\": %llu, \"bodies_initial\": %u, "
-        "\"bodies_final\": %u, \"break_events\": %u, \"bonds_broken\": %u, \"colliders_initial\": %u, "
-        "\"colliders_final\": %u, \"colliders_naive_final\": %u, \"fragments_free\": %u, "
-        "\"step_ms_median\": %.4f, \"step_ms_max\": %.4f, \"break_ms_median\": %.4f, \"break_ms_max\": %.4f, "
-        "\"step_ms_last_second\": %.4f, \"awake_final\": %u, \"pairs_final\": %u, \"manifolds_final\": %u, "
-        "\"mass_rel_error\": %.3e, \"nan\": %s, \"from_cache\": %s, \"stress_bonds_broken\": %u, "
-        "\"fragments_fallen\": %u, \"stress_ms_median\": %.4f, \"stress_ms_max\": %.4f, ",
-        scene->name, pieces, fired, (unsigned long long)steps, initial.bodies, final.bodies,
-        final.break_events, final.bonds_broken, initial.colliders, final.colliders, final.colliders_naive,
-        final.fragments_free, step_median, step_max, break_median, break_max, last_median,
-        physics.awake_bodies, physics.pairs, physics.manifolds, mass_error, final.nan ? "true" : "false",
-        loaded.from_cache ? "true" : "false", final.stress_bonds_broken, fallen, stress_median, stress_max);
+    // Every number through BK_APP_JSON_NUMBER: a non-finite one is null, never inf or nan.
+    fputs("{\"scene\": ", stdout);
+    bk_app_json_string(stdout, scene->name);
+    printf(", \"pieces\": %u, \"shots\": %u, \"steps\": %llu, \"bodies_initial\": %u, "
+           "\"bodies_final\": %u, \"break_events\": %u, \"bonds_broken\": %u, \"colliders_initial\": %u, "
+           "\"colliders_final\": %u, \"colliders_naive_final\": %u, \"fragments_free\": %u, "
+           "\"step_ms_median\": %s, \"step_ms_max\": %s, \"break_ms_median\": %s, \"break_ms_max\": %s, "
+           "\"step_ms_last_second\": %s, \"awake_final\": %u, \"pairs_final\": %u, \"manifolds_final\": %u, "
+           "\"mass_rel_error\": %s, \"nan\": %s, \"from_cache\": %s, \"stress_bonds_broken\": %u, "
+           "\"fragments_fallen\": %u, \"stress_ms_median\": %s, \"stress_ms_max\": %s, ",
+           pieces, fired, (unsigned long long)steps, initial.bodies, final.bodies, final.break_events,
+           final.bonds_broken, initial.colliders, final.colliders, final.colliders_naive,
+           final.fragments_free, BK_APP_JSON_NUMBER("%.4f", step_median),
+           BK_APP_JSON_NUMBER("%.4f", step_max), BK_APP_JSON_NUMBER("%.4f", break_median),
+           BK_APP_JSON_NUMBER("%.4f", break_max), BK_APP_JSON_NUMBER("%.4f", last_median),
+           physics.awake_bodies, physics.pairs, physics.manifolds, BK_APP_JSON_NUMBER("%.3e", mass_error),
+           final.nan ? "true" : "false", loaded.from_cache ? "true" : "false", final.stress_bonds_broken,
+           fallen, BK_APP_JSON_NUMBER("%.4f", stress_median), BK_APP_JSON_NUMBER("%.4f", stress_max));
     print_patterns(&loaded, true);
-    printf(", \"drop_kg\": %g, \"drop_point\": ", drop_set ? drop.kg : 0.0);
+    printf(", \"drop_kg\": %s, \"drop_point\": ", BK_APP_JSON_NUMBER("%g", drop_set ? drop.kg : 0.0));
     if (drop_set)
-      printf("[%.4f, %.4f, %.4f], ", drop_point.x, drop_point.y, drop_point.z);
+      printf("[%s, %s, %s], ", BK_APP_JSON_NUMBER("%.4f", drop_point.x),
+             BK_APP_JSON_NUMBER("%.4f", drop_point.y), BK_APP_JSON_NUMBER("%.4f", drop_point.z));
     else
       printf("null, ");
-    printf("\"copies\": %u, \"step_ms_p95\": %.4f, \"physics_ms_median\": %.4f, \"physics_ms_p95\": %.4f, "
-           "\"physics_ms_max\": %.4f, \"budget_ms\": %g, \"budget_fidelity_s\": %g, \"budget_debris\": %u, "
+    printf("\"copies\": %u, \"step_ms_p95\": %s, \"physics_ms_median\": %s, \"physics_ms_p95\": %s, "
+           "\"physics_ms_max\": %s, \"budget_ms\": %s, \"budget_fidelity_s\": %s, \"budget_debris\": %u, "
            "\"budget_simplified\": %u, "
            "\"budget_frozen\": %u, \"budget_retired\": %u, \"budget_demotions\": %u, "
-           "\"budget_restorations\": %u, \"mass_retired\": %.6g, \"debris_mass_1s\": %.6g, "
-           "\"debris_momentum_1s\": %.6g, \"debris_net_momentum_1s\": %.6g, \"debris_near_mass_1s\": %.6g, "
-           "\"debris_near_momentum_1s\": %.6g, \"debris_near_net_momentum_1s\": %.6g}\n",
-           loaded.copies, step_p95, physics_median, physics_p95, physics_max, options.physics_budget_ms,
-           options.budget_fidelity_time, final.budget_debris, final.budget_simplified, final.budget_frozen,
-           final.budget_retired, final.budget_demotions, final.budget_restorations, final.retired_mass,
-           debris.mass, debris.momentum, debris.net_momentum, near.mass, near.momentum, near.net_momentum);
+           "\"budget_restorations\": %u, \"mass_retired\": %s, \"debris_mass_1s\": %s, "
+           "\"debris_momentum_1s\": %s, \"debris_net_momentum_1s\": %s, \"debris_near_mass_1s\": %s, "
+           "\"debris_near_momentum_1s\": %s, \"debris_near_net_momentum_1s\": %s}\n",
+           loaded.copies, BK_APP_JSON_NUMBER("%.4f", step_p95), BK_APP_JSON_NUMBER("%.4f", physics_median),
+           BK_APP_JSON_NUMBER("%.4f", physics_p95), BK_APP_JSON_NUMBER("%.4f", physics_max),
+           BK_APP_JSON_NUMBER("%g", options.physics_budget_ms),
+           BK_APP_JSON_NUMBER("%g", options.budget_fidelity_time), final.budget_debris,
+           final.budget_simplified, final.budget_frozen, final.budget_retired, final.budget_demotions,
+           final.budget_restorations, BK_APP_JSON_NUMBER("%.6g", final.retired_mass),
+           BK_APP_JSON_NUMBER("%.6g", debris.mass), BK_APP_JSON_NUMBER("%.6g", debris.momentum),
+           BK_APP_JSON_NUMBER("%.6g", debris.net_momentum), BK_APP_JSON_NUMBER("%.6g", near.mass),
+           BK_APP_JSON_NUMBER("%.6g", near.momentum), BK_APP_JSON_NUMBER("%.6g", near.net_momentum));
   } else {
     if (loaded.copies > 1) printf("%u copies %.3g m apart, ", loaded.copies, loaded.copy_spacing);
     printf("%s: %u fragments, %u shots over %llu steps (%.1f s)\n", scene->name, pieces, fired,

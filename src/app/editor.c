@@ -15,13 +15,14 @@ static const char* const editor_usage =
     "                         [--export PATH]\n"
     "                         [--frames N] [--screenshot FILE.png]\n"
     "                         [--width W] [--height H] [--max-memory MIB]\n"
+    "                         [--scale S] [--units mm|cm|m|in]\n"
     "\n"
     "Preview the fragments of a mesh and export them.\n"
     "\n"
     "options:\n"
     "  --mesh NAME|PATH      cube, torus, eggshell, bunny, wall, slab, pillar, tower, bridge,\n"
     "                        balcony, a model file or an .mtree (default: bunny); the panel\n"
-    "                        opens others by path\n"
+    "                        opens others by path\n" BK_MODEL_UNITS_USAGE
     "  --pattern NAME        planes, voronoi, clustered, radial, brick or cutout (default: planes);\n"
     "                        radial centres on the surface facing the first view, brick follows\n"
     "                        the wall's brick texture, cutout uses the game's cobweb map\n"
@@ -138,7 +139,8 @@ static bool rebuild(editor* e, bk_error* err) {
         bk_v3_sub(bk_mesh_tree_mass(&e->tree, bk_mesh_tree_leaf(&e->tree, l)->moments).centroid, centre);
   e->target = centre;
   bk_aabb box = e->tree.nodes[0].bounds;
-  e->distance = 2.2 * bk_v3_length(bk_v3_sub(box.max, box.min)) + 0.5;
+  double diagonal = bk_v3_length(bk_v3_sub(box.max, box.min));
+  e->distance = 2.2 * diagonal + fmin(0.5, diagonal); // a model of a few centimetres fills the view too
   snprintf(e->status, sizeof e->status, "%u fragments, %u bonds (%s in %.0f ms)", e->tree.leaf_count,
            e->tree.bond_count,
            cached                                                                    ? "cache"
@@ -175,6 +177,16 @@ static void export_files(editor* e) {
   snprintf(obj, sizeof obj, "%s.obj", e->export_path);
   snprintf(mtree, sizeof mtree, "%s.mtree", e->export_path);
   snprintf(glb, sizeof glb, "%s.glb", e->export_path);
+  // Nothing is written unless all three can be, and none is the model shown.
+  const bk_app_file input = {"--mesh", e->mesh, NULL, false};
+  const bk_app_file outputs[] = {{"the .obj export", obj, NULL, false},
+                                 {"the .mtree export", mtree, NULL, false},
+                                 {"the .glb export", glb, NULL, false}};
+  if (!e->export_path[0] || !bk_app_check_files(&input, 1, outputs, 3, &err)) {
+    snprintf(e->status, sizeof e->status, "%s",
+             e->export_path[0] ? err.message : "export: the path is empty");
+    return;
+  }
   bk_mesh* leaves = bk_alloc(sizeof(bk_mesh) * e->tree.leaf_count);
   for (uint32_t i = 0; i < e->tree.leaf_count; ++i)
     leaves[i] = bk_mesh_tree_leaf(&e->tree, i)->mesh;
@@ -278,6 +290,9 @@ int bk_cmd_editor(int argc, char** argv) {
     int parsed = bk_parse_window_option("editor", argc, argv, &i, &wo);
     if (parsed == 0) continue;
     if (parsed == 2) return free(e), 2;
+    parsed = bk_parse_model_units_option("editor", argc, argv, &i);
+    if (parsed == 0) continue;
+    if (parsed == 2) return free(e), 2;
     uint64_t number = 0;
     const char* value = i + 1 < argc ? argv[i + 1] : NULL;
     if (strcmp(arg, "-h") == 0 || strcmp(arg, "--help") == 0) {
@@ -367,6 +382,7 @@ int bk_cmd_editor(int argc, char** argv) {
     bk_vec3 focus =
         bk_v3_sub(bk_v3_add(e->target, lift), bk_v3_scale(right, e->show_panel ? 0.22 * e->distance : 0.0));
     bk_camera camera = {.eye = bk_v3_add(focus, bk_v3_scale(offset, e->distance)), .target = focus};
+    bk_camera_fit_planes(&camera, e->distance);
     bk_renderer_begin_frame(e->renderer, &camera, width, height);
     for (uint32_t l = 0; l < e->tree.leaf_count; ++l) {
       uint32_t node = e->tree.leaf_nodes[l];

@@ -18,27 +18,33 @@ static void reserve(bk_app_export_materials* m, uint32_t count) {
   m->count = count;
 }
 
-// Reads a texture file into the export; a file that cannot be read or is not
-// PNG or JPEG (glTF's image formats) is left out with a warning.
+// Reads a texture file into the export: PNG and JPEG (glTF's image formats)
+// as they are, TGA, BMP and GIF converted to PNG; a file that cannot be read
+// or is none of these is left out with a warning.
 static void read_texture(bk_app_export_materials* m, uint32_t slot, const char* path, const char* material,
                          const char* spec, bk_gltf_image* out) {
   void* data = NULL;
   size_t size = 0;
   bk_error err = {0};
   if (!bk_file_read(path, EXPORT_MAX_TEXTURE_BYTES, "256 MiB", &data, &size, &err)) {
-    fprintf(stderr, "breakables: warning: %s: material '%s': %s; exported without its texture\n", spec,
-            material, err.message);
+    bk_app_warning("%s: material '%s': %s; exported without its texture", spec, material, err.message);
     m->textures_left_out++;
     return;
   }
   if (!bk_image_format(data, size)) {
-    fprintf(stderr,
-            "breakables: warning: %s: material '%s': texture %s is neither PNG nor JPEG (glTF's image "
-            "formats); exported without it\n",
-            spec, material, path);
+    // TGA, BMP and GIF become PNG; anything else is left out.
+    uint8_t* png = NULL;
+    size_t png_size = 0;
+    bool converted = bk_image_convert_to_png(data, size, &png, &png_size);
     free(data);
-    m->textures_left_out++;
-    return;
+    if (!converted) {
+      bk_app_warning("%s: material '%s': texture %s is not PNG or JPEG (glTF's image formats) nor TGA, BMP "
+                     "or GIF (converted to PNG); exported without it",
+                     spec, material, path);
+      m->textures_left_out++;
+      return;
+    }
+    data = png, size = png_size;
   }
   m->files[slot] = data;
   *out = (bk_gltf_image){.data = data, .size = size};
@@ -76,10 +82,8 @@ void bk_app_export_materials_from_import(const bk_import_info* info, const char*
     } else if (in->texture[0])
       read_texture(m, 2 * i, in->texture, out->name, spec, &out->texture);
     else if (in->image_unsupported) {
-      fprintf(stderr,
-              "breakables: warning: %s: material '%s': its embedded texture is neither PNG nor JPEG; "
-              "exported without it\n",
-              spec, out->name);
+      bk_app_warning("%s: material '%s': its embedded texture is neither PNG nor JPEG; exported without it",
+                     spec, out->name);
       m->textures_left_out++;
     }
   }

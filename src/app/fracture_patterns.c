@@ -94,8 +94,10 @@ static const pattern_option options_table[] = {
     {"--cutout", "FILE.png", KIND_CUTOUT, PATTERN(BK_PATTERN_CUTOUT), FIELD(cutout_pixels), 0, 0,
      "cutout: the fracture map, read as grey: pixels of 128 and\n"
      "above are lines, each region they enclose becomes a piece;\n"
-     "the map is stretched over the source's bounds (--pieces is\n"
-     "ignored)"},
+     "the map is stretched over the source's bounds and sampled\n"
+     "by about 3,000 points whatever its shape, at most one piece\n"
+     "each (--pieces is ignored); a map that cannot be decoded\n"
+     "within --max-memory is refused before it is"},
     {"--cutout-axis", "x|y|z", KIND_AXIS, PATTERN(BK_PATTERN_CUTOUT), FIELD(cutout_axis), 0, 2,
      "cutout: the axis the map is projected along (default: {default})"},
     {"--noise", "AMPLITUDE", KIND_NUMBER, NOISE_PATTERNS, FIELD(noise_amplitude), 0, BK_FRACTURE_MAX_SIZE,
@@ -138,6 +140,14 @@ void bk_app_json_number(FILE* out, double value) {
   char text[48] = "";
   bk_format_number(value, text, sizeof text);
   fputs(text, out);
+}
+
+const char* bk_app_json_text(char* text, size_t size, const char* format, double value) {
+  if (!isfinite(value))
+    snprintf(text, size, "null");
+  else
+    snprintf(text, size, format, value);
+  return text;
 }
 
 // "radial", "voronoi, clustered or radial": the patterns of a PATTERN mask.
@@ -342,6 +352,9 @@ static bool load_cutout(const char* path, bk_fracture_def* def, uint8_t** pixels
       const char* why =
           strncmp(size_err.message, "fracture: ", 10) == 0 ? size_err.message + 10 : size_err.message;
       bk_error_set(err, "%s: %s", path, why);
+    } else if (!bk_app_check_map_memory(path, (uint32_t)width, (uint32_t)height, channels,
+                                        stbi_is_16_bit_from_memory(data, (int)size) != 0, size, err)) {
+      // refused before stb_image allocates the pixels
     } else {
       *pixels = stbi_load_from_memory(data, (int)size, &width, &height, &channels, 1);
       if (!*pixels)
@@ -383,6 +396,19 @@ int bk_pattern_options_finish(bk_pattern_options* options, bk_fracture_def* def)
   if (options->cutout_path && !load_cutout(options->cutout_path, def, &options->cutout_pixels, &err)) {
     fprintf(stderr, "breakables fracture: %s\n", err.message);
     return 1;
+  }
+  if (options->cutout_pixels) {
+    // Every region is a piece only when a sample falls in it; a map of more
+    // regions than samples is said to be, not cut into more pieces.
+    uint32_t columns = 0, rows = 0, w = def->cutout_width, h = def->cutout_height;
+    uint32_t samples = bk_cutout_grid(w, h, &columns, &rows);
+    uint32_t regions = bk_cutout_regions(def->cutout_pixels, w, h);
+    if (regions > samples) {
+      snprintf(options->cutout_warning, sizeof options->cutout_warning,
+               "%.200s: the %u x %u map has %u regions, more than its %u samples (a piece each at most): the "
+               "regions no sample falls in join their neighbours",
+               options->cutout_path, w, h, regions, samples);
+    }
   }
   if (!bk_fracture_def_validate(def, &err)) {
     // The library's message names the field; its own prefix repeats ours.

@@ -16,6 +16,9 @@ typedef struct bk_pattern_options {
   const char* cutout_path; ///< --cutout FILE.png, or NULL
   bk_vec3* seed_points;    ///< read from seeds_path by bk_pattern_options_finish (owned)
   uint8_t* cutout_pixels;  ///< decoded from cutout_path by bk_pattern_options_finish (owned)
+  /// A warning about the map ("" when none): more regions than its
+  /// samples. The command prints it once the fracture goes ahead.
+  char cutout_warning[400];
 } bk_pattern_options;
 
 /// What bk_pattern_option made of an argument.
@@ -50,5 +53,13 @@ void bk_pattern_options_json(FILE* out, const bk_fracture_def* used, const bk_pa
 /// A number for JSON: the shortest text that reads back to it exactly, or
 /// null when it is not finite.
 void bk_app_json_number(FILE* out, double value);
+/// A number for JSON written by a printf format of one double ("%.3e") into
+/// text (returned), or null when it is not finite: printf would write inf or
+/// nan, which are not JSON, and one report field without a value is better
+/// than a report no JSON reader can read.
+const char* bk_app_json_text(char* text, size_t size, const char* format, double value);
+/// bk_app_json_text into a buffer that lives until the end of the enclosing
+/// block: printf("\"ms\": %s", BK_APP_JSON_NUMBER("%.3f", ms)).
+#define BK_APP_JSON_NUMBER(format, value) bk_app_json_text((char[48]){0}, 48, format, value)
 /// A JSON string literal: quotes, backslashes and control characters escaped.
 void bk_app_json_string(FILE* out, const char* text);

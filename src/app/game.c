@@ -16,6 +16,7 @@ static const char* const play_usage =
     "                  [--volley V] [--benchmark] [--no-stress] [--stress-scale X] [--drop KG]\n"
     "                  [--drop-radius M] [--drop-at FRAME] [--max-memory MIB] [--budget-ms X]\n"
     "                  [--record DIR] [--record-every K] [--camera X,Y,Z]\n"
+    "                  [--scale S] [--units mm|cm|m|in]\n"
     "\n"
     "The demo game: shoot projectiles at breakable objects and tune them live.\n"
     "\n"
@@ -23,7 +24,8 @@ static const char* const play_usage =
     "  --scene NAME          wall, eggshell, pillar, slab, bunny, torus, showcase, tower, bridge,\n"
     "                        balcony (default: showcase)\n"
     "  --mesh PATH           your own model (what fracture --mesh reads, an .mtree, or a .glb/.gltf\n"
-    "                        exported by fracture), stood on the ground in front of you\n"
+    "                        exported by fracture), stood on the ground in front of "
+    "you\n" BK_MODEL_UNITS_USAGE
     "  --material NAME       stone, concrete, glass, porcelain, eggshell, wood: every object's\n"
     "                        material (default: the scene's; stone for --mesh)\n"
     "  --pattern NAME        how every object breaks: planes, voronoi, clustered, radial, brick\n"
@@ -108,8 +110,18 @@ bool bk_game_load_scene(bk_game* g, uint32_t index, bk_error* err) {
     const bk_scene_object* object = &scene->objects[i];
     g->looks[i] = bk_renderer_material(g->renderer, object->look ? object->look : object->material);
   }
+  // A user's model with a texture or colour of its own shows them on its
+  // surface, its cut faces the chosen material's.
+  bk_app_model_surface surface = {0};
+  if (scene->fit_to_mesh && g->scene.tree_count &&
+      bk_app_read_model_surface(scene->objects[0].mesh, &surface)) {
+    g->looks[0] =
+        bk_renderer_model_look(g->renderer, g->looks[0], surface.image, surface.image_size, surface.color);
+    bk_app_model_surface_free(&surface);
+  }
   bk_vec3 eye = bk_v3_length(scene->camera) > 0.0 ? scene->camera : scene->eye;
   aim_camera(g, g->record.camera_given ? g->record.camera : eye, scene->target);
+  g->view_distance = bk_v3_length(bk_v3_sub(eye, scene->target));
   g->projectile_speed = scene->projectile_speed;
   g->projectile_radius = scene->projectile_radius;
   g->projectile_mass = scene->projectile_mass;
@@ -320,6 +332,9 @@ int bk_cmd_play(int argc, char** argv) {
     parsed = bk_parse_record_option("play", argc, argv, &i, &g->record);
     if (parsed == 0) continue;
     if (parsed == 2) return free(g), 2;
+    parsed = bk_parse_model_units_option("play", argc, argv, &i);
+    if (parsed == 0) continue;
+    if (parsed == 2) return free(g), 2;
     uint64_t number = 0;
     if (strcmp(arg, "-h") == 0 || strcmp(arg, "--help") == 0) {
       fputs(play_usage, stdout);
@@ -461,6 +476,7 @@ int bk_cmd_play(int argc, char** argv) {
     int width = 0, height = 0;
     glfwGetFramebufferSize(g->window, &width, &height);
     bk_camera camera = {.eye = g->eye, .target = bk_v3_add(g->eye, bk_game_forward(g))};
+    bk_camera_fit_planes(&camera, g->view_distance);
     bk_renderer_begin_frame(g->renderer, &camera, width, height);
     draw_world(g, g->alpha);
     bk_renderer_draw_particles(g->renderer, g->particles.instances, particles);

@@ -105,6 +105,12 @@ typedef struct bk_window_options {
 /// one of them (consuming its value), 1 if not ours, or 2 on a bad value.
 int bk_parse_window_option(const char* command, int argc, char** argv, int* i, bk_window_options* options);
 
+/// Fits a camera's near and far planes to what it looks at from `distance`
+/// metres: the renderer's defaults (0.05, 200) for the scenes, the far plane
+/// pushed out for a model hundreds of metres across and the near plane
+/// brought in for one of a few centimetres, so that either is seen whole.
+void bk_camera_fit_planes(bk_camera* camera, double distance);
+
 /// Opens a window with a GL 3.3 core context and the renderer.
 bool bk_window_open(const char* title, const bk_window_options* options, void** window,
                     bk_renderer** renderer, bk_error* err);

@@ -22,6 +22,7 @@ typedef struct bk_game {
   bool reload;
   // Camera.
   bk_vec3 eye;
+  double view_distance; ///< from the scene's camera to its target when loaded (bk_camera_fit_planes)
   double yaw, pitch, mouse_x, mouse_y;
   // Time.
   double accumulator, time_scale;

@@ -20,6 +20,8 @@ static const char* const usage =
     "Run 'breakables <command> --help' for the options of a command.\n";
 
 int main(int argc, char** argv) {
+  // --pieces=64 is --pieces 64 for every command and option.
+  argv = bk_split_option_values(&argc, argv);
   if (argc >= 2 && (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0)) {
     fputs(usage, stdout);
     return 0;

@@ -2,6 +2,7 @@
 // before it starts, with its estimate and the limit, instead of driving the
 // machine into swap or the out-of-memory killer half-way.
 #include <inttypes.h>
+#include <math.h>
 #include <stdatomic.h>
 #include <stdio.h>
 #include <string.h>
@@ -64,13 +65,48 @@ bool bk_app_check_fracture_memory(const char* mesh_spec, const bk_mesh* source, 
   const char* name = strrchr(mesh_spec, '/');
   name = name ? name + 1 : mesh_spec;
   const char* ellipsis = strlen(name) > 120 ? "..." : "";
-  uint32_t pieces = desc->pieces ? desc->pieces : bk_default_fracture_def().pieces;
+  // What sets the size: the pieces asked for, or the map or the points that replace them.
+  char what[64] = "";
+  if (desc->pattern == BK_PATTERN_CUTOUT && desc->cutout_width)
+    snprintf(what, sizeof what, "the %u x %u cutout map", desc->cutout_width, desc->cutout_height);
+  else if (desc->pattern == BK_PATTERN_VORONOI && desc->seed_points)
+    snprintf(what, sizeof what, "%u seed points", desc->seed_point_count);
+  else
+    snprintf(what, sizeof what, "--pieces %u",
+             desc->pieces ? desc->pieces : bk_default_fracture_def().pieces);
   if (explicit_limit)
     return bk_error_set(
-        err, "--pieces %u on %.120s%s needs about %s%s, more than --max-memory allows (%" PRIu64 " MiB)",
-        pieces, name, ellipsis, need_text, saving ? " with its cache file" : "", explicit_limit / MIB);
+        err, "%s on %.120s%s needs about %s%s, more than --max-memory allows (%" PRIu64 " MiB)", what, name,
+        ellipsis, need_text, saving ? " with its cache file" : "", explicit_limit / MIB);
   return bk_error_set(err,
-                      "--pieces %u on %.120s%s needs about %s%s, more than the %s available "
+                      "%s on %.120s%s needs about %s%s, more than the %s available "
                       "(--max-memory MIB overrides)",
-                      pieces, name, ellipsis, need_text, saving ? " with its cache file" : "", limit_text);
+                      what, name, ellipsis, need_text, saving ? " with its cache file" : "", limit_text);
+}
+
+// Decoding a PNG holds the file, its inflated rows and the image at the
+// file's channels and depth, then converts it to 8-bit grey (stb_image);
+// the cutout build then adds its labels and queue (9 bytes a pixel with
+// the grey pixels, as bk_mesh_tree_estimate_bytes counts them).
+bool bk_app_check_map_memory(const char* path, uint32_t width, uint32_t height, int channels,
+                             bool sixteen_bit, uint64_t file_bytes, bk_error* err) {
+  uint64_t explicit_limit = atomic_load(&max_memory_bytes);
+  uint64_t limit = explicit_limit ? explicit_limit : available_bytes();
+  if (limit == 0) return true;
+  double pixels = (double)width * (double)height, sample = (double)channels * (sixteen_bit ? 2.0 : 1.0);
+  double decode = (double)file_bytes + pixels * (2.0 * sample + channels + 1.0);
+  double need = fmax(decode, 9.0 * pixels);
+  if (need <= (double)limit) return true;
+  char need_text[32] = {0}, limit_text[32] = {0};
+  format_bytes(need >= 1.8e19 ? UINT64_MAX : (uint64_t)need, need_text, sizeof need_text);
+  format_bytes(limit, limit_text, sizeof limit_text);
+  if (explicit_limit)
+    return bk_error_set(err,
+                        "%s: the %u x %u map needs about %s to decode and use, more than --max-memory "
+                        "allows (%" PRIu64 " MiB)",
+                        path, width, height, need_text, explicit_limit / MIB);
+  return bk_error_set(err,
+                      "%s: the %u x %u map needs about %s to decode and use, more than the %s available "
+                      "(--max-memory MIB overrides)",
+                      path, width, height, need_text, limit_text);
 }

@@ -412,9 +412,15 @@ void bk_game_panel(bk_game* g) {
   if (bk_ui_collapsing_header("Structural stress", false)) stress_section(g);
   if (bk_ui_collapsing_header("Fracture", false)) fracture_section(g);
   if (bk_ui_collapsing_header("Projectile", false)) {
-    bk_ui_slider_double("speed m/s", &g->projectile_speed, 1.0, 200.0, "%.0f", false);
-    bk_ui_slider_double("radius m", &g->projectile_radius, 0.01, 0.5, "%.2f", false);
-    bk_ui_slider_double("mass kg", &g->projectile_mass, 0.05, 200.0, "%.2f", true);
+    // A user's model's shots are sized to it, maybe beyond these ranges:
+    // they reach its own, so that touching a slider does not clamp it.
+    const bk_scene* scene = g->scene.scene;
+    bk_ui_slider_double("speed m/s", &g->projectile_speed, fmin(1.0, scene->projectile_speed),
+                        fmax(200.0, scene->projectile_speed), "%.0f", false);
+    bk_ui_slider_double("radius m", &g->projectile_radius, fmin(0.01, scene->projectile_radius),
+                        fmax(0.5, scene->projectile_radius), "%.2f", false);
+    bk_ui_slider_double("mass kg", &g->projectile_mass, fmin(0.05, scene->projectile_mass),
+                        fmax(200.0, scene->projectile_mass), "%.2f", true);
   }
   if (bk_ui_collapsing_header("World", false)) {
     bk_physics* physics = bk_world_physics(g->scene.world);

@@ -135,9 +135,13 @@ bool bk_recorder_prepare(const char* command, bk_recorder* recorder, uint32_t fr
     fprintf(stderr, "breakables %s: --record '%s' is not a directory\n", command, shown);
     return false;
   }
-  if (access(dir, W_OK | X_OK) != 0) {
-    fprintf(stderr, "breakables %s: --record '%s': cannot write there (%s)\n", command, shown,
-            strerror(errno));
+  // The mode bits decide (bk_file_check_write), as for every output: root
+  // could write anywhere, but a directory made read-only is left alone.
+  char first[4352] = "";
+  snprintf(first, sizeof first, "%s/frame_00000.png", dir);
+  bk_error err = {0};
+  if (!bk_file_check_write(first, &err)) {
+    fprintf(stderr, "breakables %s: --record '%s': cannot write there (%s)\n", command, shown, err.message);
     return false;
   }
   // Checked whole before anything is removed: a refusal leaves it as it was.

@@ -6,9 +6,8 @@
 
 #include "app.h"
 
-// The nearest point where the ray from `origin` along `direction` enters or
-// leaves the mesh (Moller-Trumbore on every triangle); false when it misses.
-static bool first_hit(const bk_mesh* mesh, bk_vec3 origin, bk_vec3 direction, bk_vec3* hit) {
+// Moller-Trumbore on every triangle.
+bool bk_scene_first_hit(const bk_mesh* mesh, bk_vec3 origin, bk_vec3 direction, bk_vec3* hit) {
   double nearest = INFINITY;
   for (uint32_t t = 0; t < mesh->triangle_count; ++t) {
     bk_vec3 a = mesh->positions[bk_mesh_tri_position(mesh, t, 0)];
@@ -81,7 +80,7 @@ bk_fracture_def bk_scene_fracture_def(const bk_scene* scene, uint32_t object, co
   // hits would break no finer than the rest. The shot flies from the eye
   // through the aim point, so it lands where that line meets the surface.
   bk_vec3 from = bk_transform_point(to_tree, eye), hit = fd.impact;
-  if (source && first_hit(source, from, bk_v3_sub(fd.impact, from), &hit)) fd.impact = hit;
+  if (source && bk_scene_first_hit(source, from, bk_v3_sub(fd.impact, from), &hit)) fd.impact = hit;
   return fd;
 }
 

@@ -113,13 +113,6 @@ bool bk_loaded_scene_create(const bk_scene* scene, const bk_scene_options* optio
   memset(out, 0, sizeof *out);
   out->scene = scene;
   out->copies = options->copies > 1 ? options->copies : 1;
-  bk_world_def wd = bk_default_world_def();
-  wd.retire_volume = options->retire_volume;
-  wd.stress = options->stress;
-  wd.physics_budget_ms = options->physics_budget_ms;
-  wd.budget_fidelity_time = options->budget_fidelity_time;
-  out->world = bk_world_create(&wd, err);
-  if (!out->world) return false;
   for (uint32_t i = 0; i < scene->object_count; ++i) {
     const bk_scene_object* object = &scene->objects[i];
     bk_fracture_def fd = bk_scene_fracture_def(scene, i, options, NULL);
@@ -142,6 +135,22 @@ bool bk_loaded_scene_create(const bk_scene* scene, const bk_scene_options* optio
       bk_scene_fit(scene, out->trees[0].nodes[0].bounds, &out->fitted);
       out->scene = &out->fitted;
     }
+  }
+  // The world once the trees are known: a user's model's shots are weighed
+  // on its tree and material, and the world's damage thresholds follow them.
+  bk_world_def wd = bk_default_world_def();
+  wd.retire_volume = options->retire_volume;
+  wd.stress = options->stress;
+  wd.physics_budget_ms = options->physics_budget_ms;
+  wd.budget_fidelity_time = options->budget_fidelity_time;
+  if (scene->fit_to_mesh && out->tree_count) {
+    bk_world_breakable_def object = bk_scene_object_def(&out->fitted.objects[0], &out->trees[0], options);
+    bk_scene_fit_shots(&out->fitted, &out->trees[0], &object.breakable.material, &wd);
+  }
+  out->world = bk_world_create(&wd, err);
+  if (!out->world) {
+    bk_loaded_scene_destroy(out);
+    return false;
   }
   // Every tree first: the copies' spacing is measured on all of them.
   out->copy_spacing = out->copies > 1 ? copy_spacing(out) : 0.0;
@@ -183,7 +192,8 @@ bk_projectile_def bk_scene_shot(const bk_scene* scene, uint32_t shot, double spe
   uint32_t round = shot / targets;
   bk_vec3 forward = bk_v3_normalize(bk_v3_sub(target, scene->eye)), right, up;
   bk_plane_basis(forward, &right, &up);
-  double radius = 0.12 * sqrt((double)round), angle = 2.39996322972865332 * round;
+  double spread = scene->shot_spread > 0.0 ? scene->shot_spread : 0.12;
+  double radius = spread * sqrt((double)round), angle = 2.39996322972865332 * round;
   bk_vec3 aim = bk_v3_add(
       target, bk_v3_add(bk_v3_scale(right, radius * cos(angle)), bk_v3_scale(up, radius * sin(angle))));
   bk_vec3 direction = bk_v3_normalize(bk_v3_sub(aim, scene->eye));

@@ -304,11 +304,17 @@ void bk_scene_fit(const bk_scene* scene, bk_aabb bounds, bk_scene* out) {
   out->objects[0].scale = 0.0;
   out->target = bk_v3(0.0, 0.5 * size.y, 0.0);
   out->eye = bk_v3_add(out->target, bk_v3_scale(bk_v3(0.35, 0.3, 1.0), 2.2 * extent));
-  // A ball a twentieth of the object, as heavy as stone of that size.
-  out->projectile_radius = fmin(fmax(0.05 * extent, 0.01), 2.0);
+  // A ball a twentieth of the object, as heavy as steel of that size until
+  // bk_scene_fit_shots weighs it. Its speed grows with the root of the
+  // size, so that its flight takes the same share of the object's own
+  // time to fall and its drop under gravity the same share of the object
+  // (30 m/s at 1 m: it drops 3% of the object on the way), and the later
+  // shots spread in proportion.
+  out->projectile_radius = fmin(fmax(0.05 * extent, 0.002), 10.0);
   double r = out->projectile_radius;
   out->projectile_mass = 4.0 / 3.0 * 3.14159265358979 * r * r * r * 7800.0;
-  out->projectile_speed = 30.0;
+  out->projectile_speed = fmin(fmax(30.0 * sqrt(extent), 3.0), 300.0);
+  out->shot_spread = 0.03 * extent;
 }
 
 const bk_scene* bk_scene_find(const char* name) {

@@ -45,6 +45,9 @@ typedef struct bk_scene {
   bk_vec3 extra_targets[7];
   uint32_t extra_target_count;
   double projectile_speed, projectile_radius, projectile_mass;
+  /// How far apart later shots land round the target (m, the step of their
+  /// spiral); 0: 0.12, the built-in scenes' (a user's model: by its size).
+  double shot_spread;
   /// A user's model: its one object is placed centred on the ground and the
   /// camera, aim and projectiles are fitted to its size when it is loaded.
   bool fit_to_mesh;
@@ -73,5 +76,19 @@ uint32_t bk_scene_resolve(const char* scene_name, bool scene_given, const char* 
                           bk_error* err);
 /// Fits a fit_to_mesh scene to its loaded object's bounds (in the tree frame)
 /// into `out`: the object stands centred on the ground, the camera looks at
-/// it from the front, projectiles are sized to it.
+/// it from the front, projectiles are sized to it (their radius, speed and
+/// spread; bk_scene_fit_shots gives them their mass).
 void bk_scene_fit(const bk_scene* scene, bk_aabb bounds, bk_scene* out);
+/// Gives a fitted scene's shots the weight to break its object, whatever its
+/// size: the impulse that breaks the bonds nearest where the first shot
+/// lands (the damage formula's own terms: `material`, the bonds' areas and
+/// distances, `world`'s damage_min_distance), twice over, from a ball of
+/// 0.1% to 10% of the object's mass (faster than bk_scene_fit's speed when
+/// even 10% is too light). Lowers `world`'s impulse threshold and impact
+/// speed to a quarter of such a shot's where they would ignore it (a
+/// pebble's shots carry less than the defaults).
+void bk_scene_fit_shots(bk_scene* scene, const bk_mesh_tree* tree, const bk_material* material,
+                        bk_world_def* world);
+/// The nearest point where the ray from `origin` along `direction` enters
+/// or leaves the mesh; false when it misses.
+bool bk_scene_first_hit(const bk_mesh* mesh, bk_vec3 origin, bk_vec3 direction, bk_vec3* hit);

@@ -20,6 +20,14 @@ const char* bk_app_shader_dir(void) {
   return BK_SHADER_DIR;
 }
 
+void bk_camera_fit_planes(bk_camera* camera, double distance) {
+  if (!(distance > 0.0) || !isfinite(distance)) return; // the renderer's defaults
+  // The defaults' ratio (4000:1) kept for a large model; a small one seen
+  // from close needs a plane nearer than 5 cm, and gets a twentieth of its distance.
+  camera->far_plane = fmax(200.0, 4.0 * distance);
+  camera->near_plane = fmin(fmax(0.05, camera->far_plane / 4000.0), 0.05 * distance);
+}
+
 int bk_parse_window_option(const char* command, int argc, char** argv, int* i, bk_window_options* o) {
   static const char* const names[] = {"--width", "--height", "--frames", "--autofire", "--screenshot"};
   const char* arg = argv[*i];
@@ -41,9 +49,17 @@ int bk_parse_window_option(const char* command, int argc, char** argv, int* i, b
     if (!bk_option_u64(command, arg, value, 0, 10000, &number)) return 2;
     o->autofire = (uint32_t)number;
     return 0;
-  default:
+  default: {
+    // Checked now, not after the run: a name and a place the picture can be saved as.
+    const bk_app_file shot = {"--screenshot", value, ".png", true};
+    bk_error err = {0};
+    if (!bk_app_check_files(NULL, 0, &shot, 1, &err)) {
+      fprintf(stderr, "breakables %s: %s\n", command, err.message);
+      return 2;
+    }
     o->screenshot = value;
     return 0;
+  }
   }
 }
 

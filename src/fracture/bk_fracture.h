@@ -37,6 +37,51 @@ bool bk_mesh_is_connected_with(const bk_mesh* mesh, bk_topology_scratch* scratch
 /// coordinates.
 uint32_t bk_mesh_split_overlapping_shells(const bk_mesh* mesh, bk_mesh** parts, bk_fracture_overlap* overlap);
 
+/// The cut-out's jittered grid on a w x h map: *columns x *rows samples,
+/// returned; about 3,000 (2,600 to 3,000) whatever the map's shape, fewer
+/// only on a map of fewer pixels.
+uint32_t bk_cutout_grid(uint32_t w, uint32_t h, uint32_t* columns, uint32_t* rows);
+/// The regions of a w x h fracture map (4-connected pixels below 128), as
+/// the cut-out labels them (8 bytes a pixel while counting).
+uint32_t bk_cutout_regions(const uint8_t* pixels, uint32_t w, uint32_t h);
+/// Face-level repairs (repair_faces.c). Removes every triangle listed again
+/// with the same positions in the same turn (from any corner); returns how
+/// many were removed.
+uint32_t bk_mesh_remove_duplicate_triangles(bk_mesh* mesh);
+/// Turns every patch of triangles wound against the surface around it
+/// (patches meet across edges of two triangles both using them the same
+/// way; in each group of patches the lesser area is turned); edges of one
+/// or of three or more triangles are left alone. Returns the triangles turned.
+uint32_t bk_mesh_turn_flipped_patches(bk_mesh* mesh);
+/// Whether volume moments (their centroid moved by `offset` into the frame
+/// of `bounds`) are a solid's: volume positive, centre of mass inside the
+/// bounds, principal moments positive, within volume x diagonal^2 and
+/// satisfying the triangle inequality, and with `frame`, principal axes
+/// orthonormal (the eigen decomposition; without it a quick test of the
+/// same moments decides unless it fails). A surface that crosses itself or
+/// is partly inside out fails it; `why` then names `name` and the quantity.
+bool bk_solid_mass_check(const bk_moments* moments, bk_vec3 offset, bk_aabb bounds, bool frame,
+                         const char* name, bk_error* why);
+/// The part of bk_mesh_tree_validate a tree just built can fail (its
+/// structure and volumes hold by construction): every leaf's mass a solid's
+/// (bk_solid_mass_check) and every bond's area, centroid and normal.
+bool bk_mesh_tree_check_built(const bk_mesh_tree* tree, bk_error* err);
+/// How far a point may lie outside bounds and still count as inside them
+/// (a millionth of the diagonal plus rounding of the coordinates).
+double bk_inside_slack(bk_aabb bounds);
+/// Whether p lies within bounds grown by slack.
+bool bk_point_inside(bk_aabb bounds, bk_vec3 p, double slack);
+/// True when `volume` (the mesh's, however measured) is no more than
+/// BK_FRACTURE_MIN_THICKNESS x its area x its size: the mesh encloses
+/// nothing, as a face closed against its own back (and as a NaN volume).
+bool bk_mesh_encloses_no_volume(const bk_mesh* mesh, double volume);
+/// Removes the shells that enclose no volume (bk_mesh_encloses_no_volume,
+/// e.g. a face closed against its own back) when
+/// some shell does enclose volume; returns how many were removed (0 when
+/// none was, or every shell is such a sheet) and *where the first one's
+/// middle.
+uint32_t bk_mesh_remove_sheets(bk_mesh* mesh, bk_vec3* where);
+
 /// Merges the pieces of one split until `target` remain (when there are more):
 /// the smallest piece by volume (ties: lower index) joins its nearest piece
 /// (bk_mesh_append) on the same side of the cut, else one across the cut

@@ -298,13 +298,21 @@ bool bk_cell_complex_run(const bk_mesh* m, const bk_fracture_def* d, bk_tree_fra
   // far longer than wide).
   if (d->pattern == BK_PATTERN_CUTOUT) b->cx.planar_axis = (int)d->cutout_axis;
   if (!run_cells(m, d, b, err)) return false;
+  // Only the last try joins the cells of a face that cannot be made: the
+  // earlier ones fail and move the seeds, which takes a rounding failure
+  // apart and keeps every piece.
   if (!bk_cell_build_faces(&b->cx, b->polytopes, b->surfaces, b->cells,
-                           bk_fracture_thread_count(d, b->cells, 64), &b->faces, err))
+                           bk_fracture_thread_count(d, b->cells, 64), attempt + 1 >= BK_CELL_ATTEMPTS,
+                           &b->faces, err))
     return false;
   if (d->noise_amplitude > 0.0)
     bk_cell_faces_add_noise(&b->cx, &b->faces, ldexp(d->noise_amplitude, -frame.exponent),
                             ldexp(d->noise_frequency, frame.exponent), d->seed);
-  uint32_t target = d->pattern == BK_PATTERN_CUTOUT || d->seed_points ? UINT32_MAX : d->pieces;
+  // The map's regions or the caller's points set the count, never above one
+  // piece per cell: a cell that a concave source cuts into several solids
+  // beyond that joins a neighbour, so a map or a point file can never ask
+  // for more pieces than its samples or points.
+  uint32_t target = d->pattern == BK_PATTERN_CUTOUT || d->seed_points ? b->cells : d->pieces;
   if (!bk_cell_group(b, target, b->cell_label)) return false;
   // The triangles are in b->parts now: the cells' polytopes and surfaces go
   // before the nodes' meshes are made, which lowers the peak.

@@ -195,13 +195,21 @@ typedef struct bk_cell_faces {
   uint32_t count, capacity;
   uint32_t* triangles;
   uint32_t triangle_count, triangle_capacity;
+  /// Pairs of cells (a < b, 2 ids each, in increasing order) whose cut face
+  /// could not be made: their loops cross where the source's surface
+  /// crosses itself. Such a face is left out of both cells, which must then
+  /// be one piece: their union is closed without it.
+  uint32_t* joined;
+  uint32_t joined_count;
 } bk_cell_faces;
 
 /// Builds every cut face from the cells' polytopes and surfaces, on up to
 /// `threads` threads (the same faces for any count). Fails when the complex
-/// is inconsistent (rounding in a near-degenerate seed layout).
+/// is inconsistent (rounding in a near-degenerate seed layout), or, unless
+/// `join` is set, when a face cannot be triangulated; with `join` such a
+/// face is listed in out->joined instead.
 bool bk_cell_build_faces(bk_cell_complex* cx, const bk_cell_polytope* polytopes,
-                         const bk_cell_surface* surfaces, uint32_t cells, uint32_t threads,
+                         const bk_cell_surface* surfaces, uint32_t cells, uint32_t threads, bool join,
                          bk_cell_faces* out, bk_error* err);
 void bk_cell_faces_free(bk_cell_faces* f);
 

@@ -10,8 +10,32 @@
 #include "cell_tree.h"
 
 /// About this many seeds sample the map (the pieces' outlines follow the
-/// map to about one sample spacing).
+/// map to about one sample spacing), whatever its shape.
 #define CUTOUT_SAMPLES 3000.0
+
+/// Below this many samples across, a map is thin: its long side takes the
+/// rest of the samples, so that a thin map draws as many as a square one.
+#define CUTOUT_THIN_SAMPLES 8u
+
+uint32_t bk_cutout_grid(uint32_t w, uint32_t h, uint32_t* columns, uint32_t* rows) {
+  // Square samples of the map's pixels, one pixel at the finest.
+  double step = fmax(sqrt((double)w * h / CUTOUT_SAMPLES), 1.0);
+  double across = floor(w / step), down = floor(h / step);
+  // A side thinner than a few steps would leave the other side step-spaced
+  // too: 2 x 8,388,608 pixels would draw 112,173 samples, not 3,000.
+  // There the long side takes whatever the thin side leaves of the budget.
+  // (Rounded there: 3 x 1,100 pixels take 3 x 1,000 samples, not 2 x 1,100.)
+  if (across < CUTOUT_THIN_SAMPLES && across <= down) {
+    across = fmax(floor(w / step + 0.5), 1.0);
+    down = fmin(floor(CUTOUT_SAMPLES / across), h);
+  } else if (down < CUTOUT_THIN_SAMPLES) {
+    down = fmax(floor(h / step + 0.5), 1.0);
+    across = fmin(floor(CUTOUT_SAMPLES / down), w);
+  }
+  *columns = (uint32_t)across;
+  *rows = (uint32_t)down;
+  return *columns * *rows;
+}
 
 // Breadth first from the queued pixels: each gives its label to its
 // unlabelled 4-neighbours (only to pixels below 128 when `open_only`).
@@ -55,6 +79,13 @@ static uint32_t label_regions(const uint8_t* px, uint32_t w, uint32_t h, uint32_
   return regions;
 }
 
+uint32_t bk_cutout_regions(const uint8_t* pixels, uint32_t w, uint32_t h) {
+  uint32_t* label = bk_alloc(sizeof(uint32_t) * (size_t)w * h);
+  uint32_t regions = label_regions(pixels, w, h, label);
+  free(label);
+  return regions;
+}
+
 uint32_t bk_cutout_seeds(const bk_mesh* m, const bk_fracture_def* d, bk_vec3** seeds, uint32_t** labels,
                          bk_error* err) {
   *seeds = NULL;
@@ -74,8 +105,8 @@ uint32_t bk_cutout_seeds(const bk_mesh* m, const bk_fracture_def* d, bk_vec3** s
   uint32_t axis = d->cutout_axis;
   int right = axis == 0 ? 2 : 0, up = axis == 1 ? 2 : 1;
   bool right_flipped = axis == 0, up_flipped = axis == 1;
-  double step = fmax(sqrt((double)w * h / CUTOUT_SAMPLES), 1.0);
-  uint32_t columns = (uint32_t)fmax(floor(w / step), 1), rows = (uint32_t)fmax(floor(h / step), 1);
+  uint32_t columns = 0, rows = 0;
+  bk_cutout_grid(w, h, &columns, &rows);
   bk_rng rng = bk_rng_seed(d->seed, 0x63757470u);
   bk_vec3* out = bk_alloc(sizeof(bk_vec3) * columns * rows);
   uint32_t* out_label = bk_alloc(sizeof(uint32_t) * columns * rows);

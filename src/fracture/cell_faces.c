@@ -298,6 +298,7 @@ typedef struct face_worker {
   const bk_cell_polytope* polys;
   const bk_cell_surface* surfaces;
   uint32_t cells;
+  bool join; // a face that cannot be triangulated joins its cells instead of failing
   atomic_uint* next;
   atomic_bool* failed;
   uint32_t index;
@@ -347,10 +348,23 @@ static bool cell_faces(face_worker* w, bk_cap* cap, face_scratch* s, uint32_t c)
     uint32_t tri_count = 0;
     bk_error inner = {0};
     if (!bk_cap_triangulate(cap, s->edges, s->edge_count / 2, s->xy, s->vertex_count, &tris, &tri_count,
-                            &inner))
+                            &inner)) {
+      if (w->join) {
+        // The loops cross (the source's surface crosses itself on this
+        // plane): no face of these vertices can close them. The two cells
+        // become one piece instead, as the planes pattern leaves a piece
+        // uncut whose cuts all fail.
+        bk_cell_faces* out = &w->out;
+        out->joined = bk_realloc(out->joined, sizeof(uint32_t) * 2 * (out->joined_count + 1));
+        out->joined[2 * out->joined_count] = c;
+        out->joined[2 * out->joined_count + 1] = (uint32_t)other;
+        out->joined_count++;
+        continue;
+      }
       return bk_error_set(&w->error,
                           "fracture: the cut face between cells %u and %d cannot be triangulated (%s)", c,
                           other, inner.message);
+    }
     push_face(&w->out,
               (bk_cell_face){.a = c, .b = (uint32_t)other, .source_triangle = source_triangle, .normal = n},
               s, tris, tri_count);
@@ -385,8 +399,34 @@ static void* face_work(void* arg) {
   return NULL;
 }
 
+static int compare_u64(const void* pa, const void* pb) {
+  uint64_t a = *(const uint64_t*)pa, b = *(const uint64_t*)pb;
+  return a < b ? -1 : (a > b);
+}
+
+// The workers' joined pairs, in increasing order whatever the threads.
+static void collect_joined(const face_worker* workers, uint32_t threads, bk_cell_faces* out) {
+  uint32_t total = 0;
+  for (uint32_t t = 0; t < threads; ++t)
+    total += workers[t].out.joined_count;
+  if (total == 0) return;
+  uint64_t* keys = bk_alloc(sizeof(uint64_t) * total);
+  uint32_t n = 0;
+  for (uint32_t t = 0; t < threads; ++t)
+    for (uint32_t i = 0; i < workers[t].out.joined_count; ++i)
+      keys[n++] = (uint64_t)workers[t].out.joined[2 * i] << 32 | workers[t].out.joined[2 * i + 1];
+  qsort(keys, total, sizeof(uint64_t), compare_u64);
+  out->joined = bk_alloc(sizeof(uint32_t) * 2 * total);
+  for (uint32_t i = 0; i < total; ++i) {
+    out->joined[2 * i] = (uint32_t)(keys[i] >> 32);
+    out->joined[2 * i + 1] = (uint32_t)keys[i];
+  }
+  out->joined_count = total;
+  free(keys);
+}
+
 bool bk_cell_build_faces(bk_cell_complex* cx, const bk_cell_polytope* polys, const bk_cell_surface* surfaces,
-                         uint32_t cells, uint32_t threads, bk_cell_faces* out, bk_error* err) {
+                         uint32_t cells, uint32_t threads, bool join, bk_cell_faces* out, bk_error* err) {
   memset(out, 0, sizeof *out);
   graph g = {0};
   if (!classify(cx, polys, surfaces, cells, &g, err)) {
@@ -407,6 +447,7 @@ bool bk_cell_build_faces(bk_cell_complex* cx, const bk_cell_polytope* polys, con
                                .polys = polys,
                                .surfaces = surfaces,
                                .cells = cells,
+                               .join = join,
                                .next = &next,
                                .failed = &failed,
                                .index = t,
@@ -442,6 +483,7 @@ bool bk_cell_build_faces(bk_cell_complex* cx, const bk_cell_polytope* polys, con
       out->faces[out->count++] = face;
     }
   }
+  if (ok) collect_joined(workers, threads, out);
   for (uint32_t t = 0; t < threads; ++t)
     bk_cell_faces_free(&workers[t].out);
   free(workers);
@@ -457,5 +499,6 @@ bool bk_cell_build_faces(bk_cell_complex* cx, const bk_cell_polytope* polys, con
 void bk_cell_faces_free(bk_cell_faces* f) {
   free(f->faces);
   free(f->triangles);
+  free(f->joined);
   memset(f, 0, sizeof *f);
 }

@@ -201,10 +201,70 @@ static bk_vec3 atom_centroid(const bk_cell_atom* a) {
                               : bk_v3(0, 0, 0);
 }
 
-// Joins touching atoms of one label (when there are labels), then merges
-// the smallest groups into their neighbours down to `target`. Fills
+// Atom pairs that must be one piece: for each pair of cells whose cut face
+// was left out (faces->joined), the atoms of the two that share a vertex.
+// Two cells share only the vertices of their common face, so these are the
+// atoms the missing face would have closed; their union is closed without
+// it. Returns the count of pairs in *out (2 atoms each).
+static uint32_t joined_atoms(const bk_cell_complex* cx, const bk_cell_faces* faces,
+                             const bk_cell_parts* parts, uint32_t** out) {
+  *out = NULL;
+  if (faces->joined_count == 0) return 0;
+  uint32_t* stamp = bk_alloc(sizeof(uint32_t) * (cx->count ? cx->count : 1));
+  uint32_t* atom_at = bk_alloc(sizeof(uint32_t) * (cx->count ? cx->count : 1));
+  memset(stamp, 0xff, sizeof(uint32_t) * cx->count);
+  uint32_t count = 0, capacity = 0;
+  for (uint32_t i = 0; i < faces->joined_count; ++i) {
+    uint32_t a = faces->joined[2 * i], b = faces->joined[2 * i + 1];
+    for (uint32_t t = parts->cell_start[a]; t < parts->cell_start[a + 1]; ++t)
+      for (int k = 0; k < 3; ++k) {
+        stamp[parts->tris[t].v[k]] = i;
+        atom_at[parts->tris[t].v[k]] = parts->tri_atom[t];
+      }
+    for (uint32_t t = parts->cell_start[b]; t < parts->cell_start[b + 1]; ++t)
+      for (int k = 0; k < 3; ++k) {
+        uint32_t v = parts->tris[t].v[k];
+        if (stamp[v] != i) continue;
+        uint32_t pair[2] = {atom_at[v], parts->tri_atom[t]};
+        if (count && (*out)[2 * count - 2] == pair[0] && (*out)[2 * count - 1] == pair[1]) continue;
+        if (count == capacity) {
+          capacity = bk_grow_capacity(capacity, count + 1);
+          *out = bk_realloc(*out, sizeof(uint32_t) * 2 * capacity);
+        }
+        (*out)[2 * count] = pair[0];
+        (*out)[2 * count + 1] = pair[1];
+        count++;
+      }
+  }
+  free(stamp);
+  free(atom_at);
+  return count;
+}
+
+// Puts groups a and b together (the lower root stays); false when they
+// already are one.
+static bool join_groups(uint32_t* parent, double* volume, bk_vec3* centroid, uint32_t a, uint32_t b) {
+  uint32_t ra = uf_find(parent, a), rb = uf_find(parent, b);
+  if (ra == rb) return false;
+  if (rb < ra) {
+    uint32_t t = ra;
+    ra = rb;
+    rb = t;
+  }
+  parent[rb] = ra;
+  volume[ra] += volume[rb];
+  centroid[ra] = bk_v3_scale(
+      bk_v3_add(bk_v3_scale(centroid[ra], volume[ra] - volume[rb]), bk_v3_scale(centroid[rb], volume[rb])),
+      1.0 / volume[ra]);
+  return true;
+}
+
+// Joins the atoms that must be one piece (`joined`, `joined_count` pairs),
+// and touching atoms of one label (when there are labels), then merges the
+// smallest groups into their neighbours down to `target`. Fills
 // parts->atom_leaf and parts->leaf_count.
-static void group_atoms(bk_cell_parts* parts, uint32_t target, const uint32_t* cell_label) {
+static void group_atoms(bk_cell_parts* parts, uint32_t target, const uint32_t* cell_label,
+                        const uint32_t* joined, uint32_t joined_count) {
   uint32_t n = parts->atom_count;
   uint32_t* parent = bk_alloc(sizeof(uint32_t) * (n ? n : 1));
   double* volume = bk_alloc(sizeof(double) * (n ? n : 1));
@@ -215,23 +275,28 @@ static void group_atoms(bk_cell_parts* parts, uint32_t target, const uint32_t* c
     centroid[i] = atom_centroid(&parts->atoms[i]);
   }
   uint32_t groups = n;
+  if (joined_count) {
+    // An atom that lost its face is open, and its moments mean nothing on
+    // their own: a group's are the sum of its atoms', face left out.
+    for (uint32_t i = 0; i < joined_count; ++i)
+      if (join_groups(parent, volume, centroid, joined[2 * i], joined[2 * i + 1])) groups--;
+    double* sums = bk_calloc(4 * (size_t)n, sizeof(double));
+    for (uint32_t i = 0; i < n; ++i)
+      for (int k = 0; k < 4; ++k)
+        sums[4 * (size_t)uf_find(parent, i) + k] += parts->atoms[i].moments[k];
+    for (uint32_t i = 0; i < n; ++i)
+      if (uf_find(parent, i) == i) {
+        const double* m = sums + 4 * (size_t)i;
+        volume[i] = m[0];
+        centroid[i] = m[0] != 0.0 ? bk_v3(m[1] / m[0], m[2] / m[0], m[3] / m[0]) : bk_v3(0, 0, 0);
+      }
+    free(sums);
+  }
   if (cell_label) {
     for (uint32_t i = 0; i < parts->contact_count; ++i) {
       uint32_t a = parts->contacts_a[i], b = parts->contacts_b[i];
       if (cell_label[parts->atoms[a].cell] != cell_label[parts->atoms[b].cell]) continue;
-      uint32_t ra = uf_find(parent, a), rb = uf_find(parent, b);
-      if (ra == rb) continue;
-      if (rb < ra) {
-        uint32_t t = ra;
-        ra = rb;
-        rb = t;
-      }
-      parent[rb] = ra;
-      volume[ra] += volume[rb];
-      centroid[ra] = bk_v3_scale(bk_v3_add(bk_v3_scale(centroid[ra], volume[ra] - volume[rb]),
-                                           bk_v3_scale(centroid[rb], volume[rb])),
-                                 1.0 / volume[ra]);
-      groups--;
+      if (join_groups(parent, volume, centroid, a, b)) groups--;
     }
   }
   {
@@ -297,9 +362,6 @@ static void group_atoms(bk_cell_parts* parts, uint32_t target, const uint32_t* c
   free(centroid);
 }
 
-/// How often a build is tried with the seeds moved by a hair.
-#define BK_CELL_ATTEMPTS 4
-
 bool bk_cell_tree_build(const bk_mesh* source, const bk_fracture_def* d, bk_mesh_tree* tree, bk_error* err) {
   memset(tree, 0, sizeof *tree);
   if (d->pattern == BK_PATTERN_CUTOUT && (!d->cutout_pixels || d->cutout_width < 2 || d->cutout_height < 2))
@@ -331,6 +393,7 @@ bool bk_cell_tree_build(const bk_mesh* source, const bk_fracture_def* d, bk_mesh
     bk_error inner = {0};
     ok = bk_cell_complex_run(&root, d, frame, attempt, &build, &inner);
     if (ok) ok = bk_cell_tree_assemble(&root, d, frame, &build, tree, &inner);
+    if (ok) tree->shortfall.cells_joined = build.faces.joined_count;
     bk_cell_build_free(&build);
     if (!ok) {
       bk_mesh_tree_free(tree);
@@ -347,8 +410,11 @@ bool bk_cell_tree_build(const bk_mesh* source, const bk_fracture_def* d, bk_mesh
   // share; a part of the source that touches no other (a shell that
   // encloses no volume, left flat by a repair) cannot join a group and
   // would be one piece too many: refused, never a silently wrong count.
+  // Cells joined for a face that could not be made give fewer pieces, as
+  // the shortfall records.
   bool counted = d->pattern != BK_PATTERN_CUTOUT && !d->seed_points;
-  if (counted && tree->leaf_count != d->pieces) {
+  bool joined_fewer = tree->leaf_count < d->pieces && tree->shortfall.cells_joined > 0;
+  if (counted && tree->leaf_count != d->pieces && !joined_fewer) {
     uint32_t made = tree->leaf_count;
     bk_mesh_tree_free(tree);
     return bk_error_set(err,
@@ -371,6 +437,9 @@ bool bk_cell_group(bk_cell_build* b, uint32_t target, const uint32_t* cell_label
   collect_triangles(&b->cx, b->surfaces, &b->faces, b->cells, &b->parts);
   find_atoms(&b->cx, b->cells, &b->parts);
   find_contacts(&b->cx, &b->faces, &b->parts);
-  group_atoms(&b->parts, target, cell_label);
+  uint32_t* joined = NULL;
+  uint32_t joined_count = joined_atoms(&b->cx, &b->faces, &b->parts, &joined);
+  group_atoms(&b->parts, target, cell_label, joined, joined_count);
+  free(joined);
   return true;
 }

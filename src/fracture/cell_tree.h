@@ -50,6 +50,10 @@ typedef struct bk_cell_build {
   bk_cell_parts parts;
 } bk_cell_build;
 
+/// How often a build is tried with the seeds moved by a hair. The last try
+/// joins the two cells of a cut face that cannot be made into one piece.
+#define BK_CELL_ATTEMPTS 4
+
 /// Seeds, polytopes, surfaces, faces and the grouping into leaves, for a
 /// source already in the local frame (the polytopes and surfaces are freed
 /// once their triangles are grouped).

@@ -13,7 +13,18 @@ typedef struct json_parser {
   bk_json_doc* doc;
   const char* problem; ///< set on the first error
   size_t problem_at;
+  const bk_json_limits* limits;
+  bool counting;         ///< the first pass: values are counted, not stored
+  uint32_t skip;         ///< inside a value kept whole (limits): its children are not stored
+  uint64_t total;        ///< values seen, stored or not
+  bk_json_value scratch; ///< where the values not stored are written
 } json_parser;
+
+// Where a value's fields go: the document, or the scratch value when the
+// value is not stored (the counting pass, or a child of a value kept whole).
+static bk_json_value* value_of(json_parser* p, uint32_t index) {
+  return p->counting || p->skip ? &p->scratch : &p->doc->values[index];
+}
 
 static bool fail_at(json_parser* p, const char* problem, size_t at) {
   if (!p->problem) {
@@ -33,21 +44,35 @@ static void skip_space(json_parser* p) {
 
 static uint32_t add_value(json_parser* p, bk_json_type type) {
   bk_json_doc* d = p->doc;
-  if (d->count >= BK_JSON_MAX_VALUES) {
+  uint32_t index = d->count;
+  if (p->limits->max_total && ++p->total > p->limits->max_total) {
     fail_at(p, "too many values", p->pos);
     return BK_JSON_NONE;
   }
-  if (d->count == d->capacity) {
-    // Every value takes at least one byte of text, so the count is bounded by the size.
-    d->capacity = bk_grow_capacity(d->capacity, d->count + 1);
-    d->values = bk_realloc(d->values, sizeof(bk_json_value) * d->capacity);
+  if (!p->skip) {
+    // The counting pass refuses here, before the second allocates anything.
+    if (d->count >= p->limits->max_values) {
+      fail_at(p, "too many values", p->pos);
+      return BK_JSON_NONE;
+    }
+    d->count++;
   }
-  bk_json_value* v = &d->values[d->count];
+  bk_json_value* v = value_of(p, index);
   memset(v, 0, sizeof *v);
   v->type = type;
   v->next = BK_JSON_NONE;
   v->start = p->pos;
-  return d->count++;
+  return index;
+}
+
+// Whether the member `key` of an object at `depth` is kept as one childless value.
+static bool keep_whole(const json_parser* p, int depth, const char* key, size_t length) {
+  const bk_json_limits* l = p->limits;
+  if (l->skip_extras && length == 6 && memcmp(key, "extras", 6) == 0) return true;
+  if (!l->top_keys || depth != 0) return false;
+  for (const char* const* k = l->top_keys; *k; ++k)
+    if (strlen(*k) == length && memcmp(*k, key, length) == 0) return false;
+  return true;
 }
 
 static bool is_digit(char c) { return c >= '0' && c <= '9'; }
@@ -118,7 +143,7 @@ static bool parse_literal(json_parser* p, const char* word) {
   return true;
 }
 
-static bool parse_value(json_parser* p, int depth, uint32_t* index);
+static bool parse_value(json_parser* p, int depth, bool whole, uint32_t* index);
 
 // The children of an array or object whose opening bracket is at p->pos.
 static bool parse_container(json_parser* p, uint32_t self, int depth, bool object) {
@@ -142,13 +167,14 @@ static bool parse_container(json_parser* p, uint32_t self, int depth, bool objec
       skip_space(p);
     }
     uint32_t child = 0;
-    if (!parse_value(p, depth + 1, &child)) return false;
-    bk_json_value* c = &p->doc->values[child];
+    bool whole = object && keep_whole(p, depth, p->text + key_start, key_length);
+    if (!parse_value(p, depth + 1, whole, &child)) return false;
+    bk_json_value* c = value_of(p, child);
     c->key_start = key_start;
     c->key_length = key_length;
-    if (last != BK_JSON_NONE) p->doc->values[last].next = child;
+    if (last != BK_JSON_NONE) value_of(p, last)->next = child;
     last = child;
-    p->doc->values[self].count++;
+    value_of(p, self)->count++;
     skip_space(p);
     if (p->pos >= p->size) return fail_at(p, "unexpected end of text", p->pos);
     char c2 = p->text[p->pos];
@@ -162,7 +188,7 @@ static bool parse_container(json_parser* p, uint32_t self, int depth, bool objec
   }
 }
 
-static bool parse_value(json_parser* p, int depth, uint32_t* index) {
+static bool parse_value(json_parser* p, int depth, bool whole, uint32_t* index) {
   skip_space(p);
   if (p->pos >= p->size) return fail_at(p, "unexpected end of text", p->pos);
   char c = p->text[p->pos];
@@ -174,15 +200,17 @@ static bool parse_value(json_parser* p, int depth, uint32_t* index) {
     if (depth >= BK_JSON_MAX_DEPTH) return fail_at(p, "nested too deeply", p->pos);
     self = add_value(p, c == '{' ? BK_JSON_OBJECT : BK_JSON_ARRAY);
     if (self == BK_JSON_NONE) return false;
+    p->skip += whole; // its children are checked, not stored
     ok = parse_container(p, self, depth, c == '{');
+    p->skip -= whole;
     break;
   case '"': {
     self = add_value(p, BK_JSON_STRING);
     if (self == BK_JSON_NONE) return false;
     size_t start = 0, length = 0;
     ok = parse_string(p, &start, &length);
-    p->doc->values[self].start = start;
-    p->doc->values[self].length = length;
+    value_of(p, self)->start = start;
+    value_of(p, self)->length = length;
     *index = self;
     return ok;
   }
@@ -207,24 +235,54 @@ static bool parse_value(json_parser* p, int depth, uint32_t* index) {
     ok = parse_number(p);
     break;
   }
-  p->doc->values[self].length = p->pos - p->doc->values[self].start;
+  value_of(p, self)->length = p->pos - value_of(p, self)->start;
   *index = self;
   return ok;
 }
 
 bool bk_json_parse(const char* text, size_t size, bk_json_doc* doc, char* why, size_t why_size) {
+  static const bk_json_limits all = {BK_JSON_MAX_VALUES, 0, NULL, false};
+  return bk_json_parse_limited(text, size, &all, doc, why, why_size);
+}
+
+// One pass over the text: counting (doc->values untouched) or storing.
+static bool parse_pass(json_parser* p) {
+  uint32_t top = 0;
+  bool ok = parse_value(p, 0, false, &top);
+  if (ok) {
+    skip_space(p);
+    if (p->pos != p->size) ok = fail_at(p, "unexpected text after the end", p->pos);
+  }
+  return ok;
+}
+
+bool bk_json_parse_limited(const char* text, size_t size, const bk_json_limits* limits, bk_json_doc* doc,
+                           char* why, size_t why_size) {
   memset(doc, 0, sizeof *doc);
   doc->text = text;
   doc->size = size;
-  json_parser p = {.text = text, .size = size, .pos = 0, .doc = doc, .problem = NULL, .problem_at = 0};
-  uint32_t top = 0;
-  bool ok = parse_value(&p, 0, &top);
+  json_parser p = {.text = text, .size = size, .doc = doc, .limits = limits, .counting = true};
+  // The values are counted first and allocated once, exactly: the grammar
+  // and the count limit are checked before any memory is taken for them.
+  bool ok = parse_pass(&p);
   if (ok) {
-    skip_space(&p);
-    if (p.pos != size) ok = fail_at(&p, "unexpected text after the end", p.pos);
+    doc->capacity = doc->count;
+    doc->values = bk_alloc(sizeof(bk_json_value) * (doc->count ? doc->count : 1));
+    doc->count = 0;
+    p.pos = 0;
+    p.total = 0;
+    p.counting = false;
+    ok = parse_pass(&p);
   }
   if (!ok) {
-    if (why && why_size) snprintf(why, why_size, "%s at byte %zu", p.problem, p.problem_at);
+    if (why && why_size) {
+      if (p.problem && strcmp(p.problem, "too many values") == 0)
+        snprintf(why, why_size, "more than %llu values",
+                 (unsigned long long)(p.total > limits->max_total && limits->max_total ? limits->max_total
+                                                                                       : limits->max_values));
+      else
+        snprintf(why, why_size, "%s at byte %zu", p.problem ? p.problem : "malformed", p.problem_at);
+    }
     bk_json_free(doc);
     return false;
   }

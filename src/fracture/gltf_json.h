@@ -47,8 +47,21 @@ typedef struct bk_json_doc {
 } bk_json_doc;
 
 /// Parses `size` bytes of text (not necessarily NUL-terminated). On failure
-/// `why` gets "<problem> at byte <offset>" and the doc is left empty.
+/// `why` gets "<problem> at byte <offset>" (or "more than N values") and the
+/// doc is left empty. The values are counted before they are allocated, once.
 bool bk_json_parse(const char* text, size_t size, bk_json_doc* doc, char* why, size_t why_size);
+
+/// What a reader needs of a document: values it never looks at are checked
+/// but not stored, each kept as one value of its type with no children.
+typedef struct bk_json_limits {
+  uint32_t max_values;         ///< most values stored (at most BK_JSON_MAX_VALUES)
+  uint64_t max_total;          ///< most values in the text, stored or not (0: no limit)
+  const char* const* top_keys; ///< the top object's members stored whole (NULL-terminated); NULL = all
+  bool skip_extras;            ///< every "extras" member is kept without its contents
+} bk_json_limits;
+/// bk_json_parse storing only what `limits` keeps.
+bool bk_json_parse_limited(const char* text, size_t size, const bk_json_limits* limits, bk_json_doc* doc,
+                           char* why, size_t why_size);
 /// Releases the values.
 void bk_json_free(bk_json_doc* doc);
 

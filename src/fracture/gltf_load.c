@@ -214,9 +214,13 @@ bool bk_mesh_tree_load_gltf_memory(const void* data, size_t size, const char* na
   } else if (bytes[0] != '{' && bytes[0] != ' ' && bytes[0] != '\n' && bytes[0] != '\r' && bytes[0] != '\t') {
     return bk_error_set(err, "%s: not glTF (neither a GLB header nor JSON)", name);
   }
+  // Only what the loader reads is stored (counted first, allocated once):
+  // the rest of a document is checked, not kept, so its size costs nothing.
+  static const char* const kept[] = {"asset", "bufferViews", "buffers", NULL};
+  static const bk_json_limits limits = {BK_JSON_MAX_VALUES, 0, kept, false};
   bk_json_doc doc = {0};
   char why[160];
-  if (!bk_json_parse(json, json_size, &doc, why, sizeof why))
+  if (!bk_json_parse_limited(json, json_size, &limits, &doc, why, sizeof why))
     return bk_error_set(err, "%s: corrupt glTF JSON: %s", name, why);
   bool ok = load_from_json(&doc, bin, bin_size, name, out, err);
   bk_json_free(&doc);

@@ -39,9 +39,17 @@ void bk_tb_fmt(text_buffer* t, const char* fmt, ...) {
   if (n > 0) t->size += (size_t)n;
 }
 
-// Doubles with %.17g read back exactly; the values written are finite (the
-// tree and the def are checked first). A float is written as its exact double.
-void bk_tb_double(text_buffer* t, double v) { bk_tb_fmt(t, "%.17g", v); }
+// Doubles with %.17g read back exactly. The values written are finite (the
+// tree is validated and the def checked first), but printf would write a
+// non-finite one as inf or nan, which no JSON reader takes: such a value
+// becomes null, so the file always stays JSON. A float is written as its
+// exact double.
+void bk_tb_double(text_buffer* t, double v) {
+  if (isfinite(v))
+    bk_tb_fmt(t, "%.17g", v);
+  else
+    bk_tb_raw(t, "null");
+}
 
 void bk_tb_doubles(text_buffer* t, const double* v, int n) {
   bk_tb_raw(t, "[");

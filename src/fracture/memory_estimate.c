@@ -37,6 +37,9 @@
 //     so later cuts leave more triangles on them (26.5 KB per piece);
 //   - cell patterns: cut faces are refined by up to BK_CELL_NOISE_MAX_LEVELS
 //     levels within the mesher's budget.
+// Cut-out builds as many cells as its map's samples (about 3,000 whatever
+// the map's shape, bk_cutout_grid), so they stand for N, and its map adds a
+// byte a pixel, or 9 while its seeds are drawn (region labels, fill queue).
 // The estimate, the fit times 1.25, is 1.19 to 1.32 times the peak for
 // planes and brick flat (the runs above, and brick on the wall) and 0.92 to
 // 1.50 times with noise (the cube and the bunny at 64, 1,024 and 4,096
@@ -61,10 +64,37 @@
 // v^(2/3) of area (a unit cube's cuts: 1 to 1.4).
 #define CAP_AREA_PER_VOLUME 1.2
 
+static bool cutout_map(const bk_fracture_def* desc) {
+  return desc && desc->pattern == BK_PATTERN_CUTOUT && desc->cutout_width && desc->cutout_height;
+}
+
+// The cells a cut-out builds: the map's samples.
+static double cutout_cells(const bk_fracture_def* desc) {
+  uint32_t columns = 0, rows = 0;
+  return fmax((double)bk_cutout_grid(desc->cutout_width, desc->cutout_height, &columns, &rows), 1.0);
+}
+
+// The pieces the build makes, which the tree's memory follows: the pieces
+// asked for, one per seed point, or for a map at most one per region and
+// one per sample (--pieces does not count; without the pixels, the samples).
 static double pieces_of(const bk_fracture_def* desc) {
   if (desc && desc->pattern == BK_PATTERN_VORONOI && desc->seed_points) // one cell per point inside
     return desc->seed_point_count ? (double)desc->seed_point_count : 1.0;
+  if (cutout_map(desc)) {
+    double cells = cutout_cells(desc);
+    if (!desc->cutout_pixels) return cells;
+    // A region the source meets in two places (a ring, a hollow shell seen
+    // through) is two pieces.
+    double regions = bk_cutout_regions(desc->cutout_pixels, desc->cutout_width, desc->cutout_height);
+    return fmax(fmin(2.0 * regions, cells), 1.0);
+  }
   return desc && desc->pieces ? (double)desc->pieces : (double)bk_default_fracture_def().pieces;
+}
+
+// The fracture map's pixels: one byte each (grey, the caller's) through the
+// build.
+static double map_pixels(const bk_fracture_def* desc) {
+  return cutout_map(desc) ? (double)desc->cutout_width * (double)desc->cutout_height : 0.0;
 }
 
 static bool cell_pattern(const bk_fracture_def* desc) {
@@ -155,7 +185,20 @@ uint64_t bk_mesh_tree_estimate_bytes(const bk_mesh* source, const bk_fracture_de
   else
     tree = 10.8e6 + 270.0 * t + 63.0 * t * levels + 5850.0 * n + 9100.0 * sqrt(t) * cbrt(n) +
            planes_noise_bytes(volume, n, frequency);
-  return to_bytes(BUILD_MARGIN * fmax(first_cut, tree));
+  // A map's cells are built all at once whatever the regions they make:
+  // prisms through the whole source, each with its faces and the source's
+  // surface it holds (8 KB a cell, and more the finer the surface), and
+  // the tree of the pieces is made while they are held. The estimate is
+  // 1.12 to 2.2 times the peak with assets/maps/cracks.png (2,916 cells, 28
+  // to 55 pieces) and a 64 x 64 grid of 256 regions on the cube, eggshell,
+  // torus and bunny, and with 2 x 8,388,608 pixels of 4,194,304 regions
+  // (3,000 pieces) on the cube, torus and bunny.
+  if (cutout_map(desc)) tree += 5.75e6 + 660.0 * t + (8000.0 + 200.0 * sqrt(t)) * cutout_cells(desc);
+  // The seeds of a map are drawn from a region label and a fill-queue entry
+  // per pixel, freed before the cells are built: the larger of that and the
+  // build, with the pixels throughout.
+  double pixels = map_pixels(desc), labels = pixels > 0.0 ? 11.75e6 + 8.0 * pixels : 0.0;
+  return to_bytes(BUILD_MARGIN * (fmax(fmax(first_cut, tree), labels) + pixels));
 }
 
 // Fitted the same way to the sizes of saved trees: planes to 13 (4.3 KB per

@@ -35,6 +35,25 @@ void bk_mesh_tree_number_leaves(bk_mesh_tree* tree) {
   free(visited);
 }
 
+// A closed surface that crosses itself, or is partly inside out, can still
+// enclose a positive signed volume; when its mass is not a solid's no body
+// can be made of it or of its pieces. Measured about the centre of its
+// bounds, so a source far from the origin keeps its precision.
+static bool source_is_solid(const bk_mesh* source, bk_aabb box, bk_error* err) {
+  bk_vec3 centre = bk_v3_scale(bk_v3_add(box.min, box.max), 0.5);
+  bk_mesh local = *source;
+  local.positions = bk_alloc(sizeof(bk_vec3) * (source->position_count + 1u));
+  for (uint32_t i = 0; i < source->position_count; ++i)
+    local.positions[i] = bk_v3_sub(source->positions[i], centre);
+  bk_moments moments = bk_mesh_moments(&local);
+  free(local.positions);
+  if (!(moments.v > 0.0)) return true; // a source of no volume is refused with its own message
+  bk_error why = {{0}};
+  if (bk_solid_mass_check(&moments, centre, box, false, "its mass", &why)) return true;
+  return bk_error_set(err, "mesh is not a solid: its surface crosses itself or is partly inside out (%s)",
+                      why.message);
+}
+
 // The source must have a size whose moments fit doubles, a volume, and cut
 // faces whose uvs floats can hold.
 static bool check_source(const bk_mesh* source, const bk_fracture_def* d, bk_error* err) {
@@ -53,6 +72,7 @@ static bool check_source(const bk_mesh* source, const bk_fracture_def* d, bk_err
                         "mesh is %g across; fracture takes meshes %g to %g across (volume moments grow "
                         "with size^5 and must fit double precision): scale it",
                         largest, BK_FRACTURE_MIN_SIZE, BK_FRACTURE_MAX_SIZE);
+  if (!source_is_solid(source, box, err)) return false;
   if (largest / d->texture_scale > BK_FRACTURE_MAX_UV_TILES)
     return bk_error_set(err,
                         "texture_scale %g is too small for a mesh %g across: cut faces would span %.3g "
@@ -61,20 +81,48 @@ static bool check_source(const bk_mesh* source, const bk_fracture_def* d, bk_err
   return true;
 }
 
+// A piece that encloses no volume is never a fragment, whatever made it: the
+// builders refuse such cuts and such sources, and a tree that has one
+// anyway is not handed out (freed, with the leaf named).
+static bool leaves_enclose_volume(bk_mesh_tree* tree, bk_error* err) {
+  for (uint32_t i = 0; i < tree->leaf_count; ++i) {
+    const bk_mesh_tree_node* leaf = bk_mesh_tree_leaf(tree, i);
+    if (!bk_mesh_encloses_no_volume(&leaf->mesh, leaf->moments.v)) continue;
+    double volume = leaf->moments.v, area = bk_mesh_area(&leaf->mesh);
+    bk_mesh_tree_free(tree);
+    return bk_error_set(err,
+                        "fracture: piece %u encloses no volume (%g for a surface of area %g): a sheet of the "
+                        "source or a cut along one of its faces; nothing was made",
+                        i, volume, area);
+  }
+  return true;
+}
+
+// What the builders made is what every consumer will check
+// (bk_mesh_tree_validate): a tree that fails it is not handed out.
+static bool finish(bk_mesh_tree* tree, bk_error* err) {
+  if (!leaves_enclose_volume(tree, err)) return false;
+  bk_error why = {{0}};
+  if (bk_mesh_tree_check_built(tree, &why)) return true;
+  bk_mesh_tree_free(tree);
+  return bk_error_set(err, "fracture: the pieces made are not valid (%s); nothing was made", why.message);
+}
+
 bool bk_mesh_tree_build(const bk_mesh* source, const bk_fracture_def* desc_in, bk_mesh_tree* tree,
                         bk_error* err) {
   memset(tree, 0, sizeof *tree);
   if (!bk_fracture_def_validate(desc_in, err)) return false;
   bk_fracture_def d = *desc_in;
   if (!check_source(source, &d, err)) return false;
-  if (bk_fracture_pattern_is_cellular(d.pattern)) return bk_cell_tree_build(source, &d, tree, err);
+  if (bk_fracture_pattern_is_cellular(d.pattern))
+    return bk_cell_tree_build(source, &d, tree, err) && finish(tree, err);
   if (!bk_plane_tree_build(source, &d, tree, err)) return false;
   bk_mesh_tree_number_leaves(tree);
   tree->source_hash = bk_mesh_hash(source);
   bk_fracture_def_clear_borrowed(&d);
   tree->desc = d;
   bk_mesh_tree_compute_bonds(tree);
-  return true;
+  return finish(tree, err);
 }
 
 bk_vec3 bk_mesh_tree_origin(const bk_mesh_tree* tree) {
@@ -89,8 +137,27 @@ bk_mass_properties bk_mesh_tree_mass(const bk_mesh_tree* tree, bk_moments moment
 
 bool bk_mesh_tree_shortfall_text(const bk_mesh_tree* tree, char* text, size_t size) {
   if (size) text[0] = 0;
-  if (tree->leaf_count >= tree->desc.pieces) return false;
   const bk_fracture_shortfall* s = &tree->shortfall;
+  if (s->cells_joined) {
+    int n = 0;
+    if (tree->leaf_count < tree->desc.pieces)
+      n = snprintf(text, size, "made %u of the %u pieces asked for: ", tree->leaf_count, tree->desc.pieces);
+    if (n < 0 || (size_t)n > size) n = (int)size;
+    snprintf(text + n, size > (size_t)n ? size - (size_t)n : 0,
+             "%u cut face%s between cells could not be made (the source's surface crosses itself there), "
+             "so the cells on either side were kept as one piece",
+             s->cells_joined, s->cells_joined == 1 ? "" : "s");
+    return true;
+  }
+  if (s->sheets_merged && tree->leaf_count >= tree->desc.pieces) {
+    snprintf(
+        text, size,
+        "%u cut piece%s enclosed no volume (a face of the source closed against its own back) and joined "
+        "the nearest piece",
+        s->sheets_merged, s->sheets_merged == 1 ? "" : "s");
+    return true;
+  }
+  if (tree->leaf_count >= tree->desc.pieces) return false;
   int n = snprintf(text, size, "made %u of the %u pieces asked for", tree->leaf_count, tree->desc.pieces);
   if (s->uncut == 0) {
     snprintf(text + n, size > (size_t)n ? size - (size_t)n : 0,
@@ -105,6 +172,8 @@ bool bk_mesh_tree_shortfall_text(const bk_mesh_tree* tree, char* text, size_t si
   if (s->not_closed > top) top = s->not_closed, most = "cutting them left open pieces";
   if (s->volume_changed > top)
     top = s->volume_changed, most = "their cut pieces did not keep the volume (slivers too thin to cut?)";
+  if (s->not_solid > top)
+    top = s->not_solid, most = "their cut pieces were not solids (the source's surface crosses itself there)";
   snprintf(text + n, size > (size_t)n ? size - (size_t)n : 0,
            ": %u piece%s could not be cut in %d tries each (%u of them because %s)", s->uncut,
            s->uncut == 1 ? "" : "s", BK_FRACTURE_SPLIT_ATTEMPTS, top, most);

@@ -68,6 +68,19 @@ bool bk_plane_pieces_hold(const bk_mesh_tree_node* node, const bk_mesh* pieces, 
       *why = BK_SPLIT_VOLUME_CHANGED;
       return false;
     }
+    // A piece that encloses no volume (a face closed against its own back,
+    // 1e-18 m^3 for half a metre across) is never a fragment.
+    if (bk_mesh_encloses_no_volume(&pieces[i], v)) {
+      *why = BK_SPLIT_NO_VOLUME;
+      return false;
+    }
+    // A piece of a surface that crosses itself can enclose volume and still
+    // not be a solid (its centre of mass outside it, a negative principal
+    // moment): no body can be made of it, so another plane is tried.
+    if (!bk_solid_mass_check(&moments[i], bk_v3(0, 0, 0), bk_mesh_bounds(&pieces[i]), false, "piece", NULL)) {
+      *why = BK_SPLIT_NOT_SOLID;
+      return false;
+    }
     sum += v;
   }
   if (!(fabs(sum - node->moments.v) <= BK_FRACTURE_SPLIT_VOLUME_TOLERANCE * node->moments.v)) {
@@ -101,13 +114,55 @@ static void add_side(bk_plane_splitter* s, const bk_mesh* side, bk_mesh** pieces
   free(hulls);
 }
 
+// Pieces that enclose no volume (a sheet of the source cut with the rest)
+// join the nearest piece that does (by the centres of their bounds), on
+// their own side of the cut when it has one, so they are never fragments
+// of their own. Updates *count and *below_count; returns how many joined
+// (0, nothing changed, when no piece encloses volume).
+static uint32_t merge_sheets(bk_mesh* pieces, uint32_t* count, uint32_t* below_count) {
+  uint32_t n = *count, merged = 0, kept = 0, kept_below = 0;
+  uint8_t* sheet = bk_calloc(n + 1u, 1);
+  bk_vec3* centre = bk_alloc(sizeof(bk_vec3) * (n + 1u));
+  bool solid = false;
+  for (uint32_t i = 0; i < n; ++i) {
+    bk_aabb box = bk_mesh_bounds(&pieces[i]);
+    centre[i] = bk_v3_scale(bk_v3_add(box.min, box.max), 0.5);
+    sheet[i] = bk_mesh_encloses_no_volume(&pieces[i], bk_mesh_volume(&pieces[i]));
+    solid = solid || !sheet[i];
+  }
+  for (uint32_t i = 0; i < n && solid; ++i) {
+    if (!sheet[i]) continue;
+    uint32_t best = UINT32_MAX;
+    double best_distance = INFINITY;
+    for (int pass = 0; pass < 2 && best == UINT32_MAX; ++pass) // own side first
+      for (uint32_t j = 0; j < n; ++j) {
+        if (sheet[j] || (pass == 0 && (j < *below_count) != (i < *below_count))) continue;
+        double d = bk_v3_length(bk_v3_sub(centre[j], centre[i]));
+        if (d < best_distance) best_distance = d, best = j;
+      }
+    bk_mesh_append(&pieces[best], &pieces[i]);
+    bk_mesh_free(&pieces[i]);
+    merged++;
+  }
+  for (uint32_t i = 0; i < n && merged; ++i) {
+    if (sheet[i]) continue;
+    kept_below += i < *below_count;
+    pieces[kept++] = pieces[i];
+  }
+  if (merged) *count = kept, *below_count = kept_below;
+  free(sheet);
+  free(centre);
+  return merged;
+}
+
 // Cuts a node by one plane (local frame) into the solid shells on each side,
 // their faces re-triangulated; returns how many, *below_count of them below
 // the plane, or 0 (nothing allocated) with *why set when the plane misses
 // the node or the pieces do not hold.
 static uint32_t cut_node(bk_plane_splitter* s, const bk_plane_split_context* ctx,
                          const bk_mesh_tree_node* node, uint32_t node_index, bk_plane plane, bk_mesh** pieces,
-                         bk_moments** moments, uint32_t* below_count, bk_split_failure* why) {
+                         bk_moments** moments, uint32_t* below_count, bk_split_failure* why,
+                         uint32_t* sheets_merged) {
   const bk_fracture_def* d = ctx->def;
   const bk_tree_frame* frame = ctx->frame;
   bk_vec3 size = bk_v3_sub(node->bounds.max, node->bounds.min);
@@ -143,6 +198,17 @@ static uint32_t cut_node(bk_plane_splitter* s, const bk_plane_split_context* ctx
   add_side(s, above, pieces, &count, &capacity);
   *moments = bk_realloc(*moments, sizeof(bk_moments) * count);
   if (bk_plane_pieces_hold(node, *pieces, count, *moments, why, &s->topology)) return count;
+  if (*why == BK_SPLIT_NO_VOLUME) {
+    uint32_t merged = merge_sheets(*pieces, &count, below_count);
+    // A sheet alone on its side of the cut joined the other side: the
+    // plane cut nothing else there.
+    bool both_sides = *below_count > 0 && *below_count < count;
+    if (merged && both_sides && bk_plane_pieces_hold(node, *pieces, count, *moments, why, &s->topology)) {
+      *sheets_merged = merged;
+      return count;
+    }
+    if (merged && !both_sides) *why = BK_SPLIT_MISSED;
+  }
   free_pieces(*pieces, count);
   *pieces = NULL;
   return 0;
@@ -186,20 +252,21 @@ static void split_random(bk_plane_splitter* s, const bk_plane_split_context* ctx
     bk_plane plane = {n, bk_v3_dot(n, mass.centroid) + shift};
     bk_mesh* pieces = NULL;
     bk_moments* moments = NULL;
-    uint32_t below_count = 0;
-    uint32_t count = cut_node(s, ctx, node, node_index, plane, &pieces, &moments, &below_count, &out->why);
+    uint32_t below_count = 0, sheets = 0;
+    uint32_t count =
+        cut_node(s, ctx, node, node_index, plane, &pieces, &moments, &below_count, &out->why, &sheets);
     if (count == 0) {
       free(moments);
       continue;
     }
     if (count <= allowed) {
       bk_plane_split_free(&fewest);
-      *out = (bk_plane_split){pieces, moments, count, plane, out->why, out->bond_fallbacks};
+      *out = (bk_plane_split){pieces, moments, count, plane, out->why, out->bond_fallbacks, sheets};
       return;
     }
     if (fewest.count == 0 || count < fewest.count) {
       bk_plane_split_free(&fewest);
-      fewest = (bk_plane_split){pieces, moments, count, plane, BK_SPLIT_MISSED, 0};
+      fewest = (bk_plane_split){pieces, moments, count, plane, BK_SPLIT_MISSED, 0, sheets};
       fewest_below = below_count;
     } else {
       free_pieces(pieces, count);
@@ -210,6 +277,7 @@ static void split_random(bk_plane_splitter* s, const bk_plane_split_context* ctx
   out->pieces = fewest.pieces;
   out->moments = fewest.moments;
   out->plane = fewest.plane;
+  out->sheets_merged = fewest.sheets_merged;
   out->count =
       bk_merge_pieces(fewest.pieces, fewest.moments, fewest.count, fewest_below, node_index + 1, allowed);
 }
@@ -227,8 +295,8 @@ void bk_plane_split_node(bk_plane_splitter* s, const bk_plane_split_context* ctx
   if (ctx->bond &&
       bk_brick_bond_plane(ctx->bond, node->bounds, bk_moments_to_mass(node->moments).centroid, &out->plane)) {
     uint32_t below_count = 0;
-    uint32_t count =
-        cut_node(s, ctx, node, node_index, out->plane, &out->pieces, &out->moments, &below_count, &out->why);
+    uint32_t count = cut_node(s, ctx, node, node_index, out->plane, &out->pieces, &out->moments, &below_count,
+                              &out->why, &out->sheets_merged);
     if (count) {
       out->count = count <= allowed ? count
                                     : bk_merge_pieces(out->pieces, out->moments, count, below_count,

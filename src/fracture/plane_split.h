@@ -14,6 +14,8 @@ typedef enum bk_split_failure {
   BK_SPLIT_CAP_FAILED,
   BK_SPLIT_NOT_CLOSED,
   BK_SPLIT_VOLUME_CHANGED,
+  BK_SPLIT_NO_VOLUME, ///< a piece encloses no volume (a face of the source closed against its own back)
+  BK_SPLIT_NOT_SOLID, ///< a piece's mass is not a solid's (bk_solid_mass_check: the surface crosses itself)
 } bk_split_failure;
 
 /// What every split of one build shares (read only).
@@ -32,6 +34,7 @@ typedef struct bk_plane_split {
   bk_plane plane;
   bk_split_failure why;
   uint32_t bond_fallbacks; ///< 1 when a brick bond's cut failed and random planes cut instead
+  uint32_t sheets_merged;  ///< pieces enclosing no volume that joined a neighbour (never fragments)
 } bk_plane_split;
 
 /// A thread's cutting tools (slicer with its tessellator, face simplifier).
@@ -49,7 +52,8 @@ void bk_plane_split_node(bk_plane_splitter* splitter, const bk_plane_split_conte
 /// Releases the pieces a split made (when they are not taken into the tree).
 void bk_plane_split_free(bk_plane_split* split);
 
-/// True when `count` pieces of `node` are closed and keep its volume within
+/// True when `count` pieces of `node` are closed, each encloses volume
+/// (bk_mesh_encloses_no_volume) and they keep the node's volume within
 /// BK_FRACTURE_SPLIT_VOLUME_TOLERANCE; fills their moments, else sets *why.
 /// `scratch` is storage for the closure test, reused between calls.
 bool bk_plane_pieces_hold(const bk_mesh_tree_node* node, const bk_mesh* pieces, uint32_t count,

@@ -78,7 +78,11 @@ static void count_shortfall(bk_fracture_shortfall* s, bk_split_failure why) {
     s->not_closed++;
     break;
   case BK_SPLIT_VOLUME_CHANGED:
+  case BK_SPLIT_NO_VOLUME: // only a cut of no solid piece at all (a sheet cut alone)
     s->volume_changed++;
+    break;
+  case BK_SPLIT_NOT_SOLID:
+    s->not_solid++;
     break;
   }
 }
@@ -279,6 +283,7 @@ static bool grow_tree(tree_builder* b, bk_plane_splitter* splitter, uint32_t thr
       pthread_mutex_lock(&b->lock);
     }
     b->tree->shortfall.bond_fallbacks += split.bond_fallbacks;
+    b->tree->shortfall.sheets_merged += split.sheets_merged;
     if (split.count == 0) { // no cut held: stays a leaf
       count_shortfall(&b->tree->shortfall, split.why);
       continue;

@@ -66,11 +66,58 @@ static bk_vec3 first_bad_edge(const bk_mesh* m, bool overused) {
   return where;
 }
 
+// Turns every triangle wound against all its neighbours: one of its
+// directed edges is used the same way by another triangle, and none of them
+// reversed is, so turned it closes its shell where before the shell split
+// off a zero-volume pair of it and its own back. (Coincident faces of shells
+// that touch use their edges both ways and are left to the split.) Returns
+// how many were turned.
+static uint32_t turn_flipped_faces(bk_mesh* m) {
+  if (m) return 0;
+  bk_index_map edges = {0};
+  bk_index_map_init(&edges, 3u * m->triangle_count);
+  for (uint32_t t = 0; t < m->triangle_count; ++t)
+    for (int k = 0; k < 3; ++k) {
+      bool inserted = false;
+      uint32_t* uses = bk_index_map_insert(
+          &edges,
+          bk_directed_edge_key(bk_mesh_tri_position(m, t, k), bk_mesh_tri_position(m, t, (k + 1) % 3)), 0,
+          &inserted);
+      ++*uses;
+    }
+  // Decided on the counts before any turn, so the result does not depend on
+  // the triangles' order.
+  uint8_t* turn = bk_calloc(m->triangle_count + 1u, 1);
+  uint32_t turned = 0;
+  for (uint32_t t = 0; t < m->triangle_count; ++t) {
+    uint32_t same = 0, reversed = 0, degenerate = 0;
+    for (int k = 0; k < 3; ++k) {
+      uint32_t a = bk_mesh_tri_position(m, t, k), b = bk_mesh_tri_position(m, t, (k + 1) % 3);
+      degenerate += a == b; // left to the closure check
+      same += *bk_index_map_find(&edges, bk_directed_edge_key(a, b)) > 1;
+      reversed += bk_index_map_find(&edges, bk_directed_edge_key(b, a)) != NULL;
+    }
+    if (same > 0 && reversed == 0 && degenerate == 0) turn[t] = 1, turned++;
+  }
+  for (uint32_t t = 0; t < m->triangle_count; ++t) {
+    if (!turn[t]) continue;
+    uint32_t swap = m->indices[3 * t + 1];
+    m->indices[3 * t + 1] = m->indices[3 * t + 2];
+    m->indices[3 * t + 2] = swap;
+  }
+  free(turn);
+  bk_index_map_free(&edges);
+  return turned;
+}
+
 bool bk_mesh_repair(bk_mesh* m, bk_repair_info* info_out, bk_error* err) {
   bk_repair_info scratch;
   bk_repair_info* info = info_out ? info_out : &scratch;
   memset(info, 0, sizeof *info);
   if (m->triangle_count == 0) return bk_error_set(err, "mesh has no triangles");
+  info->duplicates_removed = bk_mesh_remove_duplicate_triangles(m);
+  info->faces_turned = turn_flipped_faces(m);
+  info->faces_turned += bk_mesh_turn_flipped_patches(m);
   info->positions_split = bk_mesh_split_nonmanifold(m);
   bk_closure closure = bk_mesh_check_closure(m);
   info->open_edges = closure.open_edges;
@@ -101,6 +148,9 @@ bool bk_mesh_repair(bk_mesh* m, bk_repair_info* info_out, bk_error* err) {
           "%g, %g)); it needs thickness to be fractured",
           closure.open_edges, p.x, p.y, p.z);
   }
+  // What a repair closed against its own back (a face given twice the
+  // other way round, a stray sheet) encloses nothing: never a fragment.
+  info->sheets_removed = bk_mesh_remove_sheets(m, &info->sheet_near);
   info->shells = count_shells(m);
   return true;
 }

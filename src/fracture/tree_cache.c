@@ -183,122 +183,6 @@ static void put_payload(byte_writer* w, const bk_mesh_tree* tree) {
   }
 }
 
-// ---------------------------------------------------------------- structure checks
-
-static bool aabb_finite(bk_aabb b) { return bk_v3_is_finite(b.min) && bk_v3_is_finite(b.max); }
-
-static bool moments_finite(const bk_moments* m) {
-  const double v[10] = {m->v, m->x, m->y, m->z, m->xx, m->yy, m->zz, m->xy, m->yz, m->zx};
-  for (int k = 0; k < 10; ++k)
-    if (!isfinite(v[k])) return false;
-  return true;
-}
-
-// Checks the invariants every consumer of a tree relies on (indices in range,
-// a real tree shape, contiguous leaf ranges). Shared by save and load so save
-// never writes a file that load would refuse. `why` gets a message without
-// the path; the caller adds it.
-static bool check_tree(const bk_mesh_tree* t, bk_error* why) {
-  bk_error inner = {{0}};
-  // A Voronoi tree's desc keeps the count of the caller's seed points but not
-  // the points (bk_fracture_def_clear_borrowed). bk_fracture_def_validate
-  // would read count points from NULL, so the count is checked here (same
-  // limit) and the def validated without it.
-  bk_fracture_def desc = t->desc;
-  if (desc.pattern == BK_PATTERN_VORONOI && !desc.seed_points && desc.seed_point_count) {
-    if (desc.seed_point_count > (1u << 20))
-      return bk_error_set(why, "fracture: seed_point_count = %u is too many (at most %u)",
-                          desc.seed_point_count, 1u << 20);
-    desc.seed_point_count = 0;
-  }
-  if (!bk_fracture_def_validate(&desc, &inner)) return bk_error_set(why, "%s", inner.message);
-  if (t->node_count == 0) return bk_error_set(why, "the tree has no nodes");
-  if (t->leaf_count == 0 || t->leaf_count > t->node_count)
-    return bk_error_set(why, "%u leaves for %u nodes", t->leaf_count, t->node_count);
-  uint32_t deepest = 0;
-  for (uint32_t i = 0; i < t->node_count; ++i) {
-    const bk_mesh_tree_node* n = &t->nodes[i];
-    if (!bk_mesh_validate(&n->mesh, &inner)) return bk_error_set(why, "node %u: %s", i, inner.message);
-    if (!aabb_finite(n->bounds) || !moments_finite(&n->moments) || !bk_v3_is_finite(n->plane.normal) ||
-        !isfinite(n->plane.offset))
-      return bk_error_set(why, "node %u has a non-finite bound, moment or plane", i);
-    // Bounds are derived from the mesh (the tree's origin from the root's),
-    // and a split plane's normal is a unit vector (bonds take it as theirs).
-    bk_aabb box = bk_mesh_bounds(&n->mesh);
-    if (memcmp(&box, &n->bounds, sizeof box) != 0)
-      return bk_error_set(why, "node %u: its stored bounds are not its mesh's", i);
-    if (n->child_count && !(fabs(bk_v3_length(n->plane.normal) - 1.0) <= 1e-9))
-      return bk_error_set(why, "node %u: its split plane's normal has length %.17g, not 1", i,
-                          bk_v3_length(n->plane.normal));
-    if (i == 0) {
-      bk_vec3 size = bk_v3_sub(box.max, box.min);
-      double largest = fmax(size.x, fmax(size.y, size.z));
-      if (!(largest >= BK_FRACTURE_MIN_SIZE && largest <= BK_FRACTURE_MAX_SIZE))
-        return bk_error_set(why, "the source is %g across (%g to %g allowed)", largest, BK_FRACTURE_MIN_SIZE,
-                            BK_FRACTURE_MAX_SIZE);
-      if (n->parent != BK_NULL_INDEX || n->depth != 0)
-        return bk_error_set(why, "the root has parent %u and depth %u", n->parent, n->depth);
-      if (n->leaf_begin != 0 || n->leaf_end != t->leaf_count)
-        return bk_error_set(why, "the root covers leaves [%u, %u), not [0, %u)", n->leaf_begin, n->leaf_end,
-                            t->leaf_count);
-    } else {
-      if (n->parent >= t->node_count)
-        return bk_error_set(why, "node %u has parent %u of %u", i, n->parent, t->node_count);
-      const bk_mesh_tree_node* p = &t->nodes[n->parent];
-      // Children come after their parent (checked below), so this also rules out cycles.
-      if (p->child_count == 0 || i < p->first_child ||
-          (uint64_t)i >= (uint64_t)p->first_child + p->child_count)
-        return bk_error_set(why, "node %u names parent %u, which does not list it as a child", i, n->parent);
-      if ((uint64_t)n->depth != (uint64_t)p->depth + 1)
-        return bk_error_set(why, "node %u has depth %u under a parent of depth %u", i, n->depth, p->depth);
-    }
-    if (n->depth > deepest) deepest = n->depth;
-    if (n->leaf_begin > n->leaf_end || n->leaf_end > t->leaf_count)
-      return bk_error_set(why, "node %u has leaf range [%u, %u) of %u leaves", i, n->leaf_begin, n->leaf_end,
-                          t->leaf_count);
-    if (n->child_count == 0) {
-      if (n->first_child != BK_NULL_INDEX)
-        return bk_error_set(why, "leaf node %u has first child %u", i, n->first_child);
-      if (n->leaf_end != n->leaf_begin + 1 || t->leaf_nodes[n->leaf_begin] != i)
-        return bk_error_set(why, "leaf node %u has leaf range [%u, %u) that does not name it", i,
-                            n->leaf_begin, n->leaf_end);
-      continue;
-    }
-    if (n->first_child <= i || (uint64_t)n->first_child + n->child_count > t->node_count)
-      return bk_error_set(why, "node %u has children [%u, +%u) of %u nodes", i, n->first_child,
-                          n->child_count, t->node_count);
-    // The children's leaf ranges must tile the parent's, in order.
-    uint32_t next_leaf = n->leaf_begin;
-    for (uint32_t c = n->first_child; c < n->first_child + n->child_count; ++c) {
-      if (t->nodes[c].parent != i)
-        return bk_error_set(why, "node %u lists child %u, whose parent is %u", i, c, t->nodes[c].parent);
-      if (t->nodes[c].leaf_begin != next_leaf)
-        return bk_error_set(why, "child %u of node %u starts at leaf %u, expected %u", c, i,
-                            t->nodes[c].leaf_begin, next_leaf);
-      next_leaf = t->nodes[c].leaf_end;
-    }
-    if (next_leaf != n->leaf_end)
-      return bk_error_set(why, "the children of node %u end at leaf %u, expected %u", i, next_leaf,
-                          n->leaf_end);
-  }
-  if (deepest != t->max_depth)
-    return bk_error_set(why, "max_depth is %u but the deepest node has depth %u", t->max_depth, deepest);
-  for (uint32_t l = 0; l < t->leaf_count; ++l) {
-    uint32_t node = t->leaf_nodes[l];
-    if (node >= t->node_count || t->nodes[node].child_count != 0 || t->nodes[node].leaf_begin != l)
-      return bk_error_set(why, "leaf %u names node %u, which is not that leaf", l, node);
-  }
-  for (uint32_t b = 0; b < t->bond_count; ++b) {
-    const bk_bond* bond = &t->bonds[b];
-    if (bond->leaf_a >= bond->leaf_b || bond->leaf_b >= t->leaf_count)
-      return bk_error_set(why, "bond %u joins leaves %u and %u of %u", b, bond->leaf_a, bond->leaf_b,
-                          t->leaf_count);
-    if (!isfinite(bond->area) || !bk_v3_is_finite(bond->centroid) || !bk_v3_is_finite(bond->normal))
-      return bk_error_set(why, "bond %u has a non-finite area, centroid or normal", b);
-  }
-  return true;
-}
-
 // ---------------------------------------------------------------- save
 
 // The tree cache reports every write failure the same way.
@@ -326,8 +210,9 @@ bool bk_mesh_tree_save_memory(const bk_mesh_tree* tree, const char* name, uint8_
   *data = NULL;
   *size = 0;
   const char* path = name;
+  // Save never writes a file that load would refuse.
   bk_error why = {{0}};
-  if (!check_tree(tree, &why))
+  if (!bk_mesh_tree_validate(tree, &why))
     return bk_error_set(err, "%s: cannot save an invalid mesh tree: %s", path, why.message);
 
   byte_writer w = {0};
@@ -566,7 +451,7 @@ static bool parse_payload(byte_reader* r, bk_mesh_tree* t, const char* path, bk_
   if (remaining(r) != 0) return corrupt(err, path, "%zu unexpected bytes after the bonds", remaining(r));
 
   bk_error why = {{0}};
-  if (!check_tree(t, &why)) return corrupt(err, path, "%s", why.message);
+  if (!bk_mesh_tree_validate(t, &why)) return corrupt(err, path, "%s", why.message);
   return true;
 }
 

@@ -155,11 +155,46 @@ void bk_mtl_parse(const char* text, size_t length, const bk_obj_materials* mater
 /// The format of an image file's bytes, told by its signature: "png",
 /// "jpeg" (glTF 2.0's core image formats) or NULL for anything else.
 const char* bk_image_format(const void* data, size_t size);
+/// Encodes `width` x `height` RGBA pixels as a PNG file's bytes (*png,
+/// released with free); false if they cannot be.
+bool bk_png_encode_rgba(const uint8_t* rgba, uint32_t width, uint32_t height, uint8_t** png, size_t* size);
+/// The most pixels an image converted or drawn may have (256 MiB as RGBA).
+#define BK_IMAGE_MAX_PIXELS ((uint64_t)1 << 26)
+/// Converts a TGA, BMP or GIF image (read by stb_image; no more than 16384
+/// pixels a side nor BK_IMAGE_MAX_PIXELS in all) to a PNG file's bytes (*png, released with free), for a
+/// glTF export, whose images must be PNG or JPEG. False (nothing allocated)
+/// for bytes that are none of these or cannot be decoded.
+bool bk_image_convert_to_png(const void* data, size_t size, uint8_t** png, size_t* png_size);
 
-/// Reads a whole file into a fresh buffer (free it with free()). Files over
-/// max_bytes are refused with "<path>: file larger than <limit_text>, refusing
-/// to load"; limit_text lets each caller name its limit ("1 GiB"). max_bytes
-/// must be a power of two of at least 64 KiB, the granularity the buffer grows by.
+/// Opens a file for reading only when it is a regular file: anything else is
+/// refused without blocking ("<path>: is a directory", "<path>: is not a
+/// regular file"; a FIFO or a device is never opened). `size` (may be NULL)
+/// gets its size. NULL with the reason in `err` otherwise.
+FILE* bk_file_open_read(const char* path, uint64_t* size, bk_error* err);
+/// bk_file_open_read's checks for a reader that opens the file itself (assimp).
+bool bk_file_check_read(const char* path, bk_error* err);
+/// Checks, before any work, that bk_file_begin_atomic may replace `path`: its
+/// directory exists and takes new files, and the target, if there, is a
+/// regular file whose mode bits let this process write it (for root: any
+/// write bit), so a read-only file is never replaced. One-line reason otherwise.
+bool bk_file_check_write(const char* path, bk_error* err);
+/// The part of bk_file_check_write about the target itself (bk_file_begin_atomic applies it).
+bool bk_file_check_target(const char* path, bk_error* err);
+/// Whether two paths name the same file: by device and inode when both
+/// exist (symlinks and hard links included), else by their normalised
+/// absolute names ("./x" and "x" are the same).
+bool bk_file_same(const char* a, const char* b);
+/// Copies `length` bytes of text to `out` (NUL-terminated, at most size - 1
+/// bytes) with every byte a terminal could act on (controls, invalid UTF-8,
+/// C1 controls) written as \xNN. Returns how many bytes of text it took.
+/// bk_error_set applies it to every message, so text quoted from a file
+/// never reaches a terminal raw.
+size_t bk_escape_text(const char* text, size_t length, char* out, size_t size);
+
+/// Reads a whole regular file (bk_file_open_read) into a fresh buffer (free
+/// it with free()). Files over max_bytes are refused, before anything is
+/// allocated, with "<path>: file larger than <limit_text>, refusing to load";
+/// limit_text lets each caller name its limit ("1 GiB").
 bool bk_file_read(const char* path, uint64_t max_bytes, const char* limit_text, void** data, size_t* size,
                   bk_error* err);
 
@@ -181,7 +216,9 @@ typedef struct bk_atomic_file {
 /// there is never opened or followed), with the permissions a new file gets
 /// (0666 less the umask). Readers see either the old file or the complete new
 /// one, never a partial write, and concurrent writers never share a
-/// temporary. Returns false (err filled, nothing created) on failure.
+/// temporary. A target bk_file_check_write refuses (read-only, a directory,
+/// not a regular file) is never replaced. Returns false (err filled, nothing
+/// created) on failure. Every file the project writes goes through here.
 bool bk_file_begin_atomic(const char* path, const bk_atomic_messages* messages, bk_atomic_file* out,
                           bk_error* err);
 /// Finishes a write begun by bk_file_begin_atomic: checks the stream, flushes,
@@ -189,6 +226,9 @@ bool bk_file_begin_atomic(const char* path, const bk_atomic_messages* messages, 
 /// failure the temporary is removed and the target left as it was.
 bool bk_file_commit_atomic(bk_atomic_file* file, const char* path, const bk_atomic_messages* messages,
                            bk_error* err);
+/// Abandons a write begun by bk_file_begin_atomic: the temporary is removed
+/// and the target left as it was.
+void bk_file_abort_atomic(bk_atomic_file* file);
 
 // ---------------------------------------------------------------- shapes
 

@@ -18,10 +18,18 @@ bool bk_file_read(const char* path, uint64_t max_bytes, const char* limit_text, 
                   bk_error* err) {
   *data = NULL;
   *size = 0;
-  FILE* f = fopen(path, "rb");
-  if (!f) return bk_error_set(err, "%s: cannot open: %s", path, strerror(errno));
-  // Read in chunks rather than trusting a size from fseek: works for pipes too.
-  size_t length = 0, capacity = FILE_READ_CHUNK;
+  uint64_t file_size = 0;
+  FILE* f = bk_file_open_read(path, &file_size, err);
+  if (!f) return false;
+  // The size is checked before anything is allocated; the reading still
+  // stops at the limit should the file grow meanwhile.
+  if (file_size > max_bytes) {
+    fclose(f);
+    return bk_error_set(err, "%s: file larger than %s, refusing to load", path, limit_text);
+  }
+  size_t length = 0;
+  size_t capacity = file_size + 1 > FILE_READ_CHUNK ? (size_t)file_size + 1 : FILE_READ_CHUNK;
+  if (capacity > max_bytes) capacity = (size_t)max_bytes;
   char* buffer = bk_alloc(capacity);
   for (;;) {
     if (length == capacity) {
@@ -31,7 +39,7 @@ bool bk_file_read(const char* path, uint64_t max_bytes, const char* limit_text, 
         fclose(f);
         return bk_error_set(err, "%s: file larger than %s, refusing to load", path, limit_text);
       }
-      capacity *= 2;
+      capacity = (uint64_t)capacity * 2 < max_bytes ? capacity * 2 : (size_t)max_bytes;
       buffer = bk_realloc(buffer, capacity);
     }
     size_t got = fread(buffer + length, 1, capacity - length, f);
@@ -95,6 +103,9 @@ bool bk_file_begin_atomic(const char* path, const bk_atomic_messages* messages, 
                           bk_error* err) {
   out->stream = NULL;
   out->tmp_path = NULL;
+  // A read-only target, a directory or a device is refused before anything
+  // is made (a missing directory fails the open below, in the writer's words).
+  if (!bk_file_check_target(path, err)) return false;
   int code = EEXIST;
   for (int attempt = 0; attempt < ATOMIC_NAME_ATTEMPTS && code == EEXIST; ++attempt) {
     char* tmp = unique_tmp_path(path);
@@ -142,4 +153,12 @@ bool bk_file_commit_atomic(bk_atomic_file* file, const char* path, const bk_atom
   }
   free(tmp);
   return true;
+}
+
+void bk_file_abort_atomic(bk_atomic_file* file) {
+  if (file->stream) fclose(file->stream);
+  if (file->tmp_path) unlink(file->tmp_path);
+  free(file->tmp_path);
+  file->stream = NULL;
+  file->tmp_path = NULL;
 }

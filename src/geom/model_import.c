@@ -387,10 +387,14 @@ static const struct aiScene* read_scene(const char* path, const void* data, size
                                         const char* name, bk_error* err) {
   struct aiPropertyStore* props = import_properties();
   const unsigned validate = aiProcess_ValidateDataStructure;
+  // Every file assimp opens (the model, a .gltf's buffers, textures) is
+  // checked to be a regular file first: a FIFO would block it forever.
+  struct aiFileIO* io = bk_import_file_io();
   const struct aiScene* scene =
       data ? aiImportFileFromMemoryWithProperties(data, (unsigned)size, validate, hint, props)
-           : aiImportFileExWithProperties(path, validate, NULL, props);
+           : aiImportFileExWithProperties(path, validate, io, props);
   aiReleasePropertyStore(props);
+  if (!scene && bk_import_file_io_refused(name, err)) return NULL;
   if (!scene) return assimp_failed(name, err), NULL;
   if (!check_raw_scene(scene, name, err)) {
     aiReleaseImport(scene);
@@ -402,8 +406,9 @@ static const struct aiScene* read_scene(const char* path, const void* data, size
 }
 
 // Turns an imported scene into the mesh (node selection, placement, material, finishing).
-static bool convert_scene(const struct aiScene* scene, const char* name, const char* base_dir,
-                          const bk_import_def* def, bk_mesh* out, bk_import_info* info, bk_error* err) {
+static bool convert_scene(const struct aiScene* scene, const char* name, const char* ext,
+                          const char* base_dir, const bk_import_def* def, bk_mesh* out, bk_import_info* info,
+                          bk_error* err) {
   if (!scene->mRootNode) return bk_error_set(err, "%s: the scene has no nodes", name);
   if (scene->mNumMeshes && !scene->mMeshes)
     return bk_error_set(err, "%s: the scene lists meshes it does not have", name);
@@ -415,6 +420,10 @@ static bool convert_scene(const struct aiScene* scene, const char* name, const c
   char names[320];
   const struct aiNode* start =
       find_node(scene->mRootNode, def->node, &parent, &info->nodes, names, sizeof names);
+  bk_import_read_units(scene, ext, info);
+  for (int i = 0; i < 3; ++i) // metres: the unit scales everything below the root
+    for (int j = 0; j < 4; ++j)
+      parent.m[i][j] *= info->metres_per_unit;
   bool ok = true;
   if (def->node && !start)
     ok = bk_error_set(err, "%s: no node named '%.80s' (nodes: %s)", name, def->node,
@@ -455,6 +464,7 @@ static const char* limit_text(uint64_t bytes, char* buffer, size_t size) {
 static void begin(bk_mesh* out, bk_import_info* info, const char* format) {
   memset(out, 0, sizeof *out);
   memset(info, 0, sizeof *info);
+  info->metres_per_unit = 1.0;
   if (strcmp(format, "obj") == 0)
     snprintf(info->format, sizeof info->format, "obj");
   else
@@ -483,7 +493,7 @@ static bool import_memory(const void* data, size_t size, const char* format, con
     if (def.node) return bk_error_set(err, "%s: node selection is not supported for OBJ files", name);
     bk_obj_materials* materials = bk_calloc(1, sizeof *materials);
     bool ok = bk_obj_parse_materials(data, size, name, out, materials, err);
-    if (ok) bk_import_obj_materials(info, out, materials, NULL);
+    if (ok) ok = bk_import_obj_materials(info, out, materials, NULL, err);
     free(materials);
     return ok;
   }
@@ -493,12 +503,17 @@ static bool import_memory(const void* data, size_t size, const char* format, con
     return false;
   if (strcmp(ext, "ply") == 0) {
     if (def.node) return bk_error_set(err, "%s: node selection is not supported for PLY files", name);
-    return bk_import_finish_ply(bk_ply_parse(data, size, name, out, err), name, &def, out, info, err);
+    return bk_import_ply(data, size, name, &def, out, info, err);
   }
+  return bk_import_assimp_memory(data, size, ext, name, &def, out, info, err);
+}
+
+bool bk_import_assimp_memory(const void* data, size_t size, const char* ext, const char* name,
+                             const bk_import_def* def, bk_mesh* out, bk_import_info* info, bk_error* err) {
   pthread_mutex_lock(&import_lock);
   bk_c_locale locale = bk_c_locale_begin();
   const struct aiScene* scene = read_scene(NULL, data, size, ext, name, err);
-  bool ok = scene && convert_scene(scene, name, "", &def, out, info, err);
+  bool ok = scene && convert_scene(scene, name, ext, "", def, out, info, err);
   aiReleaseImport(scene);
   bk_c_locale_end(&locale);
   pthread_mutex_unlock(&import_lock);
@@ -509,8 +524,8 @@ static bool import_memory(const void* data, size_t size, const char* format, con
 // def.max_file_bytes) for bk_import_precheck_content.
 static bool precheck_content(const char* path, const char* ext, uint64_t bytes, uint64_t file_size,
                              bk_error* err) {
-  FILE* f = fopen(path, "rb");
-  if (!f) return bk_error_set(err, "%s: cannot open: %s", path, strerror(errno));
+  FILE* f = bk_file_open_read(path, NULL, err);
+  if (!f) return false;
   char* data = bk_alloc((size_t)bytes);
   size_t got = fread(data, 1, (size_t)bytes, f);
   fclose(f);
@@ -530,28 +545,23 @@ static bool import_file(const char* path, const bk_import_def* def_in, bk_mesh* 
     return bk_error_set(err, "%s: unsupported model format '%s' (supported: %s)", path,
                         ext[0] ? ext : "no extension", BK_IMPORT_EXTENSIONS);
   // The same checks and wording as bk_file_read, before assimp opens it.
-  struct stat st;
-  FILE* f = fopen(path, "rb");
-  if (!f) return bk_error_set(err, "%s: cannot open: %s", path, strerror(errno));
-  bool is_file = fstat(fileno(f), &st) == 0 && S_ISREG(st.st_mode);
+  // Only a regular file is opened (a FIFO would block here, and in assimp, forever).
+  uint64_t file_size = 0;
+  FILE* f = bk_file_open_read(path, &file_size, err);
+  if (!f) return false;
   char* head = bk_alloc(BK_IMPORT_PRECHECK_BYTES);
-  size_t head_size = is_file ? fread(head, 1, BK_IMPORT_PRECHECK_BYTES, f) : 0;
+  size_t head_size = fread(head, 1, BK_IMPORT_PRECHECK_BYTES, f);
   fclose(f);
-  if (!is_file) {
-    free(head);
-    return bk_error_set(err, "%s: cannot open: not a regular file", path);
-  }
-  bool plausible = bk_import_precheck(path, ext, head, head_size, (uint64_t)st.st_size, err);
-  uint64_t content =
-      plausible ? bk_import_precheck_content_bytes(ext, head, head_size, (uint64_t)st.st_size) : 0;
+  bool plausible = bk_import_precheck(path, ext, head, head_size, file_size, err);
+  uint64_t content = plausible ? bk_import_precheck_content_bytes(ext, head, head_size, file_size) : 0;
   free(head);
   if (!plausible) return false;
   char limit[32];
-  if ((uint64_t)st.st_size > def.max_file_bytes)
+  if (file_size > def.max_file_bytes)
     return bk_error_set(err, "%s: file larger than %s, refusing to load", path,
                         limit_text(def.max_file_bytes, limit, sizeof limit));
-  if (st.st_size == 0) return bk_error_set(err, "%s: empty file", path);
-  if (content > 0 && !precheck_content(path, ext, content, (uint64_t)st.st_size, err)) return false;
+  if (file_size == 0) return bk_error_set(err, "%s: empty file", path);
+  if (content > 0 && !precheck_content(path, ext, content, file_size, err)) return false;
   if (strcmp(ext, "obj") == 0 || strcmp(ext, "ply") == 0) { // our own readers
     bool ply = ext[0] == 'p';
     if (def.node)
@@ -560,10 +570,12 @@ static bool import_file(const char* path, const bk_import_def* def_in, bk_mesh* 
     size_t length = 0;
     if (!bk_file_read(path, BK_IMPORT_MAX_FILE_BYTES, "1 GiB", &data, &length, err)) return false;
     bk_obj_materials* materials = bk_calloc(1, sizeof *materials);
-    bool ok =
-        ply ? bk_import_finish_ply(bk_ply_parse(data, length, path, out, err), path, &def, out, info, err)
-            : bk_obj_parse_materials(data, length, path, out, materials, err);
-    if (ok && !ply) bk_import_obj_materials(info, out, materials, path);
+    bool ok = ply ? bk_import_ply(data, length, path, &def, out, info, err)
+                  : bk_obj_parse_materials(data, length, path, out, materials, err);
+    if (ok && !ply && !bk_import_obj_materials(info, out, materials, path, err)) {
+      bk_mesh_free(out); // on failure *out is zeroed
+      ok = false;
+    }
     free(materials);
     free(data);
     return ok;
@@ -579,7 +591,7 @@ static bool import_file(const char* path, const bk_import_def* def_in, bk_mesh* 
   pthread_mutex_lock(&import_lock);
   bk_c_locale locale = bk_c_locale_begin();
   const struct aiScene* scene = read_scene(path, NULL, 0, ext, path, err);
-  bool ok = scene && convert_scene(scene, path, base_dir, &def, out, info, err);
+  bool ok = scene && convert_scene(scene, path, ext, base_dir, &def, out, info, err);
   aiReleaseImport(scene);
   bk_c_locale_end(&locale);
   pthread_mutex_unlock(&import_lock);

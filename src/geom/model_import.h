@@ -55,8 +55,34 @@ bool bk_import_precheck_content(const char* name, const char* ext, const void* d
 /// Refuses a glTF 2.0 document (`ext` "gltf": the text; "glb": the file up to
 /// its BIN chunk's header) that leaves out what the specification requires
 /// or points outside its arrays or buffers; the message names the field.
-/// Reads a PLY file (ply_reader.c: ours, not assimp's).
-bool bk_ply_parse(const void* data, size_t size, const char* name, bk_mesh* out, bk_error* err);
+/// Reads a PLY file (ply_reader.c: ours, not assimp's). *unknown_header is
+/// set when it is refused for a layout this reader does not know (no
+/// vertex or face element, no vertex_indices list, too many elements or
+/// properties), not for damage.
+bool bk_ply_parse(const void* data, size_t size, const char* name, bk_mesh* out, bool* unknown_header,
+                  bk_error* err);
+/// Walks a PLY file's whole body as its header declares it, whatever its
+/// elements (every value present and a number, list counts small, every
+/// list of vertex indices naming a vertex or -1): what assimp's PLY reader
+/// trusts. False with the first problem named.
+bool bk_ply_check_body(const void* data, size_t size, const char* name, bk_error* err);
+/// The first PLY header line that is free text rather than a keyword (old
+/// Blender exports wrote one without "comment"), as a note for
+/// bk_import_info.note; false when there is none.
+bool bk_ply_free_text_note(const void* data, size_t size, char* note, size_t note_size);
+/// A PLY file: our reader, else (a header layout it does not know, and no
+/// free text in the header, on which assimp's parser is unsafe) assimp's,
+/// saying so in info->note. Finished with bk_import_finish_ply.
+bool bk_import_ply(const void* data, size_t size, const char* name, const bk_import_def* def, bk_mesh* out,
+                   bk_import_info* info, bk_error* err);
+/// Sets info's units_given and metres_per_unit from what `scene` (of a file
+/// of extension `ext`) states: FBX's UnitScaleFactor (centimetres per
+/// unit); glTF is in metres and assimp applies Collada's <unit> itself.
+void bk_import_read_units(const struct aiScene* scene, const char* ext, bk_import_info* info);
+/// Reads bytes of format `ext` through assimp (locked, in the C locale) into
+/// a finished mesh.
+bool bk_import_assimp_memory(const void* data, size_t size, const char* ext, const char* name,
+                             const bk_import_def* def, bk_mesh* out, bk_import_info* info, bk_error* err);
 bool bk_import_precheck_gltf(const char* name, const char* ext, const void* data, size_t size,
                              uint64_t file_size, bk_error* err);
 
@@ -75,11 +101,22 @@ bool bk_import_settle_info(bool ok, bk_import_info* info, bool keep);
 /// the counts, a mesh inside out as a whole turned, the material list.
 bool bk_import_finish_ply(bool ok, const char* name, const bk_import_def* def, bk_mesh* out,
                           bk_import_info* info, bk_error* err);
+struct aiFileIO;
+/// The file system assimp is to read through (model_import_io.c): regular
+/// files only, never writing. Resets what bk_import_file_io_refused reports;
+/// call with the import lock held.
+struct aiFileIO* bk_import_file_io(void);
+/// After a failed import: true, with "<path>: is not a regular file (read by
+/// <name>)" in err, when assimp was refused a file for what it is.
+bool bk_import_file_io_refused(const char* name, bk_error* err);
 /// Gives info the material list of an OBJ file: its `usemtl` names, with the
 /// colours and textures of its `mtllib` file when `obj_path` is given and the
 /// file is beside it (texture paths resolved against the OBJ's directory).
-void bk_import_obj_materials(bk_import_info* info, const bk_mesh* mesh, const bk_obj_materials* materials,
-                             const char* obj_path);
+/// A library that is missing or unreadable leaves the materials white; false
+/// (with the reason) only when it is there but is not a regular file (a FIFO
+/// would block the read forever).
+bool bk_import_obj_materials(bk_import_info* info, const bk_mesh* mesh, const bk_obj_materials* materials,
+                             const char* obj_path, bk_error* err);
 /// Counts each listed material's triangles in the mesh and finds the one of the most.
 void bk_import_count_triangles(bk_import_info* info, const bk_mesh* mesh);
 /// Gives info a one-entry material list for a one-material mesh (our OBJ

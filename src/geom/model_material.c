@@ -79,16 +79,22 @@ const char* bk_image_format(const void* data, size_t size) {
 }
 
 // Keeps an embedded texture as glTF can hold it: PNG and JPEG files as they
-// are (told by their bytes, not the file's format hint), uncompressed
-// texels encoded as PNG; any other format is only noted.
+// are (told by their bytes, not the file's format hint), TGA, BMP and GIF
+// files and uncompressed texels encoded as PNG; any other format is only noted.
 static void keep_image(bk_import_material* out, const struct aiTexture* t) {
   if (!t->pcData || t->mWidth == 0) return;
   if (t->mHeight == 0) { // compressed: mWidth bytes of a file
     const uint8_t* bytes = (const uint8_t*)t->pcData;
     size_t size = t->mWidth;
     const char* format = bk_image_format(bytes, size);
-    if (!format) {
-      out->image_unsupported = true;
+    if (!format) { // a TGA, BMP or GIF file is converted; anything else only noted
+      uint8_t* png = NULL;
+      size_t png_size = 0;
+      out->image_unsupported = !bk_image_convert_to_png(bytes, size, &png, &png_size);
+      if (out->image_unsupported) return;
+      out->image = png;
+      out->image_size = png_size;
+      snprintf(out->image_format, sizeof out->image_format, "png");
       return;
     }
     out->image = bk_alloc(size);
@@ -108,18 +114,30 @@ static void keep_image(bk_import_material* out, const struct aiTexture* t) {
     const struct aiTexel* x = &t->pcData[i];
     rgba[4 * i] = x->r, rgba[4 * i + 1] = x->g, rgba[4 * i + 2] = x->b, rgba[4 * i + 3] = x->a;
   }
-  byte_buffer png = {0};
-  int ok = stbi_write_png_to_func(append_bytes, &png, (int)t->mWidth, (int)t->mHeight, 4, rgba,
-                                  (int)t->mWidth * 4);
+  uint8_t* png = NULL;
+  size_t png_size = 0;
+  bool ok = bk_png_encode_rgba(rgba, t->mWidth, t->mHeight, &png, &png_size);
   free(rgba);
-  if (!ok || !png.size) {
-    free(png.data);
+  if (!ok) {
     out->image_unsupported = true;
     return;
   }
-  out->image = png.data;
-  out->image_size = png.size;
+  out->image = png;
+  out->image_size = png_size;
   snprintf(out->image_format, sizeof out->image_format, "png");
+}
+
+bool bk_png_encode_rgba(const uint8_t* rgba, uint32_t width, uint32_t height, uint8_t** out, size_t* size) {
+  *out = NULL, *size = 0;
+  if (width == 0 || height == 0 || width > (1u << 15) || height > (1u << 15)) return false;
+  byte_buffer png = {0};
+  int ok = stbi_write_png_to_func(append_bytes, &png, (int)width, (int)height, 4, rgba, (int)width * 4);
+  if (!ok || !png.size) {
+    free(png.data);
+    return false;
+  }
+  *out = png.data, *size = png.size;
+  return true;
 }
 
 // ---------------------------------------------------------------- one material

@@ -119,14 +119,12 @@ static bool precheck_ply(const char* name, const char* head, size_t size, uint64
       }
       ok = ok && next_word(&cursor, eol, &word, &length); // the property's name
     } else {
-      // assimp 5.2's header parser corrupts its heap or jumps through a null
-      // pointer on lines it does not know in damaged files (found by
-      // fuzz_import), so only PLY's own keywords pass. Old Blender exports
-      // wrote a free-text line without "comment": those are refused by name.
-      return bk_error_set(err,
-                          "%s: malformed PLY header at line %u: '%.*s' is not a PLY keyword (free text must "
-                          "follow 'comment')",
-                          name, number, (int)(length < 24 ? length : 24), word);
+      // Free text without "comment" (old Blender exports wrote a line of
+      // it): our reader takes it as a comment, with a note. assimp 5.2's
+      // header parser corrupts its heap or jumps through a null pointer on
+      // lines it does not know in damaged files (found by fuzz_import), so
+      // bk_import_ply never hands it a header with such a line.
+      ok = true;
     }
     // Header lines are plain ASCII text: anything else is a damaged file.
     for (const char* c = line; c < eol && ok; ++c)

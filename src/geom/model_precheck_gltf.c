@@ -18,6 +18,11 @@
 
 // Counts beyond this are refused (no byte range in a 4 GiB file needs more).
 #define GLTF_MAX_COUNT (1ull << 32)
+// JSON values beyond this are refused before anything is allocated for
+// them (48 bytes each here, about 33 in assimp): a scene's structure needs
+// far fewer (our own export of 8,192 fragments about 2 million), while 64 MiB
+// of "0," would otherwise take 1.6 GB.
+#define GLTF_MAX_JSON_VALUES (1u << 23)
 
 typedef struct gltf_check {
   const char* name;
@@ -602,10 +607,17 @@ bool bk_import_precheck_gltf(const char* name, const char* ext, const void* data
       has_bin = true;
     }
   }
+  // Counted before anything is allocated; the contents of "extras" (which
+  // nothing here checks, and where our own exports keep their tree) are
+  // checked but not stored. assimp parses every value (about 33 bytes
+  // each), so the total is limited too.
+  static const bk_json_limits limits = {GLTF_MAX_JSON_VALUES, GLTF_MAX_JSON_VALUES, NULL, true};
   bk_json_doc doc;
   char why[160];
-  if (!bk_json_parse(json, json_size, &doc, why, sizeof why))
-    return bk_error_set(err, "%s: malformed glTF JSON: %s", name, why);
+  if (!bk_json_parse_limited(json, json_size, &limits, &doc, why, sizeof why))
+    return strncmp(why, "more than", 9) == 0
+               ? bk_error_set(err, "%s: the glTF JSON holds %s, refusing to load", name, why)
+               : bk_error_set(err, "%s: malformed glTF JSON: %s", name, why);
   gltf_check c = {.name = name, .doc = &doc, .err = err, .root = 0};
   gltf_sizes sizes = {0};
   uint64_t* components = NULL;

@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "bk_geom.h"
 #include "model_import.h"
@@ -126,8 +127,8 @@ void bk_mtl_parse(const char* text, size_t length, const bk_obj_materials* mater
 /// MTL files larger than this are not read (the materials stay white, untextured).
 #define MTL_MAX_FILE_BYTES ((uint64_t)1 << 24)
 
-void bk_import_obj_materials(bk_import_info* info, const bk_mesh* mesh, const bk_obj_materials* materials,
-                             const char* obj_path) {
+bool bk_import_obj_materials(bk_import_info* info, const bk_mesh* mesh, const bk_obj_materials* materials,
+                             const char* obj_path, bk_error* err) {
   uint32_t count = materials->count ? materials->count : 1;
   info->materials = count;
   info->materials_merged = materials->merged;
@@ -141,17 +142,20 @@ void bk_import_obj_materials(bk_import_info* info, const bk_mesh* mesh, const bk
   bk_import_count_triangles(info, mesh);
   // The library is looked for beside the OBJ file (memory imports have none);
   // one that is missing or unreadable leaves the materials white.
-  if (!obj_path || !materials->library[0] || materials->library[0] == '/') return;
+  if (!obj_path || !materials->library[0] || materials->library[0] == '/') return true;
   const char* slash = strrchr(obj_path, '/');
   int dir = slash ? (int)(slash - obj_path) : 0;
   char path[BK_IMPORT_TEXT_MAX * 2];
   if (snprintf(path, sizeof path, "%.*s%s%s", dir, obj_path, slash ? "/" : "", materials->library) >=
       (int)sizeof path)
-    return;
+    return true;
   void* text = NULL;
   size_t length = 0;
-  bk_error err = {{0}};
-  if (!bk_file_read(path, MTL_MAX_FILE_BYTES, "16 MiB", &text, &length, &err)) return;
+  bk_error why = {{0}};
+  struct stat st = {0};
+  if (!bk_file_read(path, MTL_MAX_FILE_BYTES, "16 MiB", &text, &length, &why))
+    return stat(path, &st) != 0 || S_ISREG(st.st_mode) ||
+           bk_error_set(err, "%s (mtllib of %s)", why.message, obj_path);
   bk_mtl_parse(text, length, materials, info->material_list);
   free(text);
   // Texture names are relative to the OBJ file's directory.
@@ -165,4 +169,5 @@ void bk_import_obj_materials(bk_import_info* info, const bk_mesh* mesh, const bk
     else
       m->texture[0] = '\0'; // a path too long to keep is no path
   }
+  return true;
 }

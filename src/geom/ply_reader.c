@@ -107,6 +107,7 @@ static bool parse_header(const char* name, const char* text, size_t size, ply_he
           --first;
         p->is_index = e->is_face && (same(first, (size_t)(last - first), "vertex_indices") ||
                                      same(first, (size_t)(last - first), "vertex_index"));
+        snprintf(p->name, sizeof p->name, "%.*s", (int)(last - first < 23 ? last - first : 23), first);
       } else {
         p->size = type_size(words[1], strlen(words[1]), &p->is_float);
         snprintf(p->name, sizeof p->name, "%.23s", words[2]);
@@ -216,9 +217,13 @@ static int find_property(const ply_element* e, const char* const* names, int cou
   return -1;
 }
 
-bool bk_ply_parse(const void* data, size_t size, const char* name, bk_mesh* out, bk_error* err) {
+bool bk_ply_parse(const void* data, size_t size, const char* name, bk_mesh* out, bool* unknown_header,
+                  bk_error* err) {
   memset(out, 0, sizeof *out);
   ply_header h;
+  // Every refusal before the body is read is of a layout this reader does
+  // not know (the header's form was checked by bk_import_precheck).
+  *unknown_header = true;
   if (!parse_header(name, data, size, &h, err)) return false;
   int vertex_element = -1, face_element = -1;
   for (uint32_t e = 0; e < h.element_count; ++e) {
@@ -242,6 +247,7 @@ bool bk_ply_parse(const void* data, size_t size, const char* name, bk_mesh* out,
     if (h.elements[face_element].properties[k].is_index) index_property = (int)k;
   if (index_property < 0) return bk_error_set(err, "%s: PLY faces need a vertex_indices list", name);
   uint64_t vertices = ve->count;
+  *unknown_header = false;
 
   bk_c_locale locale = bk_c_locale_begin(); // numbers read and written with '.'
   body_cursor c = {(const unsigned char*)data + h.body, (const unsigned char*)data + size, h.binary,
@@ -302,5 +308,89 @@ bool bk_ply_parse(const void* data, size_t size, const char* name, bk_mesh* out,
     ok = bk_error_set(err, "%s: no triangles (the PLY file has no faces of 3 or more vertices)", name);
   if (ok) ok = bk_obj_parse(obj.data, obj.length, name, out, err);
   free(obj.data);
+  return ok;
+}
+
+bool bk_ply_free_text_note(const void* data, size_t size, char* note, size_t note_size) {
+  static const char* const keywords[] = {"ply", "format", "comment", "obj_info", "element", "property"};
+  const char* text = data;
+  const char* end = text + size;
+  uint32_t number = 1;
+  for (const char* line = text; line < end; line++, number++) {
+    const char* eol = memchr(line, '\n', (size_t)(end - line));
+    if (!eol) return false;
+    const char* word = line;
+    while (word < eol && (*word == ' ' || *word == '\t'))
+      word++;
+    size_t length = 0;
+    while (word + length < eol && word[length] != ' ' && word[length] != '\t' && word[length] != '\r')
+      length++;
+    if (same(word, length, "end_header")) return false;
+    bool known = length == 0;
+    for (size_t k = 0; k < sizeof keywords / sizeof *keywords && !known; ++k)
+      known = same(word, length, keywords[k]);
+    if (!known) {
+      // The header's lines are printable (bk_import_precheck); cut to fit.
+      size_t shown = (size_t)(eol - word);
+      while (shown > 0 && (word[shown - 1] == '\r' || word[shown - 1] == ' '))
+        shown--;
+      snprintf(note, note_size, "PLY header line %u ('%.*s%s') is not a PLY keyword: read as a comment",
+               number, (int)(shown < 40 ? shown : 40), word, shown > 40 ? "..." : "");
+      return true;
+    }
+    line = eol;
+  }
+  return false;
+}
+
+bool bk_ply_check_body(const void* data, size_t size, const char* name, bk_error* err) {
+  ply_header h;
+  if (!parse_header(name, data, size, &h, err)) return false;
+  uint64_t vertices = 0;
+  bool have_vertices = false;
+  for (uint32_t e = 0; e < h.element_count && !have_vertices; ++e)
+    if (h.elements[e].is_vertex) vertices = h.elements[e].count, have_vertices = true;
+  if (!have_vertices) return bk_error_set(err, "%s: a PLY mesh needs a vertex element", name);
+  bk_c_locale locale = bk_c_locale_begin();
+  body_cursor c = {(const unsigned char*)data + h.body, (const unsigned char*)data + size, h.binary,
+                   h.big_endian};
+  bool ok = true;
+  for (uint32_t e = 0; e < h.element_count && ok; ++e) {
+    const ply_element* el = &h.elements[e];
+    for (uint64_t item = 0; item < el->count && ok; ++item)
+      for (uint32_t k = 0; k < el->property_count && ok; ++k) {
+        const ply_property* p = &el->properties[k];
+        double value = 0.0;
+        int64_t count = 0;
+        if (p->count_size == 0) {
+          if (!next_value(&c, p->size, p->is_float, NULL, &value) || !isfinite(value))
+            ok = bk_error_set(err, "%s: PLY element %u item %llu ends early or holds a non-number", name, e,
+                              (unsigned long long)item);
+          continue;
+        }
+        if (!next_value(&c, p->count_size, false, &count, NULL) || count < 0 || count > PLY_MAX_LIST) {
+          ok = bk_error_set(err, "%s: PLY element %u item %llu has a bad list count", name, e,
+                            (unsigned long long)item);
+          break;
+        }
+        // Lists of vertex indices (any element's: faces, strips) name vertices, or -1 (a strip's restart).
+        bool indices = strstr(p->name, "index") || strstr(p->name, "indices");
+        if (indices && p->is_float) {
+          ok = bk_error_set(err, "%s: PLY element %u: list '%s' of vertex indices is not of an integer type",
+                            name, e, p->name);
+          break;
+        }
+        for (int64_t i = 0; i < count && ok; ++i) {
+          int64_t index = 0;
+          if (!next_value(&c, p->size, p->is_float, &index, &value) || !isfinite(value))
+            ok = bk_error_set(err, "%s: PLY element %u item %llu ends early or holds a non-number", name, e,
+                              (unsigned long long)item);
+          else if (indices && (index < -1 || (index >= 0 && (uint64_t)index >= vertices)))
+            ok = bk_error_set(err, "%s: PLY element %u item %llu names vertex %lld of %llu", name, e,
+                              (unsigned long long)item, (long long)index, (unsigned long long)vertices);
+        }
+      }
+  }
+  bk_c_locale_end(&locale);
   return ok;
 }

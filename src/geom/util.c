@@ -8,10 +8,14 @@
 
 bool bk_error_set(bk_error* err, const char* fmt, ...) {
   if (err) {
+    // Messages quote file names and file content: control bytes are escaped
+    // here, once for all of them, so no file can drive the user's terminal.
+    char text[sizeof err->message];
     va_list args;
     va_start(args, fmt);
-    vsnprintf(err->message, sizeof err->message, fmt, args);
+    vsnprintf(text, sizeof text, fmt, args);
     va_end(args);
+    bk_escape_text(text, strlen(text), err->message, sizeof err->message);
   }
   return false;
 }

@@ -45,6 +45,14 @@ void bk_renderer_release_tree(bk_renderer* renderer, bk_render_tree tree);
 /// Material looks, by name: stone, brick, concrete, porcelain, glass,
 /// eggshell, wood (unknown names fall back to stone).
 int bk_renderer_material(const bk_renderer* renderer, const char* name);
+/// A look for a model with its own surface: the outer surface coloured by
+/// `image` (an image file's bytes: PNG, JPEG, TGA, BMP, ...; NULL = white)
+/// times `color` (linear RGB; NULL = white) at the model's UVs, without
+/// relief; cut faces, gloss and transparency those of look `base`. One such
+/// look at a time: each call replaces the last. Returns its index (`base`
+/// when there is no room).
+int bk_renderer_model_look(bk_renderer* renderer, int base, const void* image, size_t image_size,
+                           const float color[3]);
 
 typedef struct bk_camera {
   bk_vec3 eye, target;

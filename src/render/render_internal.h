@@ -101,6 +101,7 @@ typedef struct material {
   float transmit[3];
   float shadow;             // share of the sun's light its pieces stop (1 = a full shadow)
   int programs[DRAW_KINDS]; // by kind (SURFACE, INTERIOR, SIMPLE): the program that draws it
+  bool model_look;          // bk_renderer_model_look's: only its albedo is its own
 } material;
 
 // Whether a material's pieces are drawn blended after the opaque pass.
@@ -253,6 +254,12 @@ GLuint bk_texture_load(const char* path, bool srgb, float mean_rgb[3], bk_error*
 /// Loads a PNG of linear data into a mipmapped, repeating RGBA texture (a
 /// normal map with occlusion in alpha): 4 channels whatever the file has.
 GLuint bk_texture_load_rgba(const char* path, bk_error* err);
+/// bk_texture_load (sRGB) from an image file's bytes (PNG, JPEG, TGA, BMP,
+/// ...; no more than 16384 pixels a side; NULL: one white texel), times
+/// `color` (linear, clamped to 0..1; NULL = white), its rows reversed: a
+/// model's UVs have v = 0 at the image's bottom.
+GLuint bk_texture_load_memory_flipped(const void* data, size_t size, const float color[3], float mean_rgb[3],
+                                      bk_error* err);
 /// The next mipmap level of an RGB image: each texel the mean of a 2x2 box
 /// (an odd size leaves its last row or column out; a size of 1 takes its one
 /// row or column twice), in linear light for `srgb` images (rounded to the

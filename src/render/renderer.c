@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "render_internal.h"
 
@@ -83,12 +84,11 @@ static void choose_programs(material* m) {
 // The cut faces' relief and occlusion: optional, so a material without the
 // file is drawn with a flat, open face (the renderer's flat_normal).
 static bool load_interior_normal(const char* path, GLuint flat, GLuint* out, bk_error* err) {
-  FILE* f = fopen(path, "rb");
-  if (!f) {
+  struct stat st = {0};
+  if (stat(path, &st) != 0) {
     *out = flat;
     return true;
   }
-  fclose(f);
   return (*out = bk_texture_load_rgba(path, err)) != 0;
 }
 
@@ -284,7 +284,7 @@ void bk_renderer_destroy(bk_renderer* r) {
     material* m = &r->materials[i];
     GLuint textures[4] = {m->albedo, m->normal, m->interior,
                           m->interior_normal != r->flat_normal ? m->interior_normal : 0};
-    glDeleteTextures(4, textures);
+    glDeleteTextures(m->model_look ? 1 : 4, textures);
   }
   GLuint ground_textures[3] = {r->ground.albedo, r->ground.normal, r->flat_normal};
   glDeleteTextures(3, ground_textures);
@@ -314,6 +314,37 @@ void bk_renderer_destroy(bk_renderer* r) {
   free(r);
 }
 
+int bk_renderer_model_look(bk_renderer* r, int base, const void* image, size_t image_size,
+                           const float color[3]) {
+  const int builtin = (int)(sizeof material_table / sizeof *material_table);
+  if (base < 0 || base >= builtin || builtin >= (int)(sizeof r->materials / sizeof *r->materials))
+    return base;
+  // The base's cut faces, numbers and programs; the model's colours on a
+  // surface without relief, at its own UVs. The base's tint, which colours
+  // its cut faces too, is divided out of the model's colour.
+  material m = r->materials[base];
+  float own[3] = {1.0f, 1.0f, 1.0f};
+  for (int k = 0; k < 3; ++k)
+    own[k] = (color ? color[k] : 1.0f) / (m.tint[k] > 0.0f ? m.tint[k] : 1.0f);
+  bk_error err = {0};
+  GLuint albedo = bk_texture_load_memory_flipped(image, image_size, own, m.albedo_mean, &err);
+  if (!albedo) {
+    fprintf(stderr, "breakables: warning: the model is drawn without its texture: %s\n", err.message);
+    albedo = bk_texture_load_memory_flipped(NULL, 0, own, m.albedo_mean, &err);
+  }
+  if (r->material_count > builtin) glDeleteTextures(1, &r->materials[builtin].albedo);
+  m.name = "model";
+  m.model_look = true;
+  m.albedo = albedo;
+  m.normal = r->flat_normal;
+  m.uv_scale = 1.0f;
+  m.glaze = 0.0f;
+  choose_programs(&m);
+  r->materials[builtin] = m;
+  r->material_count = builtin + 1;
+  return builtin;
+}
+
 int bk_renderer_material(const bk_renderer* r, const char* name) {
   for (int i = 0; i < r->material_count; ++i)
     if (name && strcmp(r->materials[i].name, name) == 0) return i;
@@ -332,16 +363,28 @@ void bk_renderer_begin_frame(bk_renderer* r, const bk_camera* camera, int width,
   memset(&r->stats, 0, sizeof r->stats);
 }
 
+static void write_to_stream(void* context, void* data, int size) {
+  fwrite(data, 1, (size_t)size, context); // a short write leaves the stream in error, which commit reports
+}
+
 bool bk_renderer_screenshot(bk_renderer* r, int width, int height, const char* path, bk_error* err) {
   (void)r;
+  // Written beside the target and renamed over it, like every file the project writes.
+  static const bk_atomic_messages messages = {"cannot write the screenshot", "cannot write the screenshot",
+                                              "cannot write the screenshot"};
+  bk_atomic_file file = {0};
+  if (!bk_file_begin_atomic(path, &messages, &file, err)) return false;
   unsigned char* pixels = bk_alloc((size_t)width * (size_t)height * 3);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
   glReadPixels(0, 0, width, height, GL_RGB, GL_UNSIGNED_BYTE, pixels);
   stbi_flip_vertically_on_write(1); // GL rows start at the bottom
-  int ok = stbi_write_png(path, width, height, 3, pixels, width * 3);
+  int ok = stbi_write_png_to_func(write_to_stream, file.stream, width, height, 3, pixels, width * 3);
   free(pixels);
-  if (!ok) return bk_error_set(err, "%s: cannot write the screenshot", path);
-  return true;
+  if (!ok) {
+    bk_file_abort_atomic(&file);
+    return bk_error_set(err, "%s: cannot write the screenshot", path);
+  }
+  return bk_file_commit_atomic(&file, path, &messages, err);
 }
 
 bk_render_stats bk_renderer_stats(const bk_renderer* r) { return r->stats; }

@@ -5,19 +5,13 @@
 
 #include "render_internal.h"
 
+// A regular file only (bk_file_read), NUL-terminated.
 static char* read_text(const char* path) {
-  FILE* f = fopen(path, "rb");
-  if (!f) return NULL;
-  fseek(f, 0, SEEK_END);
-  long size = ftell(f);
-  fseek(f, 0, SEEK_SET);
-  char* text = size >= 0 ? malloc((size_t)size + 1) : NULL;
-  size_t got = text ? fread(text, 1, (size_t)size, f) : 0;
-  fclose(f);
-  if (!text || got != (size_t)size) {
-    free(text);
-    return NULL;
-  }
+  void* data = NULL;
+  size_t size = 0;
+  bk_error err = {{0}};
+  if (!bk_file_read(path, (uint64_t)1 << 24, "16 MiB", &data, &size, &err)) return NULL;
+  char* text = bk_realloc(data, size + 1);
   text[size] = 0;
   return text;
 }

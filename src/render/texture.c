@@ -1,6 +1,8 @@
 // Textures from PNG files (stb_image), mipmapped and repeating.
+#include <limits.h>
 #include <math.h>
 #include <stb_image.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "render_internal.h"
@@ -98,10 +100,26 @@ static GLuint make_texture(const unsigned char* pixels, int width, int height, i
   return texture;
 }
 
-GLuint bk_texture_load(const char* path, bool srgb, float mean_rgb[3], bk_error* err) {
-  int width = 0, height = 0, channels = 0;
-  unsigned char* pixels = stbi_load(path, &width, &height, &channels, 3);
-  if (!pixels) return bk_error_set(err, "%s: cannot load texture: %s", path, stbi_failure_reason()), 0;
+/// Texture files larger than this are refused.
+#define TEXTURE_MAX_FILE_BYTES ((uint64_t)1 << 28)
+
+// The file is read by bk_file_read (a regular file only: stbi_load would
+// block forever on a FIFO) and decoded from memory.
+static unsigned char* load_pixels(const char* path, int wanted, int* width, int* height, bk_error* err) {
+  void* data = NULL;
+  size_t size = 0;
+  if (!bk_file_read(path, TEXTURE_MAX_FILE_BYTES, "256 MiB", &data, &size, err)) return NULL;
+  int channels = 0;
+  unsigned char* pixels =
+      size <= INT_MAX ? stbi_load_from_memory(data, (int)size, width, height, &channels, wanted) : NULL;
+  free(data);
+  if (!pixels) bk_error_set(err, "%s: cannot load texture: %s", path, stbi_failure_reason());
+  return pixels;
+}
+
+// The mean colour (linear when srgb) of RGB pixels, and the texture of them.
+static GLuint make_colour_texture(const unsigned char* pixels, int width, int height, bool srgb,
+                                  float mean_rgb[3]) {
   if (mean_rgb) {
     // In linear light, as the shaders light it: what the texture looks like
     // from far away (its last mipmap level).
@@ -117,15 +135,64 @@ GLuint bk_texture_load(const char* path, bool srgb, float mean_rgb[3], bk_error*
       mean_rgb[k] = count ? (float)(sum / (double)count) : 0.0f;
     }
   }
-  GLuint texture = make_texture(pixels, width, height, 3, srgb);
+  return make_texture(pixels, width, height, 3, srgb);
+}
+
+GLuint bk_texture_load(const char* path, bool srgb, float mean_rgb[3], bk_error* err) {
+  int width = 0, height = 0;
+  unsigned char* pixels = load_pixels(path, 3, &width, &height, err);
+  if (!pixels) return 0;
+  GLuint texture = make_colour_texture(pixels, width, height, srgb, mean_rgb);
   stbi_image_free(pixels);
   return texture;
 }
 
-GLuint bk_texture_load_rgba(const char* path, bk_error* err) {
+GLuint bk_texture_load_memory_flipped(const void* data, size_t size, const float color[3], float mean_rgb[3],
+                                      bk_error* err) {
   int width = 0, height = 0, channels = 0;
-  unsigned char* pixels = stbi_load(path, &width, &height, &channels, 4);
-  if (!pixels) return bk_error_set(err, "%s: cannot load texture: %s", path, stbi_failure_reason()), 0;
+  unsigned char white[3] = {255, 255, 255};
+  unsigned char* pixels = NULL;
+  if (!data) { // the colour alone
+    width = height = 1;
+    pixels = white;
+  } else {
+    if (size > INT_MAX || !stbi_info_from_memory(data, (int)size, &width, &height, &channels))
+      return bk_error_set(err, "cannot load texture: not an image stb_image reads"), 0;
+    // Refused before any pixel is allocated (as the library's image limit).
+    if (width <= 0 || height <= 0 || width > (1 << 14) || height > (1 << 14) ||
+        (uint64_t)width * (uint64_t)height > ((uint64_t)1 << 26))
+      return bk_error_set(err, "cannot load texture: %d x %d pixels is too large", width, height), 0;
+    pixels = stbi_load_from_memory(data, (int)size, &width, &height, &channels, 3);
+    if (!pixels) return bk_error_set(err, "cannot load texture: a broken image"), 0;
+  }
+  // The colour multiplies the texture in linear light.
+  float decoded[256];
+  for (int value = 0; value < 256; ++value)
+    decoded[value] = decode_srgb((unsigned char)value);
+  size_t count = (size_t)width * (size_t)height;
+  for (int k = 0; k < 3 && color && color[k] != 1.0f; ++k)
+    for (size_t i = 0; i < count; ++i)
+      pixels[3 * i + k] =
+          encode_srgb(decoded, decoded[pixels[3 * i + k]] * fminf(fmaxf(color[k], 0.0f), 1.0f));
+  // Row 0 of the texture is v = 0, the image's bottom row in a model's UVs.
+  size_t row = 3u * (size_t)width;
+  unsigned char* swap = bk_alloc(row);
+  for (int y = 0; y < height / 2; ++y) {
+    unsigned char *top = pixels + row * (size_t)y, *bottom = pixels + row * (size_t)(height - 1 - y);
+    memcpy(swap, top, row);
+    memcpy(top, bottom, row);
+    memcpy(bottom, swap, row);
+  }
+  free(swap);
+  GLuint texture = make_colour_texture(pixels, width, height, true, mean_rgb);
+  if (data) stbi_image_free(pixels);
+  return texture;
+}
+
+GLuint bk_texture_load_rgba(const char* path, bk_error* err) {
+  int width = 0, height = 0;
+  unsigned char* pixels = load_pixels(path, 4, &width, &height, err);
+  if (!pixels) return 0;
   GLuint texture = make_texture(pixels, width, height, 4, false);
   stbi_image_free(pixels);
   return texture;

@@ -53,6 +53,13 @@ bk_breakable_id bk_runtime_add_breakable(bk_runtime* rt, const bk_breakable_def*
            null_id;
   if (!isfinite(def->anchor_height))
     return bk_error_set(err, "breakable: anchor_height must be finite (got %g)", def->anchor_height), null_id;
+  // The tree is the caller's and may have been made or changed by hand: every
+  // index below (bonds into leaves, leaves into nodes) and every mass must
+  // hold before anything is allocated from it. Checked on every add, not
+  // once per tree pointer: the caller may change its tree between adds.
+  bk_error tree_err = {{0}};
+  if (!bk_mesh_tree_validate(tree, &tree_err))
+    return bk_error_set(err, "breakable: tree: %s", tree_err.message), null_id;
   bk_transform transform = {def->transform.position, bk_quat_normalize(q)};
 
   rt_begin_call(rt);
@@ -127,11 +134,13 @@ static void refresh_masses(bk_runtime* rt, uint32_t breakable_index) {
   }
 }
 
-// Intact bonds keep the fraction of hit points they had left.
+// Intact bonds keep the fraction of hit points they had left (never more
+// than all of them: an untouched bond's product can round up by an ulp).
 static void rescale_bonds(rt_breakable* b, double bond_strength) {
   for (uint32_t i = 0; i < b->tree->bond_count; ++i) {
     double initial = bond_strength * b->tree->bonds[i].area;
-    if (!b->bond_broken[i] && b->bond_hp_initial[i] > 0.0) b->bond_hp[i] *= initial / b->bond_hp_initial[i];
+    if (!b->bond_broken[i] && b->bond_hp_initial[i] > 0.0)
+      b->bond_hp[i] = fmin(b->bond_hp[i] * (initial / b->bond_hp_initial[i]), initial);
     b->bond_hp_initial[i] = initial;
   }
 }
@@ -156,7 +165,7 @@ bool bk_runtime_set_frailty(bk_runtime* rt, bk_breakable_id id, double frailty) 
 
 bool bk_runtime_set_density(bk_runtime* rt, bk_breakable_id id, double density) {
   rt_breakable* b = rt_find_breakable(rt, id);
-  if (!b || !(density > 0.0) || !isfinite(density)) return false;
+  if (!b || !(density >= BK_MATERIAL_DENSITY_MIN && density <= BK_MATERIAL_DENSITY_MAX)) return false;
   b->material.density = density;
   refresh_masses(rt, id.index);
   rt_stress_material_changed(rt, id.index);
@@ -165,7 +174,9 @@ bool bk_runtime_set_density(bk_runtime* rt, bk_breakable_id id, double density) 
 
 bool bk_runtime_set_bond_strength(bk_runtime* rt, bk_breakable_id id, double bond_strength) {
   rt_breakable* b = rt_find_breakable(rt, id);
-  if (!b || !(bond_strength > 0.0) || !isfinite(bond_strength)) return false;
+  if (!b ||
+      !(bond_strength >= BK_MATERIAL_BOND_STRENGTH_MIN && bond_strength <= BK_MATERIAL_BOND_STRENGTH_MAX))
+    return false;
   rescale_bonds(b, bond_strength);
   b->material.bond_strength = bond_strength;
   return true;

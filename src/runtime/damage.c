@@ -47,6 +47,10 @@ static void damage_cluster(bk_runtime* rt, uint32_t slot, bk_vec3 point, double 
   bk_body_state state = rt_body_state(rt, slot);
   bk_transform tree_to_world = rt_tree_to_world(c, &state);
   bk_vec3 local = bk_transform_point(bk_transform_inverse(tree_to_world), point);
+  // A body the caller's physics has lost (NaN or overflowed state) puts the
+  // hit nowhere: every distance would be NaN, read as s_min, and every bond
+  // would break.
+  if (!bk_v3_is_finite(local)) return;
   double s_min = rt->def.damage_min_distance;
   bool broke = false;
   for (uint32_t i = 0; i < c->leaf_count; ++i) {
@@ -84,6 +88,7 @@ void bk_runtime_damage_at(bk_runtime* rt, bk_vec3 point, double impulse) {
 
 void bk_runtime_apply_contacts(bk_runtime* rt, const bk_damage_contact* contacts, uint32_t count) {
   rt_begin_call(rt);
+  if (!contacts) count = 0; // no array: nothing to index into
   for (uint32_t i = 0; i < count; ++i) {
     const bk_damage_contact* ct = &contacts[i];
     if (!(ct->impulse >= rt->def.impulse_threshold) || !(ct->closing_speed >= rt->def.impact_speed) ||

@@ -42,13 +42,15 @@ bool bk_material_validate(const bk_material* m, bk_error* err) {
   if (m->name && strlen(m->name) > BK_MATERIAL_NAME_MAX)
     return bk_error_set(err, "material.name must be at most %d bytes (got %zu)", BK_MATERIAL_NAME_MAX,
                         strlen(m->name));
-  if (!(m->density > 0.0) || !isfinite(m->density))
-    return bk_error_set(err, "material.density must be a positive finite number (got %g)", m->density);
+  if (!(m->density >= BK_MATERIAL_DENSITY_MIN && m->density <= BK_MATERIAL_DENSITY_MAX))
+    return bk_error_set(err, "material.density must be in [%g, %g] kg/m^3 (got %g)", BK_MATERIAL_DENSITY_MIN,
+                        BK_MATERIAL_DENSITY_MAX, m->density);
   if (!(m->frailty >= 0.0) || !isfinite(m->frailty))
     return bk_error_set(err, "material.frailty must be finite and >= 0 (got %g)", m->frailty);
-  if (!(m->bond_strength > 0.0) || !isfinite(m->bond_strength))
-    return bk_error_set(err, "material.bond_strength must be a positive finite number (got %g)",
-                        m->bond_strength);
+  if (!(m->bond_strength >= BK_MATERIAL_BOND_STRENGTH_MIN &&
+        m->bond_strength <= BK_MATERIAL_BOND_STRENGTH_MAX))
+    return bk_error_set(err, "material.bond_strength must be in [%g, %g] per m^2 of bond (got %g)",
+                        BK_MATERIAL_BOND_STRENGTH_MIN, BK_MATERIAL_BOND_STRENGTH_MAX, m->bond_strength);
   if (!(m->friction >= 0.0) || !isfinite(m->friction))
     return bk_error_set(err, "material.friction must be finite and >= 0 (got %g)", m->friction);
   if (!(m->restitution >= 0.0 && m->restitution <= 1.0))

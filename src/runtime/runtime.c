@@ -176,7 +176,7 @@ uint32_t bk_runtime_clusters(const bk_runtime* rt, bk_cluster_id* out, uint32_t 
   uint32_t count = 0;
   for (uint32_t i = 0; i < rt->cluster_count; ++i) {
     if (!rt->clusters[i].alive) continue;
-    if (count < capacity) out[count] = rt_cluster_id(rt, i);
+    if (out && count < capacity) out[count] = rt_cluster_id(rt, i);
     count++;
   }
   return count;
@@ -202,19 +202,19 @@ bool bk_runtime_remove_cluster(bk_runtime* rt, bk_cluster_id id) {
 
 uint32_t bk_runtime_created_clusters(const bk_runtime* rt, bk_cluster_created* out, uint32_t capacity) {
   uint32_t n = rt->created_count < capacity ? rt->created_count : capacity;
-  if (n) memcpy(out, rt->created, sizeof(bk_cluster_created) * n);
+  if (n && out) memcpy(out, rt->created, sizeof(bk_cluster_created) * n);
   return rt->created_count;
 }
 
 uint32_t bk_runtime_removed_clusters(const bk_runtime* rt, bk_cluster_id* out, uint32_t capacity) {
   uint32_t n = rt->removed_count < capacity ? rt->removed_count : capacity;
-  if (n) memcpy(out, rt->removed, sizeof(bk_cluster_id) * n);
+  if (n && out) memcpy(out, rt->removed, sizeof(bk_cluster_id) * n);
   return rt->removed_count;
 }
 
 uint32_t bk_runtime_broken_bonds(const bk_runtime* rt, bk_bond_break* out, uint32_t capacity) {
   uint32_t n = rt->broken_count < capacity ? rt->broken_count : capacity;
-  if (n) memcpy(out, rt->broken, sizeof(bk_bond_break) * n);
+  if (n && out) memcpy(out, rt->broken, sizeof(bk_bond_break) * n);
   return rt->broken_count;
 }
 

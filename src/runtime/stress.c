@@ -175,6 +175,13 @@ static void slot_range(const void* entries, size_t stride, uint32_t count, uint3
   }
 }
 
+// Entries [first, last) of such an array, NULL when there are none: an
+// empty array may be NULL (no supports or loads given), and offsetting a
+// null pointer, even by zero, is undefined.
+static const void* slot_entries(const void* entries, size_t stride, uint32_t first, uint32_t last) {
+  return last > first ? (const unsigned char*)entries + stride * first : NULL;
+}
+
 static int compare_held(const void* a, const void* b) {
   const held_leaf *x = a, *y = b;
   if (x->slot != y->slot) return x->slot < y->slot ? -1 : 1;
@@ -265,9 +272,10 @@ static uint32_t gather_supports(bk_runtime* rt, const bk_stress_support* support
     rt_stress_prepare_breakable(b);
     bk_body_state state = rt_body_state(rt, slot);
     bk_transform to_tree = bk_transform_inverse(rt_tree_to_world(c, &state));
-    for (uint32_t j = first; j < last; ++j) // held <= j: each pair is read before it is overwritten
-      out[held++] = (held_leaf){
-          slot, rt_stress_leaf_at(b, c, bk_transform_point(to_tree, supports[out[j].leaf].point))};
+    for (uint32_t j = first; j < last; ++j) { // held <= j: each pair is read before it is overwritten
+      bk_vec3 point = bk_transform_point(to_tree, supports[out[j].leaf].point);
+      if (bk_v3_is_finite(point)) out[held++] = (held_leaf){slot, rt_stress_leaf_at(b, c, point)};
+    }
   }
   if (held) qsort(out, held, sizeof *out, compare_held);
   uint32_t unique = 0;
@@ -354,20 +362,24 @@ void bk_runtime_solve_stress(bk_runtime* rt, bk_vec3 gravity, const bk_stress_su
       }
       if (touching && c->stress_rest_calls == 0) c->stress_held_count = 0; // a new rest
       if (c->stress_rest_calls < REST_CALLS) {
-        if (touching) merge_held(c, held + first, last - first);
+        if (touching) merge_held(c, slot_entries(held, sizeof *held, first, last), last - first);
         if (++c->stress_rest_calls < REST_CALLS || !c->stress_held_count) continue;
         c->stress_stale = true;
       }
     } else {
       state = rt_body_state(rt, slot);
     }
-    rt_stress_prepare_breakable(b);
     bk_transform tree_to_world = rt_tree_to_world(c, &state);
     bk_vec3 local_gravity = bk_quat_rotate(bk_quat_conjugate(tree_to_world.rotation), gravity);
+    // A body whose state is not finite (lost by the caller's physics) has
+    // no load to solve: NaN would never converge, and would be reported.
+    if (!bk_v3_is_finite(local_gravity) || !bk_v3_is_finite(tree_to_world.position)) continue;
+    rt_stress_prepare_breakable(b);
     uint32_t load_first = 0, load_last = 0;
     slot_range(leaf_loads, sizeof *leaf_loads, leaf_load_count, slot, &load_first, &load_last);
     double weight = c->mass * bk_v3_length(gravity);
-    if (rt_stress_window_loads(c, leaf_loads + load_first, load_last - load_first, weight)) {
+    const rt_leaf_load* cluster_loads = slot_entries(leaf_loads, sizeof *leaf_loads, load_first, load_last);
+    if (rt_stress_window_loads(c, cluster_loads, load_last - load_first, weight)) {
       if (c->stress) c->stress->loaded = false; // carries them from its next load
       c->stress_settled = false;
     }

@@ -46,6 +46,7 @@ uint32_t rt_stress_gather_loads(bk_runtime* rt, const bk_stress_load* loads, uin
     bk_transform to_tree = bk_transform_inverse(to_world);
     bk_vec3 point = bk_transform_point(to_tree, load->point);
     bk_vec3 force = bk_quat_rotate(bk_quat_conjugate(to_world.rotation), load->force);
+    if (!bk_v3_is_finite(point) || !bk_v3_is_finite(force)) continue; // a body its caller lost
     uint32_t leaf = rt_stress_leaf_at(b, c, point);
     bk_vec3 torque = bk_v3_cross(bk_v3_sub(point, b->leaf_centroid[leaf]), force);
     out[n++] = (rt_leaf_load){

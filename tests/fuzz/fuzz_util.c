@@ -136,4 +136,8 @@ void bk_fuzz_check_bonds(const bk_mesh_tree* tree, const char* what) {
     if (!inserted) bk_fuzz_fail("%s: leaves %u and %u have two bonds", what, b->leaf_a, b->leaf_b);
   }
   bk_index_map_free(&pairs);
+  // What the library makes, the runtime and the cache file must take.
+  bk_error err = {{0}};
+  if (!bk_mesh_tree_validate(tree, &err))
+    bk_fuzz_fail("%s: bk_mesh_tree_validate refuses it: %s", what, err.message);
 }

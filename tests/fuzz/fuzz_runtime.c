@@ -1,0 +1,504 @@
+// Fuzzes the runtime API (breakables::runtime) as a game would call it, and
+// as a buggy game might: the input is a program of runtime calls on a few
+// small trees built once (a cube in 8 and in 27 pieces, a tower in 12 that
+// stands on y = 0, a cube left whole: one leaf, no bonds).
+//
+// Input: byte 0 sets the runtime (split budget, stress budget), then each
+// op is one byte (op % 10) followed by its arguments, read on demand (an
+// input that runs out reads zeros and stops at the next op):
+//   0 add a breakable (tree, anchored, transform, material: NaN, huge and
+//     non-unit values included)    1 contacts    2 damage at a point
+//   3 split    4 remove a cluster    5 material setters    6 stress solves
+//   (1..32 calls, random gravity, supports and loads)    7 move a body
+//   (the caller's physics; NaN and huge states included)    8 pull the
+//   results into small buffers    9 queries with stale and forged ids.
+// Numbers come from a table of the usual suspects (0, -0, NaN, +-inf,
+// +-1e300, denormals) and of plausible values. Ids come live, stale
+// (removed), forged (wrong generation, index out of range) or null.
+//
+// After every call it checks (fuzz_runtime_check.c): every leaf of every
+// breakable is in exactly one live cluster (none once its cluster was
+// removed), and bk_runtime_leaf_cluster agrees; each cluster's nodes cover exactly its
+// leaves; cluster volumes (with those removed) add up to the tree's and
+// masses to density x volume, within 1e-9 relative; no mass or inertia is
+// negative or not finite; the live count moves by the created and removed
+// results of the call; every broken bond is reported dead, and none broke
+// on a body whose transform is not finite; calls that fail, setters and
+// queries keep the previous results.
+#include <float.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "fuzz_runtime.h"
+
+const char bk_fuzz_harness[] = "fuzz_runtime";
+
+// ---------------------------------------------------------------- input
+
+typedef struct reader {
+  const uint8_t* data;
+  size_t size, at;
+} reader;
+
+static uint8_t u8(reader* r) { return r->at < r->size ? r->data[r->at++] : 0; }
+
+// A number: the usual suspects, or a plausible value around `typical`.
+static double pick_double(reader* r, double typical) {
+  uint8_t b = u8(r);
+  switch (b % 16) {
+  case 0:
+    return typical;
+  case 1:
+    return 0.0;
+  case 2:
+    return -typical;
+  case 3:
+    return NAN;
+  case 4:
+    return INFINITY;
+  case 5:
+    return -INFINITY;
+  case 6:
+    return 1e300;
+  case 7:
+    return -1e300;
+  case 8:
+    return 1e-300;
+  case 9:
+    return 5e-324; // the smallest denormal
+  case 10:
+    return -0.0;
+  case 11:
+    return DBL_MAX;
+  case 12:
+    return typical * 1e6;
+  default:
+    return typical * (1.0 + (int8_t)u8(r) / 32.0); // around it, either sign
+  }
+}
+
+static bk_vec3 pick_vec3(reader* r, double typical) {
+  double x = pick_double(r, typical), y = pick_double(r, typical), z = pick_double(r, typical);
+  return bk_v3(x, y, z);
+}
+
+// Mostly small offsets (so hits land on the objects), sometimes anything.
+static bk_vec3 pick_offset(reader* r) {
+  uint8_t b = u8(r);
+  if (b & 1) return pick_vec3(r, 0.5);
+  double x = (int8_t)u8(r) / 128.0, y = (int8_t)u8(r) / 128.0, z = (int8_t)u8(r) / 128.0;
+  return bk_v3(x, y, z);
+}
+
+// Each value read in its own declarator: the order of the arguments of a
+// call, or of the members of a compound literal, is unspecified in C, and
+// an input must mean the same to every compiler.
+static bk_quat pick_quat(reader* r) {
+  double x = pick_double(r, 0.5), y = pick_double(r, 0.5), z = pick_double(r, 0.5), w = pick_double(r, 0.5);
+  return (bk_quat){x, y, z, w};
+}
+
+// ---------------------------------------------------------------- the caller's side
+
+static bk_body_state body_state(bk_cluster_id cluster, void* context) {
+  const session* s = context;
+  if (cluster.index >= MAX_CLUSTERS) bk_fuzz_fail("body_state asked for cluster index %u", cluster.index);
+  return s->bodies[cluster.index];
+}
+
+static bk_cluster_id pick_cluster(session* s, reader* r) {
+  uint8_t b = u8(r);
+  uint32_t k = u8(r);
+  switch (b % 8) {
+  case 0:
+    return (bk_cluster_id){0, 0};
+  case 1:
+    return s->stale_count ? s->stale[k % s->stale_count] : (bk_cluster_id){k, 1};
+  case 2: // wrong generation
+    if (s->live_count)
+      return (bk_cluster_id){s->live[k % s->live_count].index, s->live[k % s->live_count].generation + 1};
+    return (bk_cluster_id){0, 2};
+  case 3:
+    return (bk_cluster_id){MAX_CLUSTERS + k * 977u, 1};
+  case 4:
+    return (bk_cluster_id){UINT32_MAX, UINT32_MAX};
+  default:
+    return s->live_count ? s->live[k % s->live_count] : (bk_cluster_id){0, 1};
+  }
+}
+
+static bk_breakable_id pick_breakable(session* s, reader* r) {
+  uint8_t b = u8(r);
+  uint32_t k = u8(r);
+  const bk_breakable_id live =
+      s->breakable_count ? s->breakables[k % s->breakable_count].id : (bk_breakable_id){0, 1};
+  switch (b % 6) {
+  case 0:
+    return (bk_breakable_id){0, 0};
+  case 1:
+    return (bk_breakable_id){live.index, live.generation + 1};
+  case 2:
+    return (bk_breakable_id){MAX_BREAKABLES + k, 1};
+  default:
+    return live;
+  }
+}
+
+// A point near a live cluster's body (where hits and contacts land), or anywhere.
+static bk_vec3 pick_point(session* s, reader* r) {
+  uint8_t b = u8(r);
+  if (b % 4 == 3 || !s->live_count) return pick_vec3(r, 1.0);
+  bk_cluster_id c = s->live[u8(r) % s->live_count];
+  return bk_v3_add(s->bodies[c.index].transform.position, pick_offset(r));
+}
+
+static bk_material pick_material(reader* r) {
+  bk_material m = *bk_material_at(u8(r) % bk_material_count());
+  uint8_t b = u8(r);
+  switch (b % 12) { // one field off (or not)
+  case 0:
+    m.density = pick_double(r, m.density);
+    break;
+  case 1:
+    m.frailty = pick_double(r, m.frailty);
+    break;
+  case 2:
+    m.bond_strength = pick_double(r, m.bond_strength);
+    break;
+  case 3:
+    m.compression_limit = pick_double(r, m.compression_limit);
+    break;
+  case 4:
+    m.tension_limit = pick_double(r, m.tension_limit);
+    break;
+  case 5:
+    m.shear_limit = pick_double(r, m.shear_limit);
+    break;
+  case 6:
+    m.restitution = pick_double(r, 0.5);
+    break;
+  case 7:
+    m.friction = pick_double(r, 0.5);
+    break;
+  case 8:
+    m.name = "a material name far longer than thirty-one bytes";
+    break;
+  case 9:
+    m.name = NULL;
+    break;
+  case 10:
+    m.accumulate = !m.accumulate;
+    break;
+  default:
+    break;
+  }
+  return m;
+}
+// ---------------------------------------------------------------- the calls
+
+static void op_add(session* s, reader* r) {
+  bk_breakable_def def = bk_default_breakable_def();
+  uint32_t tree = u8(r) % TREE_COUNT;
+  def.tree = &bk_fuzz_trees[tree];
+  uint8_t flags = u8(r);
+  def.anchored = flags & 1;
+  if (flags & 2) def.transform.position = pick_vec3(r, 2.0);
+  if (flags & 4) def.transform.rotation = pick_quat(r);
+  if (flags & 8) def.material = pick_material(r);
+  if (flags & 16) def.anchor_height = pick_double(r, 0.1);
+  if (flags & 32) def.tree = NULL;
+  if (s->breakable_count == MAX_BREAKABLES) return;
+  bk_error err = {{0}};
+  uint32_t live_before = s->live_count, bonds_before = s->bonds_broken;
+  bk_breakable_id id = bk_runtime_add_breakable(s->rt, &def, &err);
+  if (bk_breakable_is_null(id)) {
+    if (!err.message[0] || strchr(err.message, '\n'))
+      bk_fuzz_fail("add_breakable: refused without a one-line message: '%s'", err.message);
+    bk_fuzz_check_state(s, "add_breakable (refused)");
+    bk_fuzz_check_results_kept(s, "add_breakable (refused)");
+    return;
+  }
+  tracked* tb = &s->breakables[s->breakable_count++];
+  memset(tb, 0, sizeof *tb);
+  tb->id = id;
+  tb->tree = tree;
+  bk_fuzz_check_state(s, "add_breakable");
+  bk_fuzz_check_results(s, "add_breakable", live_before, bonds_before, false);
+  if (s->created != 1 || s->removed != 0)
+    bk_fuzz_fail("add_breakable: %u created, %u removed", s->created, s->removed);
+}
+
+static void op_contacts(session* s, reader* r) {
+  bk_damage_contact contacts[4];
+  uint32_t count = u8(r) % 5;
+  for (uint32_t i = 0; i < count; ++i) {
+    contacts[i].cluster = pick_cluster(s, r);
+    contacts[i].point = pick_point(s, r);
+    contacts[i].impulse = pick_double(r, 2000.0);
+    contacts[i].closing_speed = pick_double(r, 5.0);
+  }
+  uint32_t live_before = s->live_count, bonds_before = s->bonds_broken;
+  bk_runtime_apply_contacts(s->rt, count ? contacts : NULL, count);
+  bk_fuzz_check_state(s, "apply_contacts");
+  bk_fuzz_check_results(s, "apply_contacts", live_before, bonds_before, true);
+}
+
+static void op_damage(session* s, reader* r) {
+  bk_vec3 point = pick_point(s, r);
+  double impulse = pick_double(r, 2000.0);
+  uint32_t live_before = s->live_count, bonds_before = s->bonds_broken;
+  bk_runtime_damage_at(s->rt, point, impulse);
+  bk_fuzz_check_state(s, "damage_at");
+  bk_fuzz_check_results(s, "damage_at", live_before, bonds_before, true);
+}
+
+static void op_split(session* s) {
+  uint32_t live_before = s->live_count, bonds_before = s->bonds_broken;
+  uint32_t made = bk_runtime_split(s->rt);
+  bk_fuzz_check_state(s, "split");
+  bk_fuzz_check_results(s, "split", live_before, bonds_before, false);
+  if (made != s->created) bk_fuzz_fail("split: returned %u, reported %u created", made, s->created);
+}
+
+static void op_remove(session* s, reader* r) {
+  bk_cluster_id id = pick_cluster(s, r);
+  bk_cluster_info info = {0};
+  bool live = bk_runtime_cluster(s->rt, id, &info);
+  tracked* tb = NULL;
+  uint32_t leaves[MAX_LEAVES] = {0}, leaf_count = live ? info.leaf_count : 0;
+  if (live) {
+    tb = bk_fuzz_find_tracked(s, info.breakable);
+    if (!tb || leaf_count > MAX_LEAVES)
+      bk_fuzz_fail("remove_cluster: cluster %u of an unknown breakable", id.index);
+    memcpy(leaves, info.leaves, sizeof(uint32_t) * leaf_count);
+  }
+  uint32_t live_before = s->live_count, bonds_before = s->bonds_broken;
+  bool removed = bk_runtime_remove_cluster(s->rt, id);
+  if (removed != live)
+    bk_fuzz_fail("remove_cluster: returned %d for a cluster that is %slive", removed, live ? "" : "not ");
+  if (!removed) {
+    bk_fuzz_check_state(s, "remove_cluster (stale)");
+    bk_fuzz_check_results_kept(s, "remove_cluster (stale)");
+    return;
+  }
+  for (uint32_t k = 0; k < leaf_count; ++k)
+    tb->retired[leaves[k]] = 1;
+  tb->removed_volume += info.volume;
+  bk_fuzz_check_state(s, "remove_cluster");
+  bk_fuzz_check_results(s, "remove_cluster", live_before, bonds_before, false);
+  if (s->removed != 1 || s->created != 0)
+    bk_fuzz_fail("remove_cluster: %u removed, %u created", s->removed, s->created);
+}
+
+static void op_setters(session* s, reader* r) {
+  bk_breakable_id id = pick_breakable(s, r);
+  uint8_t which = u8(r);
+  bool live = bk_fuzz_find_tracked(s, id) != NULL;
+  bk_material before = bk_runtime_material(s->rt, id);
+  bool ok = false;
+  double value = 0.0;
+  switch (which % 4) {
+  case 0: {
+    bk_material m = pick_material(r);
+    ok = bk_runtime_set_material(s->rt, id, &m);
+    if (ok != (live && bk_material_validate(&m, NULL))) bk_fuzz_fail("set_material: returned %d", ok);
+    break;
+  }
+  case 1:
+    value = pick_double(r, 1.0);
+    ok = bk_runtime_set_frailty(s->rt, id, value);
+    if (ok && bk_runtime_frailty(s->rt, id) != value) bk_fuzz_fail("set_frailty: %g did not stick", value);
+    break;
+  case 2:
+    value = pick_double(r, 2400.0);
+    ok = bk_runtime_set_density(s->rt, id, value);
+    if (ok && bk_runtime_density(s->rt, id) != value) bk_fuzz_fail("set_density: %g did not stick", value);
+    break;
+  default:
+    value = pick_double(r, 2e5);
+    ok = bk_runtime_set_bond_strength(s->rt, id, value);
+    if (ok && bk_runtime_bond_strength(s->rt, id) != value)
+      bk_fuzz_fail("set_bond_strength: %g did not stick", value);
+    break;
+  }
+  if (ok && !live) bk_fuzz_fail("a setter accepted a stale breakable id {%u, %u}", id.index, id.generation);
+  if (ok && (which % 4) && !isfinite(value)) bk_fuzz_fail("a setter accepted %g", value);
+  if (!ok && memcmp(&before, &(bk_material){0}, sizeof before) != 0) {
+    bk_material after = bk_runtime_material(s->rt, id);
+    if (after.density != before.density || after.frailty != before.frailty ||
+        after.bond_strength != before.bond_strength)
+      bk_fuzz_fail("a refused setter changed the material");
+  }
+  bk_fuzz_check_state(s, "material setter");
+  bk_fuzz_check_results_kept(s, "material setter");
+}
+
+static void op_stress(session* s, reader* r) {
+  bk_stress_support supports[4];
+  bk_stress_load loads[4];
+  uint32_t calls = 1 + u8(r) % 32;
+  uint8_t b = u8(r);
+  bk_vec3 gravity = b & 1 ? pick_vec3(r, 9.81) : bk_v3(0, -9.81, 0);
+  uint32_t support_count = ((b >> 1) & 7u) % 5, load_count = (b >> 4) % 5;
+  for (uint32_t i = 0; i < support_count; ++i) {
+    supports[i].cluster = pick_cluster(s, r);
+    supports[i].point = pick_point(s, r);
+  }
+  for (uint32_t i = 0; i < load_count; ++i) {
+    loads[i].cluster = pick_cluster(s, r);
+    loads[i].point = pick_point(s, r);
+    loads[i].force = pick_vec3(r, 500.0);
+  }
+  for (uint32_t i = 0; i < calls; ++i) {
+    uint32_t live_before = s->live_count, bonds_before = s->bonds_broken;
+    bk_runtime_solve_stress(s->rt, gravity, support_count ? supports : NULL, support_count,
+                            load_count ? loads : NULL, load_count);
+    bk_fuzz_check_state(s, "solve_stress");
+    bk_fuzz_check_results(s, "solve_stress", live_before, bonds_before, true);
+  }
+  // What it reports on a bond: nothing for a stale id or a bad index, else
+  // stresses that are numbers, none negative.
+  bk_breakable_id id = pick_breakable(s, r);
+  uint32_t bond = u8(r);
+  bk_bond_stress st = {0};
+  bool known = bk_runtime_bond_stress(s->rt, id, bond, &st);
+  const tracked* tb = bk_fuzz_find_tracked(s, id);
+  if (known && (!tb || bond >= bk_fuzz_trees[tb->tree].bond_count))
+    bk_fuzz_fail("bond_stress: answered for a stale id or bond %u", bond);
+  if (known && !(st.compression >= 0.0 && st.tension >= 0.0 && st.shear >= 0.0 && st.ratio >= 0.0))
+    bk_fuzz_fail("bond_stress: bond %u: %g %g %g ratio %g", bond, st.compression, st.tension, st.shear,
+                 st.ratio);
+  bk_fuzz_check_results_kept(s, "bond_stress");
+}
+
+static void op_move(session* s, reader* r) {
+  if (!s->live_count) return;
+  bk_cluster_id c = s->live[u8(r) % s->live_count];
+  bk_body_state* body = &s->bodies[c.index];
+  uint8_t b = u8(r);
+  if (b & 1) body->transform.position = bk_v3_add(body->transform.position, pick_offset(r));
+  if (b & 2) body->transform.position = pick_vec3(r, 3.0);
+  if (b & 4) body->transform.rotation = pick_quat(r);
+  body->linear_velocity = b & 8 ? pick_vec3(r, 1.0) : bk_v3(0, 0, 0);
+  body->angular_velocity = b & 16 ? pick_vec3(r, 1.0) : bk_v3(0, 0, 0);
+}
+
+// Results into buffers smaller than them: the total comes back, at most
+// capacity entries are written, the same as a full pull's first ones.
+static void op_pull(session* s, reader* r) {
+  enum { GUARD = 4 };
+  uint32_t capacity = u8(r) % 4;
+  bk_cluster_created created[3 + GUARD], created_all[64];
+  bk_cluster_id removed[3 + GUARD], removed_all[64];
+  bk_bond_break broken[3 + GUARD];
+  memset(created, 0xA5, sizeof created);
+  memset(removed, 0xA5, sizeof removed);
+  memset(broken, 0xA5, sizeof broken);
+  uint8_t canary[sizeof created + sizeof removed + sizeof broken]; // longer than each guard
+  memset(canary, 0xA5, sizeof canary);
+  if (bk_runtime_created_clusters(s->rt, created, capacity) != s->created ||
+      bk_runtime_removed_clusters(s->rt, removed, capacity) != s->removed ||
+      bk_runtime_broken_bonds(s->rt, broken, capacity) != s->broken)
+    bk_fuzz_fail("a pull into %u entries returned another total", capacity);
+  if (memcmp(&created[capacity], canary, sizeof(bk_cluster_created) * GUARD) ||
+      memcmp(&removed[capacity], canary, sizeof(bk_cluster_id) * GUARD) ||
+      memcmp(&broken[capacity], canary, sizeof(bk_bond_break) * GUARD))
+    bk_fuzz_fail("a pull into %u entries wrote past them", capacity);
+  uint32_t n = s->created < 64 ? s->created : 64;
+  bk_runtime_created_clusters(s->rt, created_all, n);
+  for (uint32_t i = 0; i < capacity && i < n; ++i)
+    if (memcmp(&created[i], &created_all[i], sizeof *created))
+      bk_fuzz_fail("a short pull gave another created cluster %u", i);
+  n = s->removed < 64 ? s->removed : 64;
+  bk_runtime_removed_clusters(s->rt, removed_all, n);
+  for (uint32_t i = 0; i < capacity && i < n; ++i)
+    if (!bk_cluster_equal(removed[i], removed_all[i]))
+      bk_fuzz_fail("a short pull gave another removed cluster %u", i);
+  bk_fuzz_check_results_kept(s, "pull");
+}
+
+static void op_query(session* s, reader* r) {
+  bk_cluster_id c = pick_cluster(s, r);
+  bk_cluster_info info = {0};
+  bool live = false;
+  for (uint32_t i = 0; i < s->live_count; ++i)
+    live |= bk_cluster_equal(s->live[i], c);
+  if (bk_runtime_cluster(s->rt, c, &info) != live)
+    bk_fuzz_fail("cluster {%u, %u}: found %d", c.index, c.generation, !live);
+  bk_breakable_id id = pick_breakable(s, r);
+  const tracked* tb = bk_fuzz_find_tracked(s, id);
+  uint32_t leaf = u8(r) % 40, bond = u8(r);
+  bk_cluster_id owner = bk_runtime_leaf_cluster(s->rt, id, leaf);
+  if (!bk_cluster_is_null(owner) && (!tb || leaf >= bk_fuzz_trees[tb->tree].leaf_count))
+    bk_fuzz_fail("leaf_cluster: stale breakable or leaf %u has a cluster", leaf);
+  double initial = -1.0, health = bk_runtime_bond_health(s->rt, id, bond, &initial);
+  if (!tb || bond >= bk_fuzz_trees[tb->tree].bond_count) {
+    if (health != 0.0 || initial != 0.0)
+      bk_fuzz_fail("bond_health: stale id or bond %u has %g of %g", bond, health, initial);
+  } else if (!(health >= 0.0 && health <= initial && isfinite(initial))) {
+    bk_fuzz_fail("bond_health: bond %u has %g of %g", bond, health, initial);
+  }
+  if (!tb && bk_runtime_breakable_tree(s->rt, id)) bk_fuzz_fail("breakable_tree: a stale id has a tree");
+  bk_material m = bk_runtime_material(s->rt, id);
+  if (!tb && (m.density != 0.0 || m.name)) bk_fuzz_fail("material: a stale id has one");
+  if (tb && !bk_material_validate(&m, NULL)) bk_fuzz_fail("material: the live one does not validate");
+  bk_fuzz_check_results_kept(s, "queries");
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  if (size < 1) return 0;
+  bk_fuzz_build_trees();
+  bk_fuzz_trace = getenv("BK_FUZZ_TRACE") && *getenv("BK_FUZZ_TRACE") == '1';
+  reader r = {data, size, 0};
+  session* s = calloc(1, sizeof *s);
+  for (uint32_t i = 0; i < MAX_CLUSTERS; ++i)
+    s->bodies[i].transform.rotation.w = 1.0;
+  bk_runtime_def def = bk_default_runtime_def();
+  uint8_t setup = u8(&r);
+  def.max_new_clusters_per_split = setup & 1 ? 2u + setup % 5u : 48u;
+  def.stress_budget = setup & 2 ? 1u + (uint32_t)(setup >> 2) * 40u : 16000u;
+  def.body_state = body_state;
+  def.context = s;
+  bk_error err = {{0}};
+  s->rt = bk_runtime_create(&def, &err);
+  if (!s->rt) bk_fuzz_fail("cannot create a runtime: %s", err.message);
+  for (uint32_t op = 0; op < MAX_OPS && r.at < r.size; ++op) {
+    switch (u8(&r) % 10) {
+    case 0:
+      op_add(s, &r);
+      break;
+    case 1:
+      op_contacts(s, &r);
+      break;
+    case 2:
+      op_damage(s, &r);
+      break;
+    case 3:
+      op_split(s);
+      break;
+    case 4:
+      op_remove(s, &r);
+      break;
+    case 5:
+      op_setters(s, &r);
+      break;
+    case 6:
+      op_stress(s, &r);
+      break;
+    case 7:
+      op_move(s, &r);
+      break;
+    case 8:
+      op_pull(s, &r);
+      break;
+    default:
+      op_query(s, &r);
+      break;
+    }
+  }
+  bk_runtime_destroy(s->rt);
+  free(s);
+  return 0;
+}
