@@ -14,6 +14,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "app.h"
 #include "bk_geom.h"
 #include "ensure.h"
 
@@ -377,6 +378,19 @@ static void test_play_frames_a_large_model(void) {
   ENSURE_MSG(spread > 10.0, "the middle of the picture is flat (spread %g)", spread);
 }
 
+// A format's default material (3DS's "Default", 0.78 grey, untextured) is
+// no look of the model's own: play draws such a model in the chosen
+// material (the rock fels.3ds was drawn flat white); a texture is one.
+static void test_default_material_is_no_look(void) {
+  bk_app_model_surface surface = {0};
+  ENSURE_MSG(!bk_app_read_model_surface(MODELS "/3DS/fels.3ds", &surface),
+             "fels.3ds's default grey was taken as its look (%g %g %g)", surface.color[0], surface.color[1],
+             surface.color[2]);
+  bk_app_model_surface_free(&surface);
+  ENSURE(bk_app_read_model_surface(MODELS "/Collada/duck.dae", &surface) && surface.image != NULL);
+  bk_app_model_surface_free(&surface);
+}
+
 int main(void) {
   FILE* f = fopen(MODELS "/OBJ/spider.obj", "rb");
   ENSURE_MSG(f != NULL, "%s is missing: scripts/setup.sh installs assimp-testmodels", MODELS);
@@ -388,6 +402,7 @@ int main(void) {
   RUN(test_size_warning);
   RUN(test_wuson_ply);
   RUN(test_textures_exported_as_png);
+  RUN(test_default_material_is_no_look);
   if (have_xvfb()) {
     RUN(test_play_draws_the_model_texture);
     RUN(test_play_frames_a_large_model);

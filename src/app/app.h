@@ -57,7 +57,8 @@ typedef struct bk_app_model_surface {
   float color[3];
 } bk_app_model_surface;
 /// Reads `path`'s surface; false (nothing held) when it is not a model file
-/// or has no texture or colour of its own (white and untextured).
+/// or has no texture or colour of its own (untextured and white or a
+/// neutral grey, as a format's default material).
 bool bk_app_read_model_surface(const char* path, bk_app_model_surface* out);
 void bk_app_model_surface_free(bk_app_model_surface* surface);
 /// The materials a glTF export carries (bk_gltf_def.materials), with the

@@ -1,7 +1,8 @@
 // A model's own surface, for drawing it as it is in `play`: the base-colour
 // texture and colour of the material most of its triangles use. A model
-// with neither of its own (white, untextured: an STL) is drawn in the
-// chosen material's look.
+// with neither of its own (untextured and white or neutral grey: an STL, a
+// 3DS "Default" material) is drawn in the chosen material's look.
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -66,7 +67,12 @@ bool bk_app_read_model_surface(const char* path, bk_app_model_surface* out) {
             "breakables: warning: %s: drawn without a texture: none of its %u texture file%s can be read\n",
             path, missing, missing == 1 ? "" : "s");
   bk_import_info_free(&info);
-  bool coloured = chosen && (out->color[0] != 1.0f || out->color[1] != 1.0f || out->color[2] != 1.0f);
+  // A neutral grey or white without a texture is a format's default
+  // material (3DS's "Default" is 0.78 grey), not a look of the model's own:
+  // such a model is drawn in the chosen material's look.
+  float lo = fminf(out->color[0], fminf(out->color[1], out->color[2]));
+  float hi = fmaxf(out->color[0], fmaxf(out->color[1], out->color[2]));
+  bool coloured = chosen && hi - lo > 0.02f;
   return out->image != NULL || coloured;
 }
 
