@@ -99,12 +99,21 @@ static bool leaves_enclose_volume(bk_mesh_tree* tree, bk_error* err) {
 }
 
 // What the builders made is what every consumer will check
-// (bk_mesh_tree_validate): a tree that fails it is not handed out.
-static bool finish(bk_mesh_tree* tree, bk_error* err) {
+// (bk_mesh_tree_validate): a tree that fails it is not handed out. The
+// planes and brick patterns try another plane where a piece is no solid,
+// so for them this is a defect of the builder; a cell keeps its place, so
+// where the source's surface crosses itself a cell's piece can be no solid
+// (a negative volume) and the source is refused, pointing to planes.
+static bool finish(bk_mesh_tree* tree, bk_fracture_pattern pattern, bk_error* err) {
   if (!leaves_enclose_volume(tree, err)) return false;
   bk_error why = {{0}};
   if (bk_mesh_tree_check_built(tree, &why)) return true;
   bk_mesh_tree_free(tree);
+  if (bk_fracture_pattern_is_cellular(pattern))
+    return bk_error_set(err,
+                        "fracture: the %s pattern's pieces are not solids (%s): the source's surface crosses "
+                        "itself there; the planes pattern cuts around such places",
+                        bk_fracture_pattern_name(pattern), why.message);
   return bk_error_set(err, "fracture: the pieces made are not valid (%s); nothing was made", why.message);
 }
 
@@ -115,14 +124,14 @@ bool bk_mesh_tree_build(const bk_mesh* source, const bk_fracture_def* desc_in, b
   bk_fracture_def d = *desc_in;
   if (!check_source(source, &d, err)) return false;
   if (bk_fracture_pattern_is_cellular(d.pattern))
-    return bk_cell_tree_build(source, &d, tree, err) && finish(tree, err);
+    return bk_cell_tree_build(source, &d, tree, err) && finish(tree, d.pattern, err);
   if (!bk_plane_tree_build(source, &d, tree, err)) return false;
   bk_mesh_tree_number_leaves(tree);
   tree->source_hash = bk_mesh_hash(source);
   bk_fracture_def_clear_borrowed(&d);
   tree->desc = d;
   bk_mesh_tree_compute_bonds(tree);
-  return finish(tree, err);
+  return finish(tree, d.pattern, err);
 }
 
 bk_vec3 bk_mesh_tree_origin(const bk_mesh_tree* tree) {

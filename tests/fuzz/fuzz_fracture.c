@@ -86,7 +86,9 @@ static void check_tree(const bk_mesh_tree* tree, uint32_t pieces, uint64_t seed,
 }
 
 // A build may refuse its input, but never for what it made itself: the
-// pieces it made failing the tree's own check is a defect of the builder.
+// pieces it made failing the tree's own check is a defect of the builder
+// (the cell patterns refuse a source whose surface crosses itself where a
+// cell's piece is no solid with a message of their own, which is allowed).
 static bool build(const bk_mesh* mesh, const bk_fracture_def* desc, bk_mesh_tree* tree) {
   bk_error err = {{0}};
   if (bk_mesh_tree_build(mesh, desc, tree, &err)) return true;
