@@ -34,10 +34,9 @@ shot scene_eggshell play --scene eggshell --frames 90 --autofire 2 --hide-panel 
 shot scene_bunny play --scene bunny --frames 90 --autofire 2 --hide-panel --hide-hud
 shot scene_torus play --scene torus --frames 90 --autofire 2 --hide-panel --hide-hud
 shot scene_tower play --scene tower --frames 160 --autofire 3 --volley 120 --hide-panel --hide-hud
-shot scene_bridge play --scene bridge --stress-scale 0.15 --frames 175 --autofire 3 --volley 120 --hide-panel --hide-hud
-# The bridge and the balcony with their stress limits lowered, as under Structures under stress:
-# at 1 the shots only chip their concrete, at these the structure gives way where they hit.
-shot scene_balcony play --scene balcony --stress-scale 0.3 --frames 160 --autofire 3 --volley 120 --hide-panel --hide-hud
+# The bridge and the balcony as they are: their own shots bring them down.
+shot scene_bridge play --scene bridge --frames 175 --autofire 3 --volley 120 --hide-panel --hide-hud
+shot scene_balcony play --scene balcony --frames 160 --autofire 3 --volley 120 --hide-panel --hide-hud
 # The glass bunny a few frames after the shot, its shards in the air; dust
 # close up a moment after a hit on the slab; the HUD as a player first sees it.
 shot glass_breaking play --scene bunny --frames 36 --autofire 1 --hide-panel --hide-hud
@@ -48,7 +47,7 @@ shot wall_break play --scene wall --frames 82 --autofire 3 --hide-panel --hide-h
 shot panel play --scene showcase --frames 300 --autofire 8 --volley 200 --hide-hud
 # Structures under stress (README section of that name).
 shot stress_tower_falling play --scene tower --frames 160 --autofire 3 --volley 120 --hide-panel --hide-hud
-shot stress_bridge_breaking play --scene bridge --stress-scale 0.15 --frames 175 --autofire 3 --volley 120 --hide-panel --hide-hud
+shot stress_bridge_breaking play --scene bridge --frames 175 --autofire 3 --volley 120 --hide-panel --hide-hud
 shot stress_bridge_weight play --scene bridge --drop 20000 --frames 132 --hide-panel --hide-hud
-shot stress_overlay play --scene bridge --stress-scale 0.3 --frames 40 --overlay stress --hide-panel --hide-hud
+shot stress_overlay play --scene bridge --frames 40 --overlay stress --hide-panel --hide-hud
 echo "make_screenshots: wrote $(ls "$out" | wc -l) pictures in $out"

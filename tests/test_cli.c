@@ -140,6 +140,10 @@ static void test_sim(void) {
                         "step_ms_max",
                         "break_ms_median",
                         "break_ms_max",
+                        "break_ms_p50",
+                        "break_ms_p99",
+                        "break_wait_steps_max",
+                        "settled_physics_ms",
                         "mass_rel_error",
                         "nan"};
   for (size_t i = 0; i < sizeof keys / sizeof *keys; ++i) {
@@ -150,6 +154,11 @@ static void test_sim(void) {
   ENSURE(strstr(r->out, "\"nan\": false") && json_number(r->out, "mass_rel_error") < 1e-9);
   ENSURE(json_number(r->out, "bodies_initial") == 1 && json_number(r->out, "colliders_initial") == 1);
   ENSURE(json_number(r->out, "bodies_final") > 1 && json_number(r->out, "bonds_broken") > 0);
+  // Break handling: percentiles in order; one wall's hits leave nothing waiting.
+  ENSURE(json_number(r->out, "break_ms_p50") <= json_number(r->out, "break_ms_p99"));
+  ENSURE(json_number(r->out, "break_ms_p99") <= json_number(r->out, "break_ms_max"));
+  ENSURE_MSG(json_number(r->out, "break_wait_steps_max") == 0, "%s", r->out);
+  ENSURE(json_number(r->out, "settled_physics_ms") >= 0.0);
   ENSURE(json_number(r->out, "colliders_final") < json_number(r->out, "colliders_naive_final"));
   // The second run loads the mesh tree from the cache, and gives the same result.
   char first[sizeof run_result_storage.out];
@@ -181,9 +190,55 @@ static void test_sim(void) {
   expect_error("sim --explode", 2, "unknown option '--explode'");
 }
 
+// The structures fall at their defaults (issue 32): the bridge's and the
+// balcony's own shots break them by the load they carry (not chips alone)
+// and at least 10 fragments fall, while untouched they carry themselves;
+// the slab's split it into parts (a crack to see, not one body shedding
+// chips). The tower still topples and the wall still only loses bricks.
+static void test_structures_fall(void) {
+  setenv("BREAKABLES_CACHE_DIR", BK_TEST_TMP "/cache", 1);
+  const char* structures[] = {"bridge", "balcony"};
+  for (int i = 0; i < 2; ++i) {
+    char args[128] = {0};
+    snprintf(args, sizeof args, "sim --scene %s --json", structures[i]);
+    run_result* r = run(args);
+    ENSURE_MSG(r->status == 0, "%s", r->err);
+    fprintf(stderr, "    %s: %g fragments fell, %g bonds broken, %g by stress\n", structures[i],
+            json_number(r->out, "fragments_fallen"), json_number(r->out, "bonds_broken"),
+            json_number(r->out, "stress_bonds_broken"));
+    ENSURE_MSG(json_number(r->out, "shots") == 3 && json_number(r->out, "fragments_fallen") >= 10 &&
+                   json_number(r->out, "stress_bonds_broken") > 0,
+               "%s stands after its shots: %s", structures[i], r->out);
+    snprintf(args, sizeof args, "sim --scene %s --shots 0 --json", structures[i]);
+    r = run(args);
+    ENSURE_MSG(r->status == 0 && json_number(r->out, "fragments_fallen") == 0 &&
+                   json_number(r->out, "bodies_final") == 1,
+               "%s falls under its own weight: %s", structures[i], r->out);
+  }
+  run_result* r = run("sim --scene slab --json");
+  ENSURE_MSG(r->status == 0, "%s", r->err);
+  // Bodies of more than one fragment: what is left of the slab.
+  double parts = json_number(r->out, "bodies_final") - json_number(r->out, "fragments_free");
+  ENSURE_MSG(parts >= 2, "the slab is still one piece: %s", r->out);
+  // What the tower's and the wall's tests hold them to (their scene data
+  // is checked in test_scenes): the tower topples, its base broken by its
+  // load (about 80 of its 192 fragments fall); the wall loses
+  // bricks and stands (3 of 85 fell, 16 freed).
+  r = run("sim --scene tower --json");
+  ENSURE_MSG(r->status == 0 && json_number(r->out, "fragments_fallen") >= 60 &&
+                 json_number(r->out, "stress_bonds_broken") > 0,
+             "the tower stands: %s", r->out);
+  r = run("sim --scene wall --json");
+  ENSURE_MSG(r->status == 0 && json_number(r->out, "fragments_free") >= 10 &&
+                 json_number(r->out, "fragments_fallen") <= 10 &&
+                 json_number(r->out, "stress_bonds_broken") == 0,
+             "the wall changed: %s", r->out);
+}
+
 // A weight set down on the middle of the bridge's deck (issue 17): 20 t
-// breaks the span by the load it carries and what it held falls; 2 t is
-// carried. No shot is fired with --drop unless asked for.
+// breaks the span by the load it carries and what it held falls; 500 kg is
+// carried (the bridge's old concrete gives way under 1 t). No shot is
+// fired with --drop unless asked for.
 static void test_sim_drop(void) {
   setenv("BREAKABLES_CACHE_DIR", BK_TEST_TMP "/cache", 1);
   run_result* r = run("sim --scene bridge --drop 20000 --json");
@@ -193,11 +248,11 @@ static void test_sim_drop(void) {
              "%s", r->out); // on the deck's top, 1.8 m up
   ENSURE_MSG(json_number(r->out, "stress_bonds_broken") > 0 && json_number(r->out, "fragments_fallen") > 0,
              "the weight broke nothing: %s", r->out);
-  r = run("sim --scene bridge --drop 2000 --json");
-  ENSURE_MSG(r->status == 0 && json_number(r->out, "drop_kg") == 2000, "%s%s", r->out, r->err);
+  r = run("sim --scene bridge --drop 500 --json");
+  ENSURE_MSG(r->status == 0 && json_number(r->out, "drop_kg") == 500, "%s%s", r->out, r->err);
   ENSURE_MSG(json_number(r->out, "bonds_broken") == 0 && json_number(r->out, "fragments_fallen") == 0 &&
                  json_number(r->out, "bodies_final") == 1,
-             "2 t broke the bridge: %s", r->out);
+             "500 kg broke the bridge: %s", r->out);
   r = run("sim --scene bridge --steps 1 --json");
   ENSURE_MSG(json_number(r->out, "drop_kg") == 0 && strstr(r->out, "\"drop_point\": null"), "%s", r->out);
 }
@@ -482,6 +537,7 @@ int main(void) {
   RUN(test_repairs_simple_hole);
   RUN(test_sim);
   RUN(test_sim_drop);
+  RUN(test_structures_fall);
   RUN(test_sim_own_mesh);
   RUN(test_export_keeps_material);
   RUN(test_number_options);

@@ -128,13 +128,20 @@ static bk_vec3 check_structure(const char* name, const char* material) {
 }
 
 static void test_structures(void) {
-  // The tower is shot at its base, by shots heavy enough to topple it (the
-  // cannon's leave it standing); the others by the cannon's.
+  // Each is shot by wrecking shots heavy enough to bring it down (the
+  // cannon's leave the tower standing and only chip the bridge and the
+  // balcony): the tower at its base at stone's own limits, the bridge and
+  // the balcony in old concrete, whose limits they still stand at
+  // untouched (tests/test_cli.c runs them).
   bk_vec3 tower = check_structure("tower", "stone");
   ENSURE(bk_scene_find("tower")->target.y <= 0.5 && tower.y < 0.6);
-  ENSURE(bk_scene_find("tower")->projectile_mass >= 10.0 * cannon_mass);
-  ENSURE(bk_scene_find("bridge")->projectile_mass == cannon_mass &&
-         bk_scene_find("balcony")->projectile_mass == cannon_mass);
+  const char* structures[] = {"tower", "bridge", "balcony"};
+  for (int i = 0; i < 3; ++i) {
+    const bk_scene* scene = bk_scene_find(structures[i]);
+    ENSURE(scene->projectile_mass >= 10.0 * cannon_mass);
+    double scale = scene->objects[0].stress_scale;
+    ENSURE_MSG(i == 0 ? scale == 0.0 : scale > 0.1 && scale < 1.0, "%s: limits x %g", structures[i], scale);
+  }
   // The bridge on its deck (1.5 to 1.8 m up) half-way between its legs (inner faces at x = +-1.8).
   bk_vec3 bridge = check_structure("bridge", "concrete");
   ENSURE(bridge.y >= 1.5 - 1e-9 && fabs(bridge.x) < 0.5);

@@ -61,7 +61,7 @@ static const char* const play_usage =
     "                        0.15 the bridge and the balcony cannot carry their own weight)\n"
     "  --drop KG             set a weight of KG, 1..1e6, down at rest on the top surface over the\n"
     "                        first object's aim point (the bridge: the middle of its deck), for the\n"
-    "                        structure to carry (20000 breaks the bridge, 2000 does not); also\n"
+    "                        structure to carry (20000 breaks the bridge, 500 does not); also\n"
     "                        the mass X sets down (default 20000)\n"
     "  --drop-radius M       the weight's radius, 0.01..2 m (default 0.3)\n"
     "  --drop-at FRAME       the frame it is set down, 0..10000000, before --frames (default 60:\n"

@@ -71,8 +71,16 @@ bk_world_breakable_def bk_scene_object_def(const bk_scene_object* object, const 
   if (bk_v3_length(object->axis) > 0.0)
     b->transform.rotation = bk_quat_axis_angle(bk_v3_normalize(object->axis), object->angle);
   const bk_material* material = options && options->material ? bk_material_find(options->material) : NULL;
+  // The object's own limits go with its own material: a preset chosen for
+  // every object is that preset as it is.
+  double own_scale = material || !(object->stress_scale > 0.0) ? 1.0 : object->stress_scale;
   if (!material) material = bk_material_find(object->material);
-  if (material) b->material = *material;
+  if (material) {
+    b->material = *material;
+    b->material.compression_limit *= own_scale;
+    b->material.tension_limit *= own_scale;
+    b->material.shear_limit *= own_scale;
+  }
   if (options) {
     if (options->frailty > 0.0) b->material.frailty = options->frailty;
     if (options->density > 0.0) b->material.density = options->density;

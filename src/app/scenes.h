@@ -18,6 +18,10 @@ typedef struct bk_scene_object {
   double scale;         ///< uniform scale of the mesh (0 = 1)
   const char* material; ///< material preset name (physics)
   const char* look;     ///< how it is drawn (render material); NULL = same as material
+  /// Its material's three stress limits times this (0 = 1, as the preset
+  /// has them): a structure that stands at its limits but gives way once
+  /// the scene's shots cut into it. A --material preset replaces it.
+  double stress_scale;
   bool anchored;
   /// How it breaks (zero = BK_PATTERN_PLANES). The parameters follow from the
   /// object: a brick bond lines up with its texture, a radial pattern centres

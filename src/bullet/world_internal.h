@@ -38,6 +38,15 @@ typedef struct world_body {
   double pressed;        // normal impulse (N s) dynamic bodies pressed on it in the last step, frozen
 } world_body;
 
+/// A hit waiting for the step's hit budget (world_hits.c).
+typedef struct world_hit {
+  bk_cluster_id cluster;
+  bk_vec3 point; // in the world, as its contact gave it (applied in its own step)
+  bk_vec3 local; // in the tree frame (applied in a later step, where the object is then)
+  double impulse, closing_speed;
+  uint64_t step; // the step it happened in
+} world_hit;
+
 /// The physics budget's state (world_budget.c).
 typedef struct world_budget {
   double level;       // 0..4: tier k reaches the least important (level - k + 1) of the pieces
@@ -79,6 +88,12 @@ struct bk_world {
   uint32_t contact_count; // the last step's, at most contact_capacity
   bk_damage_contact* damage;
   uint32_t damage_capacity;
+  world_hit* hits; // waiting hits, oldest first, then the step's
+  uint32_t hit_count, hit_capacity;
+  bk_damage_contact* hit_batch; // what the step applies
+  uint32_t hit_batch_capacity;
+  bool hits_hold_splits; // hits wait after this step's: no split in it
+  bool hits_held_last;   // the last step that applied hits held the splits
   bk_cluster_created* created;
   uint32_t created_capacity;
   bk_cluster_id* removed;
@@ -91,6 +106,7 @@ struct bk_world {
   uint32_t fragments_retired;
   double retired_mass;
   double step_ms, physics_ms, break_ms, stress_ms;
+  double fracture_ms, physics_cpu_ms; // thread CPU time (bk_world_stats)
   bk_stress_support* supports;
   uint32_t support_capacity;
   bk_stress_load* stress_loads; // what rests on clusters, from the step's slow contacts
@@ -118,6 +134,12 @@ void bk_world_release_body(bk_world* world, uint32_t index);
 bk_transform bk_world_tree_to_world(const bk_world* world, uint32_t index);
 /// Rebuilds the list of live clusters after bodies changed.
 void bk_world_refresh_live(bk_world* world);
+/// Applies the step's damage contacts (damage[0..count)) after the hits
+/// that wait, as far as max_hit_fragments_per_step allows; the rest wait.
+/// While hits wait and splits wait too, steps take turns: one applies hits
+/// (and sets hits_hold_splits: no split in it), the next splits (and
+/// applies no hit). Returns the hits left waiting.
+uint32_t bk_world_apply_hits(bk_world* world, uint32_t count);
 /// Removes projectiles older than projectile_lifetime.
 void bk_world_retire_projectiles(bk_world* world);
 /// Whether the budget may make a cluster's body cheaper at all: a loose

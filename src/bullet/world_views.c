@@ -35,11 +35,14 @@ bk_world_stats bk_world_get_stats(const bk_world* w) {
   s.bonds_broken = rs.bonds_broken;
   s.break_events = rs.splits;
   s.pending_splits = rs.pending_splits;
+  s.pending_hits = w->hit_count;
   s.fragments_retired = w->fragments_retired;
   s.retired_mass = w->retired_mass;
   s.step_ms = w->step_ms;
   s.physics_ms = w->physics_ms;
   s.break_ms = w->break_ms;
+  s.fracture_ms = w->fracture_ms;
+  s.physics_cpu_ms = w->physics_cpu_ms;
   s.stress_ms = w->stress_ms;
   s.stress_bonds_broken = rs.stress_bonds_broken;
   s.stress_iterations = rs.stress_iterations;

@@ -81,6 +81,7 @@ void bk_runtime_destroy(bk_runtime* rt) {
   free(rt->broken);
   free(rt->scratch_component);
   free(rt->scratch_stack);
+  free(rt->scratch_position);
   free(rt->stress_scratch);
   free(rt->stress_load_scratch);
   free(rt);

@@ -96,6 +96,8 @@ struct bk_runtime {
   uint32_t* scratch_component;
   uint32_t* scratch_stack;
   uint32_t scratch_capacity;
+  uint32_t* scratch_position; // a split cluster's leaf -> its index in the cluster's leaves
+  uint32_t scratch_position_capacity;
 };
 
 /// Clears the results before a call that changes the runtime.

@@ -18,19 +18,23 @@ static void reserve_scratch(bk_runtime* w, uint32_t n) {
   w->scratch_stack = bk_realloc(w->scratch_stack, sizeof(uint32_t) * w->scratch_capacity);
 }
 
-static int compare_u32(const void* a, const void* b) {
-  uint32_t x = *(const uint32_t*)a, y = *(const uint32_t*)b;
-  return x < y ? -1 : x > y;
-}
-
 // Labels the cluster's leaves by connected component (flood fill over the
 // CSR graph); returns the component count. Labels go to scratch_component,
-// indexed like c->leaves; leaf -> position via binary search on the sorted list.
+// indexed like c->leaves; leaf -> position through scratch_position (a
+// cluster left over from a split budget is searched again every step, and a
+// binary search per bond was most of that).
 static uint32_t label_components(bk_runtime* w, const rt_cluster* c, uint32_t slot) {
   const rt_breakable* b = &w->breakables[c->breakable];
+  uint32_t leaves = b->tree->leaf_count;
+  if (leaves > w->scratch_position_capacity) {
+    w->scratch_position_capacity = bk_grow_capacity(w->scratch_position_capacity, leaves);
+    w->scratch_position = bk_realloc(w->scratch_position, sizeof(uint32_t) * w->scratch_position_capacity);
+  }
   uint32_t* label = w->scratch_component;
-  for (uint32_t i = 0; i < c->leaf_count; ++i)
+  for (uint32_t i = 0; i < c->leaf_count; ++i) {
     label[i] = UINT32_MAX;
+    w->scratch_position[c->leaves[i]] = i;
+  }
   uint32_t components = 0;
   for (uint32_t start = 0; start < c->leaf_count; ++start) {
     if (label[start] != UINT32_MAX) continue;
@@ -46,8 +50,7 @@ static uint32_t label_components(bk_runtime* w, const rt_cluster* c, uint32_t sl
         const bk_bond* bd = &b->tree->bonds[bond];
         uint32_t other = bd->leaf_a == leaf ? bd->leaf_b : bd->leaf_a;
         if (b->leaf_cluster[other] != slot) continue;
-        const uint32_t* found = bsearch(&other, c->leaves, c->leaf_count, sizeof(uint32_t), compare_u32);
-        uint32_t j = (uint32_t)(found - c->leaves);
+        uint32_t j = w->scratch_position[other]; // other is in this cluster: set above
         if (label[j] != UINT32_MAX) continue;
         label[j] = components;
         w->scratch_stack[top++] = j;
