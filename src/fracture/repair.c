@@ -37,20 +37,24 @@ static uint32_t count_shells(const bk_mesh* m) {
   return shells;
 }
 
-// Midpoint of the first directed edge (in triangle order) that has no
-// opposite (open) or shares its direction with another (overused).
-static bk_vec3 first_bad_edge(const bk_mesh* m, bool overused) {
-  bk_index_map edges = {0};
-  bk_index_map_init(&edges, 3u * m->triangle_count);
+// How many triangles use each directed edge (keyed by bk_directed_edge_key).
+static void count_directed_edges(const bk_mesh* m, bk_index_map* edges) {
+  bk_index_map_init(edges, 3u * m->triangle_count);
   for (uint32_t t = 0; t < m->triangle_count; ++t)
     for (int k = 0; k < 3; ++k) {
       bool inserted = false;
       uint32_t* uses = bk_index_map_insert(
-          &edges,
-          bk_directed_edge_key(bk_mesh_tri_position(m, t, k), bk_mesh_tri_position(m, t, (k + 1) % 3)), 0,
-          &inserted);
+          edges, bk_directed_edge_key(bk_mesh_tri_position(m, t, k), bk_mesh_tri_position(m, t, (k + 1) % 3)),
+          0, &inserted);
       ++*uses;
     }
+}
+
+// Midpoint of the first directed edge (in triangle order) that has no
+// opposite (open) or shares its direction with another (overused).
+static bk_vec3 first_bad_edge(const bk_mesh* m, bool overused) {
+  bk_index_map edges = {0};
+  count_directed_edges(m, &edges);
   bk_vec3 where = bk_v3(NAN, NAN, NAN);
   for (uint32_t t = 0; t < m->triangle_count && isnan(where.x); ++t)
     for (int k = 0; k < 3; ++k) {
@@ -73,18 +77,8 @@ static bk_vec3 first_bad_edge(const bk_mesh* m, bool overused) {
 // that touch use their edges both ways and are left to the split.) Returns
 // how many were turned.
 static uint32_t turn_flipped_faces(bk_mesh* m) {
-  if (m) return 0;
   bk_index_map edges = {0};
-  bk_index_map_init(&edges, 3u * m->triangle_count);
-  for (uint32_t t = 0; t < m->triangle_count; ++t)
-    for (int k = 0; k < 3; ++k) {
-      bool inserted = false;
-      uint32_t* uses = bk_index_map_insert(
-          &edges,
-          bk_directed_edge_key(bk_mesh_tri_position(m, t, k), bk_mesh_tri_position(m, t, (k + 1) % 3)), 0,
-          &inserted);
-      ++*uses;
-    }
+  count_directed_edges(m, &edges);
   // Decided on the counts before any turn, so the result does not depend on
   // the triangles' order.
   uint8_t* turn = bk_calloc(m->triangle_count + 1u, 1);
