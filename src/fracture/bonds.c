@@ -17,6 +17,10 @@
 
 #include "bond_caps.h"
 
+// The smallest cosine between a cap triangle and its cut for the triangle to
+// count as part of the cut's face (noisy caps tilt by far less).
+#define BOND_MIN_COSINE 1e-6
+
 // A convex polygon, counter-clockwise in the cut plane's (u, v) coordinates.
 typedef struct piece {
   uint32_t first, count; // range in the point array
@@ -402,6 +406,10 @@ static void bond_cuts(const bk_mesh_tree* tree, const bk_cut_frame* frames, cons
             // Lifted onto the plane the piece lies in (the cut's: no change).
             const piece* p = &s.pieces[a];
             double cosine = bk_v3_dot(p->normal, n);
+            // A triangle standing almost across its cut (possible only in a
+            // tree made or edited by hand) is no part of the cut's face:
+            // lifted, its area and place would run off to infinity.
+            if (!(cosine > BOND_MIN_COSINE)) continue;
             bk_vec3 at = bk_v3_add(bk_v3_scale(n, height),
                                    bk_v3_add(bk_v3_scale(u, mx / flat_area), bk_v3_scale(v, my / flat_area)));
             at = bk_v3_add(at, bk_v3_scale(n, (p->level - bk_v3_dot(p->normal, at)) / cosine));
@@ -412,7 +420,16 @@ static void bond_cuts(const bk_mesh_tree* tree, const bk_cut_frame* frames, cons
           }
         if (area <= min_area) continue;
         double normal_length = bk_v3_length(normal);
-        add_contact(list, gb->leaf, ga->leaf, area, bk_v3_add(origin, bk_v3_scale(moment, 1.0 / area)),
+        bk_vec3 centroid = bk_v3_add(origin, bk_v3_scale(moment, 1.0 / area));
+        // The contact is part of both leaves' surfaces; one whose centroid
+        // lies outside either leaf (rounding of a degenerate contact in a
+        // hand-made tree) is no contact the runtime could use.
+        bk_aabb box_a = bk_mesh_tree_leaf(tree, ga->leaf)->bounds,
+                box_b = bk_mesh_tree_leaf(tree, gb->leaf)->bounds;
+        if (!isfinite(area) || !bk_point_inside(box_a, centroid, bk_inside_slack(box_a)) ||
+            !bk_point_inside(box_b, centroid, bk_inside_slack(box_b)))
+          continue;
+        add_contact(list, gb->leaf, ga->leaf, area, centroid,
                     normal_length > 0.0 ? bk_v3_scale(normal, 1.0 / normal_length) : n);
       }
       active_count[1 - side] = kept;
