@@ -27,9 +27,9 @@ static void run_read_all(FILE* f, char* buffer, size_t size) {
   buffer[n] = 0;
 }
 
-static run_result* run(const char* args) {
-  char command[4096] = {0};
-  snprintf(command, sizeof command, "'%s' %s 2>'%s'", BK_BREAKABLES_EXE, args, RUN_STDERR_PATH);
+// Runs a shell command whose stderr goes to RUN_STDERR_PATH; its output,
+// stderr and exit status.
+static run_result* run_command(const char* command) {
   FILE* pipe = popen(command, "r");
   ENSURE(pipe != NULL);
   run_read_all(pipe, run_result_storage.out, sizeof run_result_storage.out);
@@ -40,6 +40,12 @@ static run_result* run(const char* args) {
   run_read_all(err, run_result_storage.err, sizeof run_result_storage.err);
   fclose(err);
   return &run_result_storage;
+}
+
+static run_result* run(const char* args) {
+  char command[4096] = {0};
+  snprintf(command, sizeof command, "'%s' %s 2>'%s'", BK_BREAKABLES_EXE, args, RUN_STDERR_PATH);
+  return run_command(command);
 }
 
 static inline int count_lines(const char* text) {

@@ -58,16 +58,7 @@ static run_result* run_limited(int seconds, const char* args) {
   char command[4096];
   snprintf(command, sizeof command, "timeout %d '%s' %s 2>'%s' </dev/null", seconds, BK_BREAKABLES_EXE, args,
            RUN_STDERR_PATH);
-  FILE* pipe = popen(command, "r");
-  ENSURE(pipe != NULL);
-  run_read_all(pipe, run_result_storage.out, sizeof run_result_storage.out);
-  int status = pclose(pipe);
-  run_result_storage.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  FILE* err = fopen(RUN_STDERR_PATH, "rb");
-  ENSURE(err != NULL);
-  run_read_all(err, run_result_storage.err, sizeof run_result_storage.err);
-  fclose(err);
-  return &run_result_storage;
+  return run_command(command);
 }
 
 static void expect_refusal(const run_result* r, const char* args, int status, const char* message) {

@@ -17,16 +17,7 @@
 
 #include "cli_util.h"
 
-#if defined(__SANITIZE_ADDRESS__)
-#define UNDER_SANITIZER 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define UNDER_SANITIZER 1
-#endif
-#endif
-#ifndef UNDER_SANITIZER
-#define UNDER_SANITIZER 0
-#endif
+#include "under_sanitizer.h"
 
 /// The cut-out's samples, about 3,000 on any map of at least as many pixels.
 #define SAMPLES_MAX 3000u

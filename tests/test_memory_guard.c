@@ -13,18 +13,7 @@
 #include "bk_fracture.h"
 #include "ensure.h"
 
-// Sanitizers multiply the memory a process uses (shadow memory, redzones, a
-// quarantine of freed blocks), so measured peaks say nothing about the model there.
-#if defined(__SANITIZE_ADDRESS__)
-#define UNDER_SANITIZER 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define UNDER_SANITIZER 1
-#endif
-#endif
-#ifndef UNDER_SANITIZER
-#define UNDER_SANITIZER 0
-#endif
+#include "under_sanitizer.h"
 
 #define RUN_STDERR_PATH BK_TEST_TMP "/memory_guard_stderr.txt"
 #include "run_exe.h"
