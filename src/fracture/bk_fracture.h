@@ -66,6 +66,10 @@ bool bk_solid_mass_check(const bk_moments* moments, bk_vec3 offset, bk_aabb boun
 /// structure and volumes hold by construction): every leaf's mass a solid's
 /// (bk_solid_mass_check) and every bond's area, centroid and normal.
 bool bk_mesh_tree_check_built(const bk_mesh_tree* tree, bk_error* err);
+/// The length of a box's diagonal.
+double bk_aabb_diagonal(bk_aabb b);
+/// The largest absolute coordinate of a box's corners.
+double bk_aabb_largest_coordinate(bk_aabb b);
 /// How far a point may lie outside bounds and still count as inside them
 /// (a millionth of the diagonal plus rounding of the coordinates).
 double bk_inside_slack(bk_aabb bounds);

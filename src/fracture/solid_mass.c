@@ -18,15 +18,16 @@
 #define INSIDE_TOLERANCE 1e-6
 #define INSIDE_ROUNDING_ULPS 64.0
 
-static double diagonal(bk_aabb b) { return bk_v3_length(bk_v3_sub(b.max, b.min)); }
+double bk_aabb_diagonal(bk_aabb b) { return bk_v3_length(bk_v3_sub(b.max, b.min)); }
 
-static double largest_coordinate(bk_aabb b) {
+double bk_aabb_largest_coordinate(bk_aabb b) {
   return fmax(fmax(fmax(fabs(b.min.x), fabs(b.min.y)), fmax(fabs(b.min.z), fabs(b.max.x))),
               fmax(fabs(b.max.y), fabs(b.max.z)));
 }
 
 double bk_inside_slack(bk_aabb b) {
-  return INSIDE_TOLERANCE * diagonal(b) + INSIDE_ROUNDING_ULPS * DBL_EPSILON * largest_coordinate(b);
+  return INSIDE_TOLERANCE * bk_aabb_diagonal(b) +
+         INSIDE_ROUNDING_ULPS * DBL_EPSILON * bk_aabb_largest_coordinate(b);
 }
 
 bool bk_point_inside(bk_aabb b, bk_vec3 p, double slack) {
@@ -74,7 +75,7 @@ bool bk_solid_mass_check(const bk_moments* moments, bk_vec3 offset, bk_aabb boun
     return bk_error_set(why, "%s: centroid (%g, %g, %g) lies outside its bounds", name, mass.centroid.x,
                         mass.centroid.y, mass.centroid.z);
   if (!matrix_finite(mass.inertia)) return bk_error_set(why, "%s: inertia is not finite", name);
-  double d = diagonal(bounds), limit = v * d * d * (1.0 + FRAME_TOLERANCE);
+  double d = bk_aabb_diagonal(bounds), limit = v * d * d * (1.0 + FRAME_TOLERANCE);
   if (!frame && spread_is_solid(mass.inertia, limit)) return true;
   double principal[3] = {0}, axes[3][3] = {{0}};
   bk_sym3_eigen(mass.inertia, principal, axes);

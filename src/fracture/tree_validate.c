@@ -186,13 +186,6 @@ static const char* node_name(const bk_mesh_tree_node* n, uint32_t i, char* out, 
   return out;
 }
 
-static double diagonal(bk_aabb b) { return bk_v3_length(bk_v3_sub(b.max, b.min)); }
-
-static double largest_coordinate(bk_aabb b) {
-  return fmax(fmax(fmax(fabs(b.min.x), fabs(b.min.y)), fmax(fabs(b.min.z), fabs(b.max.x))),
-              fmax(fabs(b.max.y), fabs(b.max.z)));
-}
-
 // Volume of a closed mesh, summed about the centre of its bounds (its own
 // coordinates stay small there, so this sum barely rounds), and in *scale
 // the size of the rounding in the volume stored with it: that was summed
@@ -213,7 +206,8 @@ static double mesh_volume(const bk_mesh* m, bk_aabb bounds, bk_vec3 origin, doub
     area2 += bk_v3_length(d);
   }
   bk_aabb about = {bk_v3_sub(bounds.min, origin), bk_v3_sub(bounds.max, origin)};
-  double reach = fmax(largest_coordinate(about), largest_coordinate(bounds)) + diagonal(bounds);
+  double reach =
+      fmax(bk_aabb_largest_coordinate(about), bk_aabb_largest_coordinate(bounds)) + bk_aabb_diagonal(bounds);
   *scale = area2 * reach / 6.0;
   *area = area2 / 2.0;
   return sum / 6.0;
