@@ -23,12 +23,15 @@ typedef struct run {
   seen side[2];       // x < 0, x >= 0
   uint32_t demotions; // the budget did something
   double level;       // the highest it reached
+  double cost_ms;     // the steps' cost as the budget saw it, summed
 } run;
 
 typedef struct setup {
   double budget_ms, fidelity_time, fidelity_radius;
-  double x[2];   // the cubes
-  bk_vec3 focus; // where the player looks from
+  double visible_angle;   // bk_world_def.budget_visible_angle (0: every piece counts as seen)
+  double fidelity_factor; // bk_world_def.budget_fidelity_factor (0: the first second kept whatever it costs)
+  double x[2];            // the cubes
+  bk_vec3 focus;          // where the player looks from
 } setup;
 
 static run watch_first_second(const bk_mesh_tree* tree, setup s) {
@@ -37,10 +40,13 @@ static run watch_first_second(const bk_mesh_tree* tree, setup s) {
   wd.budget_large_volume = 0.008;
   wd.budget_fidelity_time = s.fidelity_time;
   wd.budget_fidelity_radius = s.fidelity_radius;
+  wd.budget_visible_angle = s.visible_angle;
+  wd.budget_fidelity_factor = s.fidelity_factor;
   bk_error err = {0};
   bk_world* world = bk_world_create(&wd, &err);
   ENSURE_MSG(world, "%s", err.message);
   ENSURE(bk_world_budget_fidelity_radius(world) == s.fidelity_radius);
+  ENSURE(bk_world_budget_visible_angle(world) == s.visible_angle);
   bk_world_set_focus(world, s.focus);
   for (int i = 0; i < 2; ++i)
     add_cube(world, tree, s.x[i]);
@@ -66,6 +72,7 @@ static run watch_first_second(const bk_mesh_tree* tree, setup s) {
       out.side[side].momentum += bk_v3_length(sum[side]);
     bk_world_stats st = bk_world_get_stats(world);
     out.level = fmax(out.level, st.budget_level);
+    out.cost_ms += st.budget_cost_ms;
     out.demotions = st.budget_demotions;
   }
   bk_world_destroy(world);
@@ -140,6 +147,114 @@ static void test_fidelity_radius(void) {
   bk_mesh_tree_free(&tree);
 }
 
+// Within the radius, only pieces that look large enough from the focus
+// keep their first second: the near cube's pieces (about 16 cm at 3.4 m,
+// 0.05 rad) keep it at the default angle, and are fair game when the angle
+// asks for more than any of them looks (0.5 rad).
+static void test_visible_angle(void) {
+  bk_mesh_tree tree = make_cube_tree(256);
+  double angle = bk_default_world_def().budget_visible_angle;
+  setup s = {.fidelity_time = 1.0,
+             .fidelity_radius = 8.0,
+             .visible_angle = angle,
+             .x = {-0.6, 100.0},
+             .focus = bk_v3(0.2, 1.1, 3.0)};
+  run off = watch_first_second(&tree, s);
+  s.budget_ms = 0.05;
+  run seen_run = watch_first_second(&tree, s);
+  double seen_error_now = seen_error(seen_run.side[0], off.side[0]);
+  ENSURE_MSG(seen_error_now < 0.05, "at %g rad the near cube is %.3f off", angle, seen_error_now);
+  s.visible_angle = 0.5;
+  run unseen = watch_first_second(&tree, s);
+  double unseen_error = seen_error(unseen.side[0], off.side[0]);
+  ENSURE_MSG(unseen_error > 0.05, "at 0.5 rad the near cube is only %.3f off: it kept its first second",
+             unseen_error);
+  bk_mesh_tree_free(&tree);
+}
+
+// A piece's first second counts from when its bonds broke: where the split
+// budget (2 bodies a step) makes the pieces of one shot wait for their
+// bodies longer than the fidelity time (0.25 s), those made later are fair
+// game from their first steps (a young piece is never simplified), while
+// those made early keep their first quarter second.
+static void test_first_second_from_the_break(void) {
+  bk_mesh_tree tree = make_cube_tree(256);
+  bk_world_def wd = bk_default_world_def();
+  wd.physics_budget_ms = 0.05;
+  wd.budget_fidelity_time = 0.25;
+  wd.max_new_bodies_per_step = 2;
+  wd.budget_fidelity_factor = 0.0; // young pieces keep their second whatever it costs
+  bk_error err = {0};
+  bk_world* world = bk_world_create(&wd, &err);
+  ENSURE_MSG(world, "%s", err.message);
+  bk_world_set_focus(world, bk_v3(0.8, 1.1, 3.0));
+  add_cube(world, &tree, 0.0);
+  shoot(world, 0.0);
+  // The step each cluster index was first seen, and whether a body was
+  // simplified within its first five steps, made early or late.
+  // Early: made within 10 steps of the hit, so that its first five steps
+  // are within the fidelity time's 15.
+  enum { STEPS = 90, EARLY = 10, LATE = 30, FIRST_STEPS = 5 };
+  int* first_seen = calloc(4 * tree.leaf_count + 16, sizeof(int));
+  uint64_t* generation = calloc(4 * tree.leaf_count + 16, sizeof(uint64_t));
+  uint32_t early_simplified = 0, late_simplified = 0, late_made = 0;
+  int hit = -1;
+  for (int step = 1; step <= STEPS; ++step) {
+    bk_world_step(world);
+    if (hit < 0 && bk_world_get_stats(world).bonds_broken > 0) hit = step;
+    for (uint32_t i = 0; i < bk_world_body_count(world); ++i) {
+      bk_body_view view = {0};
+      ENSURE(bk_world_body_view(world, i, &view));
+      uint32_t c = view.cluster.index;
+      ENSURE(c < 4 * tree.leaf_count + 16);
+      if (first_seen[c] == 0 || generation[c] != view.cluster.generation) {
+        first_seen[c] = step;
+        generation[c] = view.cluster.generation;
+        late_made += hit >= 0 && step - hit >= LATE && !view.is_static;
+      }
+      if (step - first_seen[c] >= FIRST_STEPS || view.tier < BK_TIER_SIMPLIFIED) continue;
+      if (hit >= 0 && first_seen[c] - hit >= LATE) late_simplified++;
+      if (hit >= 0 && first_seen[c] - hit < EARLY) early_simplified++;
+    }
+  }
+  ENSURE_MSG(hit > 0 && late_made > 20, "the shot broke nothing late enough (hit %d, %u made late)", hit,
+             late_made);
+  ENSURE_MSG(early_simplified == 0, "%u body-steps of early pieces were simplified in their first second",
+             early_simplified);
+  ENSURE_MSG(late_simplified > 0, "none of the %u pieces made after their first second was simplified",
+             late_made);
+  free(first_seen);
+  free(generation);
+  bk_world_destroy(world);
+  bk_mesh_tree_free(&tree);
+}
+
+// Keeping the first second may cost at most budget_fidelity_factor times
+// the budget: two cubes shattered in front of the player at a 0.3 ms budget
+// (a bound of 1.2 ms, far below what they cost) give up their first second
+// and cost less than with no bound; with a budget whose bound the steps
+// never reach (10 ms, 40), nothing changes.
+static void test_fidelity_bound(void) {
+  bk_mesh_tree tree = make_cube_tree(256);
+  setup s = {.fidelity_time = 1.0, .fidelity_radius = 8.0, .x = {-0.6, 0.6}, .focus = bk_v3(0.8, 1.1, 3.0)};
+  seen off = both(watch_first_second(&tree, s));
+  s.budget_ms = 0.3;
+  run kept = watch_first_second(&tree, s);
+  s.fidelity_factor = 4.0;
+  run bound = watch_first_second(&tree, s);
+  ENSURE_MSG(seen_error(both(bound), off) > 0.05, "bounded, the cubes are only %.3f off",
+             seen_error(both(bound), off));
+  ENSURE_MSG(bound.cost_ms < 0.8 * kept.cost_ms, "bounded, the second cost %.1f ms, %.1f without a bound",
+             bound.cost_ms, kept.cost_ms);
+  s.budget_ms = 10.0;
+  run never = watch_first_second(&tree, s);
+  s.fidelity_factor = 0.0;
+  run unbounded = watch_first_second(&tree, s);
+  ENSURE_MSG(never.cost_ms < 40.0 * 60 && memcmp(&never.side, &unbounded.side, sizeof never.side) == 0,
+             "a bound never reached changed what the player sees");
+  bk_mesh_tree_free(&tree);
+}
+
 static void test_bad_radius(void) {
   bk_world_def wd = bk_default_world_def();
   ENSURE(wd.budget_fidelity_radius == 8.0);
@@ -149,6 +264,27 @@ static void test_bad_radius(void) {
   expect_refused(wd, "world: budget_fidelity_radius must be finite and >= 0 (got nan)");
   wd.budget_fidelity_radius = INFINITY;
   expect_refused(wd, "world: budget_fidelity_radius must be finite and >= 0 (got inf)");
+  wd = bk_default_world_def();
+  ENSURE(wd.budget_visible_angle == 0.006);
+  wd.budget_visible_angle = -0.1;
+  expect_refused(wd, "world: budget_visible_angle must be within 0..1 radians (got -0.1)");
+  wd.budget_visible_angle = NAN;
+  expect_refused(wd, "world: budget_visible_angle must be within 0..1 radians (got nan)");
+  wd.budget_visible_angle = 2.0;
+  expect_refused(wd, "world: budget_visible_angle must be within 0..1 radians (got 2)");
+  wd = bk_default_world_def();
+  ENSURE(wd.budget_fidelity_factor == 2.0);
+  const double bad[3] = {0.5, -1.0, INFINITY};
+  const char* messages[3] = {"0.5", "-1", "inf"};
+  for (int i = 0; i < 3; ++i) {
+    char message[160];
+    snprintf(message, sizeof message,
+             "world: budget_fidelity_factor must be 0 (no bound) or finite and >= 1 (got %s)", messages[i]);
+    wd.budget_fidelity_factor = bad[i];
+    expect_refused(wd, message);
+  }
+  wd.budget_fidelity_factor = NAN;
+  expect_refused(wd, "world: budget_fidelity_factor must be 0 (no bound) or finite and >= 1 (got nan)");
 }
 
 // A frozen piece is pinned, of no mass to Bullet: a heavy ball set down
@@ -218,6 +354,9 @@ int main(void) {
   RUN(test_bad_radius);
   RUN(test_fidelity_first_second);
   RUN(test_fidelity_radius);
+  RUN(test_visible_angle);
+  RUN(test_first_second_from_the_break);
+  RUN(test_fidelity_bound);
   RUN(test_frozen_gives_way);
   fprintf(stderr, "test_budget_fidelity: all passed\n");
   return 0;

@@ -29,6 +29,10 @@ static void test_errors(void) {
       {"sim --budget-ms nan", "breakables sim: --budget-ms 'nan' is not a decimal number (0..1000)"},
       {"sim --budget-ms 5ms", "breakables sim: --budget-ms '5ms' is not a decimal number (0..1000)"},
       {"sim --budget-ms", "breakables sim: --budget-ms needs a value"},
+      {"sim --budget-fidelity-factor 0.5",
+       "breakables sim: --budget-fidelity-factor '0.5' is out of range (0, or 1..1000)"},
+      {"sim --budget-fidelity-factor 1001",
+       "breakables sim: --budget-fidelity-factor '1001' is out of range (0..1000)"},
       {"play --budget-ms 2000", "breakables play: --budget-ms '2000' is out of range (0..1000)"},
       {"play --budget-ms -0.5", "breakables play: --budget-ms '-0.5' is out of range (0..1000)"},
       {"sim --copies 0", "breakables sim: --copies '0' is out of range (1..64)"},
@@ -159,13 +163,25 @@ static void test_budget_json(void) {
 // world's budget_fidelity_radius, 8 m) is never retired, so what the player
 // sees of one hit stays; at 0 the budget may take pieces at once. (Bricks
 // the shot throws past 8 m are fair game either way.)
+// With no bound on what keeping it costs (--budget-fidelity-factor 0); the
+// default bound, 4 times the 0.3 ms budget, is far below what the hit
+// costs, and the pieces give their second up.
 static void test_budget_fidelity(void) {
-  const char* args = "sim --scene wall --pieces 512 --shots 1 --steps 120 --budget-ms 0.3 --json";
+  const char* args =
+      "sim --scene wall --pieces 512 --shots 1 --steps 120 --budget-ms 0.3 --budget-fidelity-factor 0 --json";
   run_result* r = run(args);
   ENSURE_MSG(r->status == 0, "%s", r->err);
   ENSURE(json_number(r->out, "budget_fidelity_s") == 1.0); // the world's default
+  ENSURE(json_number(r->out, "budget_fidelity_factor") == 0.0);
   double kept = json_number(r->out, "debris_mass_1s"), kept_retired = json_number(r->out, "budget_retired");
-  r = run("sim --scene wall --pieces 512 --shots 1 --steps 120 --budget-ms 0.3 --budget-fidelity 0 --json");
+  r = run("sim --scene wall --pieces 512 --shots 1 --steps 120 --budget-ms 0.3 --json");
+  ENSURE_MSG(r->status == 0, "%s", r->err);
+  ENSURE(json_number(r->out, "budget_fidelity_factor") == 2.0); // the world's default
+  ENSURE_MSG(json_number(r->out, "budget_retired") > kept_retired,
+             "%g pieces retired under the default bound, %g with none: %s",
+             json_number(r->out, "budget_retired"), kept_retired, r->out);
+  r = run("sim --scene wall --pieces 512 --shots 1 --steps 120 --budget-ms 0.3 --budget-fidelity 0 "
+          "--budget-fidelity-factor 0 --json");
   ENSURE_MSG(r->status == 0, "%s", r->err);
   ENSURE(json_number(r->out, "budget_fidelity_s") == 0.0);
   ENSURE_MSG(json_number(r->out, "budget_retired") > kept_retired,

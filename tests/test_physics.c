@@ -324,6 +324,34 @@ static void test_hulls(void) {
   bk_physics_destroy(w);
 }
 
+// A hull moved into another frame (a body's principal frame) without
+// computing it again: the same core vertices, moved, and the same volume.
+static void test_copy_hull(void) {
+  bk_physics* w = make_world();
+  bk_rng rng = bk_rng_seed(11, 1);
+  bk_vec3 points[200];
+  for (uint32_t i = 0; i < 200; ++i)
+    points[i] = bk_v3_add(bk_v3(0.4, 1.0, -0.3), bk_v3_scale(bk_rng_direction(&rng), range(&rng, 0.05, 0.3)));
+  bk_shape_id hull = bk_physics_create_hull(w, points, 200, 0);
+  ENSURE(!bk_shape_is_null(hull));
+  bk_transform move = {bk_v3(-0.4, -1.0, 0.3), bk_quat_normalize((bk_quat){0.3, -0.2, 0.5, 0.8})};
+  bk_shape_id moved = bk_physics_copy_hull(w, hull, move);
+  ENSURE(!bk_shape_is_null(moved));
+  bk_vec3 from[64], to[64];
+  uint32_t count = bk_physics_hull_vertices(w, hull, from, 64);
+  ENSURE(count >= 4 && bk_physics_hull_vertices(w, moved, to, 64) == count);
+  for (uint32_t i = 0; i < count; ++i)
+    ENSURE(bk_v3_length(bk_v3_sub(to[i], bk_transform_point(move, from[i]))) < 1e-6);
+  ENSURE(bk_physics_hull_volume(w, moved) == bk_physics_hull_volume(w, hull));
+  // Only a live hull, moved by a finite transform.
+  ENSURE(bk_shape_is_null(bk_physics_copy_hull(w, bk_physics_create_sphere(w, 0.5), move)));
+  ENSURE(bk_shape_is_null(bk_physics_copy_hull(w, (bk_shape_id){999, 1}, move)));
+  move.position.x = NAN;
+  ENSURE(bk_shape_is_null(bk_physics_copy_hull(w, hull, move)));
+  ENSURE(bk_physics_shape_count(w) == 3);
+  bk_physics_destroy(w);
+}
+
 static bk_shape_id unit_cube_hull(bk_physics* w) {
   bk_vec3 corners[8];
   for (int i = 0; i < 8; ++i)
@@ -942,6 +970,7 @@ int main(void) {
   RUN(test_substep_contacts);
   RUN(test_ccd);
   RUN(test_hulls);
+  RUN(test_copy_hull);
   RUN(test_compounds);
   RUN(test_ids);
   RUN(test_validation);

@@ -319,7 +319,7 @@ static void test_measured(void) {
 
 static void test_bad_defs(void) {
   bk_world_def wd = bk_default_world_def();
-  ENSURE(wd.physics_budget_ms == 0.0 && !wd.physics_budget_measured);
+  ENSURE(wd.physics_budget_ms == 8.0 && !wd.physics_budget_measured);
   ENSURE(wd.budget_large_volume == 0.008 && wd.budget_focus_radius == 2.0);
   wd.physics_budget_ms = -1.0;
   expect_refused(wd, "world: physics_budget_ms must be finite and >= 0 (got -1)");

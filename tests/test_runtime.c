@@ -239,6 +239,60 @@ static void test_budget(void) {
   free(b);
 }
 
+static uint32_t find_root(uint32_t* parent, uint32_t x) {
+  while (parent[x] != x)
+    x = parent[x] = parent[parent[x]];
+  return x;
+}
+
+// A cluster left waiting by the budget keeps the components its split found;
+// a hit on it meanwhile breaks more bonds, and what it splits into then
+// follows them: in the end the clusters are exactly the pieces the intact
+// bonds hold together.
+static void test_budget_then_hit(void) {
+  bodies* b = calloc(1, sizeof *b);
+  bk_runtime* rt = make_runtime(b, 4);
+  bk_mesh_tree tree = make_tree(BK_SHAPE_WALL, 96, 3);
+  bk_breakable_def bd = bk_default_breakable_def();
+  bd.tree = &tree;
+  bk_breakable_id id = bk_runtime_add_breakable(rt, &bd, NULL);
+  bk_cluster_created created[128];
+  take_created(rt, b, created, 128);
+  bk_aabb box = tree.nodes[0].bounds;
+  bk_runtime_damage_at(rt, box.min, 2e3); // a corner shatters
+  take_created(rt, b, created, 128);
+  bk_runtime_split(rt);
+  take_created(rt, b, created, 128);
+  ENSURE(bk_runtime_get_stats(rt).pending_splits > 0); // the rest waits, as one cluster
+  bk_runtime_damage_at(rt, box.max, 2e3);              // the opposite corner shatters meanwhile
+  for (uint32_t calls = 0; calls < 200 && bk_runtime_get_stats(rt).pending_splits > 0; ++calls) {
+    bk_runtime_split(rt);
+    take_created(rt, b, created, 128);
+  }
+  ENSURE(bk_runtime_get_stats(rt).pending_splits == 0);
+  uint32_t* parent = malloc(sizeof(uint32_t) * tree.leaf_count);
+  for (uint32_t l = 0; l < tree.leaf_count; ++l)
+    parent[l] = l;
+  for (uint32_t k = 0; k < tree.bond_count; ++k)
+    if (bk_runtime_bond_health(rt, id, k, NULL) > 0.0)
+      parent[find_root(parent, tree.bonds[k].leaf_a)] = find_root(parent, tree.bonds[k].leaf_b);
+  uint32_t pieces = 0;
+  for (uint32_t l = 0; l < tree.leaf_count; ++l) {
+    pieces += find_root(parent, l) == l;
+    bk_cluster_info info = {0};
+    ENSURE(bk_runtime_cluster(rt, bk_runtime_leaf_cluster(rt, id, l), &info));
+    ENSURE_MSG(find_root(parent, l) == find_root(parent, info.leaves[0]),
+               "fragment %u: its cluster is not one piece", l);
+  }
+  ENSURE_MSG(bk_runtime_get_stats(rt).clusters == pieces, "%u clusters for %u pieces",
+             bk_runtime_get_stats(rt).clusters, pieces);
+  ENSURE(pieces > 8);
+  free(parent);
+  bk_runtime_destroy(rt);
+  bk_mesh_tree_free(&tree);
+  free(b);
+}
+
 // Live parameters: frailty, density, bond strength and material are the
 // runtime's and read back through getters.
 static void test_live_parameters(void) {
@@ -433,6 +487,7 @@ int main(void) {
   RUN(test_split_results);
   RUN(test_contact_thresholds);
   RUN(test_budget);
+  RUN(test_budget_then_hit);
   RUN(test_live_parameters);
   RUN(test_remove);
   RUN(test_stress_without_loads);

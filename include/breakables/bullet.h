@@ -89,6 +89,11 @@ int bk_physics_step(bk_physics* world, double dt, int max_substeps);
 /// Returns null if fewer than 4 non-coplanar points are given.
 bk_shape_id bk_physics_create_hull(bk_physics* world, const bk_vec3* points, uint32_t count,
                                    uint32_t max_vertices);
+/// A hull's copy moved by `transform` (its core vertices moved, its margin and
+/// volume kept): the same solid in another frame, made without computing a
+/// hull again (microseconds, where bk_physics_create_hull takes tens of them).
+/// Returns null if `hull` is not a live hull or the transform is not finite.
+bk_shape_id bk_physics_copy_hull(bk_physics* world, bk_shape_id hull, bk_transform transform);
 bk_shape_id bk_physics_create_sphere(bk_physics* world, double radius);
 bk_shape_id bk_physics_create_box(bk_physics* world, bk_vec3 half_extents);
 /// Infinite static plane dot(normal, x) = offset.
@@ -185,6 +190,36 @@ bk_shape_id bk_physics_body_shape(const bk_physics* world, bk_body_id body);
 void bk_physics_body_set_pinned(bk_physics* world, bk_body_id body, bool pinned);
 /// Whether a body is pinned now.
 bool bk_physics_body_pinned(const bk_physics* world, bk_body_id body);
+/// Unpins a body where it lies, asleep rather than awake: it stays frozen
+/// until a moving body touches it or what it rests on is removed (for a
+/// piece known to be at rest, whose waking would wake what it touches).
+void bk_physics_body_unpin_at_rest(bk_physics* world, bk_body_id body);
+/// Parks bodies (invalid, repeated or parked ids are skipped): they leave
+/// Bullet's world (no box, pair, contact or integration: they cost nothing
+/// per step) and keep their shape, transform and mass; velocities are
+/// zeroed and pinning is undone. For bodies at rest that a static compound
+/// now stands in for (bk_world_def.settle_cell). One walk over the
+/// broadphase's pairs for all of them; what touched them is not woken.
+void bk_physics_park_bodies(bk_physics* world, const bk_body_id* bodies, uint32_t count);
+/// Brings parked bodies back where they were, in the order given, at rest:
+/// `moving`, awake (they fall if nothing holds them, and sleep again after
+/// a moment if something does); else calm, as frozen bodies are (asleep
+/// unless a moving body touches them).
+void bk_physics_unpark_bodies(bk_physics* world, const bk_body_id* bodies, uint32_t count, bool moving);
+/// Whether a body is parked now.
+bool bk_physics_body_parked(const bk_physics* world, bk_body_id body);
+/// Removes bodies as bk_physics_destroy_bodies does, without waking what
+/// touched them (a static stand-in replaced by what it stood for).
+void bk_physics_destroy_bodies_quietly(bk_physics* world, const bk_body_id* bodies, uint32_t count);
+/// Watches a static body: its box in the broadphase grows by margin (m), and
+/// it is disturbed when a body moving faster than speed (m/s) comes that
+/// near, or a body whose box overlapped it is destroyed.
+void bk_physics_body_watch(bk_physics* world, bk_body_id body, double margin, double speed);
+/// How a watched body was disturbed since the last call (which clears it):
+/// 0 not, 1 a fast body came near, 2 a body it touched was removed.
+int bk_physics_body_take_disturbed(bk_physics* world, bk_body_id body);
+/// The world box of a body's shape where the body is now (parked or not).
+void bk_physics_body_bounds(const bk_physics* world, bk_body_id body, bk_vec3* lo, bk_vec3* hi);
 
 // ---------------------------------------------------------------- queries
 
@@ -196,6 +231,7 @@ typedef struct bk_contact {
   double impulse; ///< normal impulse the solver applied (N s)
   double
       approach_speed; ///< closing speed along the normal before that substep's solve (m/s; > 0 = approaching)
+  int32_t child_a, child_b; ///< the child of a's (b's) compound shape touched; -1 if not a compound
 } bk_contact;
 
 /// Copies the contacts of the last step (all substeps, only points with a
@@ -240,7 +276,9 @@ typedef struct bk_world_def {
   uint32_t max_hit_fragments_per_step;
   double projectile_lifetime; ///< seconds before a projectile is removed (> 0); default 8
   /// Loose single fragments smaller than this volume (m^3) are removed after
-  /// retire_after seconds, to keep long sessions bounded; 0 = never (default).
+  /// retire_after seconds, to keep long sessions bounded, and handed to
+  /// bk_world_retired_bodies for the renderer to fade out (as Chaos removes
+  /// pieces on sleep); 0 = never. Default 2e-5 (chips under 20 cm^3)
   double retire_volume;
   double retire_after; ///< seconds a small fragment lives once free (> 0); default 10
   /// Structural stress each step (bk_runtime_solve_stress): what has lost
@@ -253,8 +291,10 @@ typedef struct bk_world_def {
   /// it, the least important loose pieces get cheaper, tier by tier (see
   /// bk_budget_tier); at less than half of it, they get their fidelity back
   /// (debris lying still stays debris until it moves again).
-  /// Default 0 (off) for now: retired pieces vanish until the demo's
-  /// renderer fades them. 8, half a 60 Hz frame, is what it was measured at.
+  /// Default 8, half a 60 Hz frame, leaving the other half to drawing on
+  /// this project's 2-core machine; 0 turns it off (every piece fully
+  /// simulated, as a physics engine alone does). Retired pieces are handed
+  /// to bk_world_retired_bodies for the renderer to fade out.
   double physics_budget_ms;
   /// How the cost is known: false (default) an estimate from what Bullet
   /// worked on in the step (awake bodies, pairs, manifolds; calibrated on
@@ -283,6 +323,42 @@ typedef struct bk_world_def {
   /// an 8 ms budget (160 ms without one, 76 with every new piece kept),
   /// the debris within it moving as without a budget
   double budget_fidelity_radius;
+  /// Within that radius, budget_fidelity_time holds only for pieces that
+  /// look at least this large from the focus: their size (the cube root of
+  /// their volume) over their distance, in radians (0..1; 0 keeps every
+  /// piece). Smaller ones are a few pixels on screen, too small to see how
+  /// they move, and are fair game at once. Default 0.006: four pixels of a
+  /// 720-line picture with a 60 degree field of view
+  double budget_visible_angle;
+  /// Keeping young pieces' first second, a step may cost up to this many
+  /// times physics_budget_ms; over it, the least important young pieces
+  /// give up theirs (as many as it takes, back when the cost falls), so that
+  /// a fresh pile in front of the camera costs a bounded time, not what it
+  /// costs without a budget. >= 1, or 0 for no bound (the first second kept
+  /// whatever it costs). Default 2: 16 ms at the default budget, a 60 Hz
+  /// frame (a glass cube of 4,096 shattered in front of the camera then
+  /// costs 18 ms a step at p95 instead of 200, and its debris keeps 82% of
+  /// its mass and 35% of its momentum over the first second)
+  double budget_fidelity_factor;
+  /// Settled debris costs nothing: every quarter second (up to 512 pieces a
+  /// time, and while the physics budget is on, once its level is under 1),
+  /// loose pieces at rest (asleep or frozen, not anchored, not about to
+  /// split) leave Bullet's world, and one static compound per cell of this
+  /// size (m) stands in for those whose centre is in it, made of their own
+  /// hulls where they lie. Their clusters stay, and views report them where
+  /// they lie. Shots and falling pieces hit the compound; a hit on it
+  /// damages the piece hit. When a body moving faster than
+  /// settle_wake_speed comes near one of its pieces (a shot, a falling
+  /// piece, a support moving away), a projectile will reach it within two
+  /// steps, a body it rests on is removed, or one of its pieces breaks or
+  /// retires, the whole cell's pieces become bodies again, at rest where they
+  /// were. >= 0; 0 turns it off (every piece stays a body); default 2
+  double settle_cell;
+  /// The speed (m/s, > 0) of a body near a cell's compound that wakes its
+  /// pieces; slower ones rest on it as on the ground. Default 2 (a piece
+  /// dropped 20 cm; at 1, pieces still settling nearby woke cells again
+  /// and again)
+  double settle_wake_speed;
 } bk_world_def;
 
 bk_world_def bk_default_world_def(void);
@@ -356,6 +432,11 @@ double bk_world_physics_budget(const bk_world* world);
 /// bk_world_def.budget_fidelity_radius: how far from the focus a new piece
 /// keeps its first budget_fidelity_time.
 double bk_world_budget_fidelity_radius(const bk_world* world);
+/// bk_world_def.budget_visible_angle: how large (size over distance, in
+/// radians) a piece near the focus must look to keep its first second.
+double bk_world_budget_visible_angle(const bk_world* world);
+/// bk_world_def.settle_cell: the cell size (m) settled pieces merge by; 0: off.
+double bk_world_settle_cell(const bk_world* world);
 /// Where the player looks from (the camera, say): the budget keeps pieces
 /// near it fully simulated, and makes far ones cheaper first. Ignored when
 /// not finite. Until it is set, distance plays no part.
@@ -460,7 +541,13 @@ typedef struct bk_world_stats {
   /// calling thread (ms): damage from contacts, splits, and the bodies they
   /// removed and made (the stress solve is apart: stress_ms)
   double fracture_ms;
-  double physics_cpu_ms; ///< last step's physics engine alone, in CPU time of the calling thread (ms)
+  double physics_cpu_ms;   ///< last step's physics engine alone, in CPU time of the calling thread (ms)
+  uint32_t settled_bodies; ///< bodies merged into their cell's static compound now (bk_world_def.settle_cell)
+  uint32_t settled_areas;  ///< cells' static compounds now
+  uint32_t settle_wakes;   ///< cells woken (their pieces bodies again) since creation
+  /// CPU time (ms) of the last step that merged pieces: their bodies parked
+  /// and their cells' compounds rebuilt
+  double settle_batch_ms;
 } bk_world_stats;
 
 bk_world_stats bk_world_get_stats(const bk_world* world);

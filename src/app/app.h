@@ -177,6 +177,10 @@ typedef struct bk_scene_options {
   /// the budget (bk_world_def.budget_fidelity_time; sim --budget-fidelity);
   /// the default is the world's
   double budget_fidelity_time;
+  /// world: how many times the budget a step may cost while new pieces keep
+  /// that (bk_world_def.budget_fidelity_factor; sim --budget-fidelity-factor;
+  /// 0 = no bound); the default is the world's
+  double budget_fidelity_factor;
   /// Copies of the whole scene side by side along x (sim --copies; 1, the
   /// default: the scene alone), spaced so that they do not touch
   uint32_t copies;
@@ -251,6 +255,8 @@ enum { BK_COPIES_MAX = 64 };
 bool bk_app_parse_budget_ms(const char* command, const char* text, bk_scene_options* options);
 /// --budget-fidelity (sim): the first seconds a piece keeps under the budget, 0 .. this.
 #define BK_BUDGET_FIDELITY_MAX 60.0
+/// --budget-fidelity-factor (sim): 0 (no bound) or 1 .. this.
+#define BK_BUDGET_FIDELITY_FACTOR_MAX 1000.0
 
 /// A scene object's breakable: its placement and its material (the object's
 /// preset, or options->material), with the options' overrides (options may be NULL).
@@ -346,6 +352,12 @@ typedef struct bk_fidelity {
   bk_debris_sample sum;               ///< weighted sums
   bk_debris_sample near_sum;          ///< the same, of the debris near the focus only
 } bk_fidelity;
+
+/// Whether a step had break work, the steps whose break handling (damage,
+/// splits, body removal and creation: bk_world_stats.fracture_ms) sim and
+/// bench take percentiles of: bonds broke, a body split, or hits or splits
+/// waited for the world's budgets before it.
+bool bk_break_step(const bk_world_stats* before, const bk_world_stats* now);
 
 /// Takes the step just run, `hits` being the shots fired just before it.
 void bk_fidelity_step(bk_fidelity* f, bk_world* world, uint64_t step, uint32_t hits);

@@ -2,12 +2,15 @@
 // `bench`: the debris the player sees (its mass and momentum) over the
 // first second after each hit, when the pieces fly and the budget has the
 // most to do (the step times' percentiles are bk_percentile, app_util.c).
+#include <math.h>
 #include <stdlib.h>
 
 #include "app.h"
 
-// The debris now: all of it, or (near) what is within `radius` of `focus`.
-static bk_debris_sample measure(bk_world* world, const bk_vec3* focus, double radius) {
+// The debris now: all of it, or (near) what is within `radius` of `focus`
+// and looks at least `angle` large from there (size over distance, radians:
+// what the player can see move).
+static bk_debris_sample measure(bk_world* world, const bk_vec3* focus, double radius, double angle) {
   bk_debris_sample s = {0.0, 0.0, 0.0};
   const bk_physics* physics = bk_world_physics(world);
   bk_vec3 net = {0.0, 0.0, 0.0};
@@ -15,9 +18,14 @@ static bk_debris_sample measure(bk_world* world, const bk_vec3* focus, double ra
   for (uint32_t i = 0; i < count; ++i) {
     bk_body_view view = {0};
     if (!bk_world_body_view(world, i, &view) || view.is_static) continue;
-    if (focus &&
-        bk_v3_length(bk_v3_sub(bk_physics_body_transform(physics, view.body).position, *focus)) > radius)
-      continue;
+    if (focus) {
+      double distance =
+          bk_v3_length(bk_v3_sub(bk_physics_body_transform(physics, view.body).position, *focus));
+      double volume = 0.0;
+      for (uint32_t n = 0; n < view.node_count; ++n)
+        volume += view.tree->nodes[view.nodes[n]].moments.v;
+      if (distance > radius || cbrt(volume) < angle * distance) continue;
+    }
     double mass = bk_physics_body_mass(physics, view.body);
     bk_vec3 p = bk_v3_scale(bk_physics_body_linear_velocity(physics, view.body), mass);
     s.mass += mass;
@@ -28,7 +36,7 @@ static bk_debris_sample measure(bk_world* world, const bk_vec3* focus, double ra
   return s;
 }
 
-bk_debris_sample bk_debris_measure(bk_world* world) { return measure(world, NULL, 0.0); }
+bk_debris_sample bk_debris_measure(bk_world* world) { return measure(world, NULL, 0.0, 0.0); }
 
 static void add_sample(bk_debris_sample* sum, uint32_t weight, bk_debris_sample now) {
   sum->mass += weight * now.mass;
@@ -51,14 +59,20 @@ void bk_fidelity_step(bk_fidelity* f, bk_world* world, uint64_t step, uint32_t h
   if (f->open == 0) return;
   add_sample(&f->sum, f->open, bk_debris_measure(world));
   // Near the focus: within the radius the budget keeps a new piece's first
-  // second in (everything, with no focus set).
+  // second in, the pieces large enough to see (everything, with no focus set).
   bk_vec3 focus = {0.0, 0.0, 0.0};
   bool has_focus = bk_world_focus(world, &focus);
   add_sample(&f->near_sum, f->open,
-             measure(world, has_focus ? &focus : NULL, bk_world_budget_fidelity_radius(world)));
+             measure(world, has_focus ? &focus : NULL, bk_world_budget_fidelity_radius(world),
+                     bk_world_budget_visible_angle(world)));
   f->weight += f->open;
 }
 
 bk_debris_sample bk_fidelity_mean(const bk_fidelity* f) { return mean(f->sum, f->weight); }
 
 bk_debris_sample bk_fidelity_near_mean(const bk_fidelity* f) { return mean(f->near_sum, f->weight); }
+
+bool bk_break_step(const bk_world_stats* before, const bk_world_stats* now) {
+  return now->bonds_broken != before->bonds_broken || now->break_events != before->break_events ||
+         before->pending_splits > 0 || before->pending_hits > 0;
+}

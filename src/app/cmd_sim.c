@@ -12,7 +12,8 @@ static const char* const sim_usage =
     "                      [--seed S] [--shots K] [--steps F] [--volley V]\n"
     "                      [--speed M/S] [--frailty X] [--density X] [--discrete|--accumulate] [--naive]\n"
     "                      [--no-stress] [--stress-scale X] [--drop KG] [--drop-radius M] [--drop-at STEP]\n"
-    "                      [--budget-ms X] [--budget-fidelity S] [--copies N] [--max-memory MIB] [--json]\n"
+    "                      [--budget-ms X] [--budget-fidelity S] [--budget-fidelity-factor F]\n"
+    "                      [--copies N] [--max-memory MIB] [--json]\n"
     "\n"
     "Runs a scene headless at a fixed 60 Hz: builds (or loads from the cache) the\n"
     "scene's mesh tree, fires K projectiles at the object at regular intervals\n"
@@ -56,7 +57,8 @@ static const char* const sim_usage =
     "  --drop-radius M  the weight's radius, 0.01..2 m (default 0.3)\n"
     "  --drop-at STEP   the step it is set down, 0..10000000, before --steps (default 60:\n"
     "                   the structure has settled)\n"
-    "  --budget-ms X    the physics budget per step, 0..1000 ms (default 0: off): over it,\n"
+    "  --budget-ms X    the physics budget per step, 0..1000 ms (default 8, half a 60 Hz\n"
+    "                   frame; 0 turns it off): over it,\n"
     "                   the least important loose pieces (small, far from the scene's eye,\n"
     "                   slow, long at rest) get cheaper: no contacts among themselves, then\n"
     "                   a fitted sphere or box, then frozen, then retired\n"
@@ -64,6 +66,9 @@ static const char* const sim_usage =
     "                   keeps what the player sees of it: no contacts dropped while it lies\n"
     "                   on others, its own shape, never retired; 0 makes every piece fair\n"
     "                   game at once (faster, but piles fall through themselves)\n"
+    "  --budget-fidelity-factor F  while new pieces keep that, a step may cost up to F\n"
+    "                   times the budget, 0 or 1..1000 (default 2); past it the least\n"
+    "                   important of them give it up; 0 keeps it whatever it costs\n"
     "  --copies N       N copies of the scene side by side along x, 1..64 (default 1), a gap\n"
     "                   between them; each shot hits every copy in the same step\n"
     "  --max-memory MIB memory each fracture may use, 1..1073741824 MiB (default: the\n"
@@ -80,7 +85,7 @@ static const char* const sim_usage =
     "                   or \"mixed\"), patterns (one per object), drop_kg (0: no weight) and\n"
     "                   drop_point (where the weight was set down, or null); step_ms_p95,\n"
     "                   physics_ms_median, physics_ms_p95, physics_ms_max; budget_ms and\n"
-    "                   budget_fidelity_s (the options), the budget's tiers now\n"
+    "                   budget_fidelity_s, budget_fidelity_factor (the options), the budget's tiers now\n"
     "                   (budget_debris, budget_simplified, budget_frozen)\n"
     "                   and since the start (budget_retired, budget_demotions,\n"
     "                   budget_restorations), mass_retired (kg; mass_rel_error counts it as\n"
@@ -89,7 +94,8 @@ static const char* const sim_usage =
     "                   shot: debris_mass_1s (kg), debris_momentum_1s (the sum of |m v| over\n"
     "                   the pieces: how much moves) and debris_net_momentum_1s (|sum of m v|),\n"
     "                   and the same of the pieces within budget_fidelity_radius (8 m) of\n"
-    "                   the scene's eye\n"
+    "                   the scene's eye that look large enough from it to see\n"
+    "                   (budget_visible_angle, 0.006 rad: about four pixels)\n"
     "                   (debris_near_mass_1s, debris_near_momentum_1s,\n"
     "                   debris_near_net_momentum_1s), to compare a run with a budget against\n"
     "                   one without; break handling plus body creation (damage from\n"
@@ -215,10 +221,12 @@ int bk_cmd_sim(int argc, char** argv) {
       flag = false;
     }
     if (flag) continue;
-    const char* known[] = {"--scene",    "--pieces",         "--seed",       "--shots",        "--steps",
-                           "--volley",   "--speed",          "--frailty",    "--density",      "--mesh",
-                           "--material", "--pattern",        "--max-memory", "--stress-scale", "--budget-ms",
-                           "--copies",   "--budget-fidelity"};
+    const char* known[] = {"--scene",      "--pieces",          "--seed",
+                           "--shots",      "--steps",           "--volley",
+                           "--speed",      "--frailty",         "--density",
+                           "--mesh",       "--material",        "--pattern",
+                           "--max-memory", "--stress-scale",    "--budget-ms",
+                           "--copies",     "--budget-fidelity", "--budget-fidelity-factor"};
     bool is_known = false;
     for (size_t k = 0; k < sizeof known / sizeof *known; ++k)
       is_known = is_known || strcmp(arg, known[k]) == 0;
@@ -266,6 +274,15 @@ int bk_cmd_sim(int argc, char** argv) {
       if (!bk_option_double("sim", arg, value, 1e-6, 1e6, &options.stress_scale)) return 2;
     } else if (strcmp(arg, "--budget-ms") == 0) {
       if (!bk_app_parse_budget_ms("sim", value, &options)) return 2;
+    } else if (strcmp(arg, "--budget-fidelity-factor") == 0) {
+      if (!bk_option_double("sim", arg, value, 0.0, BK_BUDGET_FIDELITY_FACTOR_MAX,
+                            &options.budget_fidelity_factor))
+        return 2;
+      if (options.budget_fidelity_factor > 0.0 && options.budget_fidelity_factor < 1.0) {
+        fprintf(stderr, "breakables sim: %s '%s' is out of range (0, or 1..%g)\n", arg, value,
+                BK_BUDGET_FIDELITY_FACTOR_MAX);
+        return 2;
+      }
     } else if (strcmp(arg, "--budget-fidelity") == 0) {
       if (!bk_option_double("sim", arg, value, 0.0, BK_BUDGET_FIDELITY_MAX, &options.budget_fidelity_time))
         return 2;
@@ -352,9 +369,7 @@ int bk_cmd_sim(int argc, char** argv) {
     step_ms[step] = now.step_ms;
     physics_ms[step] = now.physics_ms;
     // Steps with break work: bonds broke, a body split, or splits waited.
-    if (now.bonds_broken != before.bonds_broken || now.break_events != before.break_events ||
-        before.pending_splits > 0 || before.pending_hits > 0)
-      break_ms[break_steps++] = now.fracture_ms;
+    if (bk_break_step(&before, &now)) break_ms[break_steps++] = now.fracture_ms;
     bool pending = now.pending_splits > 0 || now.pending_hits > 0;
     if (pending && !waiting) waiting = true, waiting_since = step;
     if (waiting && (!pending || step + 1 == steps)) {
@@ -413,7 +428,8 @@ int bk_cmd_sim(int argc, char** argv) {
     else
       printf("null, ");
     printf("\"copies\": %u, \"step_ms_p95\": %s, \"physics_ms_median\": %s, \"physics_ms_p95\": %s, "
-           "\"physics_ms_max\": %s, \"budget_ms\": %s, \"budget_fidelity_s\": %s, \"budget_debris\": %u, "
+           "\"physics_ms_max\": %s, \"budget_ms\": %s, \"budget_fidelity_s\": %s, "
+           "\"budget_fidelity_factor\": %s, \"budget_debris\": %u, "
            "\"budget_simplified\": %u, "
            "\"budget_frozen\": %u, \"budget_retired\": %u, \"budget_demotions\": %u, "
            "\"budget_restorations\": %u, \"mass_retired\": %s, \"debris_mass_1s\": %s, "
@@ -422,7 +438,8 @@ int bk_cmd_sim(int argc, char** argv) {
            loaded.copies, BK_APP_JSON_NUMBER("%.4f", step_p95), BK_APP_JSON_NUMBER("%.4f", physics_median),
            BK_APP_JSON_NUMBER("%.4f", physics_p95), BK_APP_JSON_NUMBER("%.4f", physics_max),
            BK_APP_JSON_NUMBER("%g", options.physics_budget_ms),
-           BK_APP_JSON_NUMBER("%g", options.budget_fidelity_time), final.budget_debris,
+           BK_APP_JSON_NUMBER("%g", options.budget_fidelity_time),
+           BK_APP_JSON_NUMBER("%g", options.budget_fidelity_factor), final.budget_debris,
            final.budget_simplified, final.budget_frozen, final.budget_retired, final.budget_demotions,
            final.budget_restorations, BK_APP_JSON_NUMBER("%.6g", final.retired_mass),
            BK_APP_JSON_NUMBER("%.6g", debris.mass), BK_APP_JSON_NUMBER("%.6g", debris.momentum),

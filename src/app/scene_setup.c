@@ -16,6 +16,7 @@ bk_scene_options bk_default_scene_options(void) {
                             .stress_scale = 1.0,
                             .physics_budget_ms = bk_default_world_def().physics_budget_ms,
                             .budget_fidelity_time = bk_default_world_def().budget_fidelity_time,
+                            .budget_fidelity_factor = bk_default_world_def().budget_fidelity_factor,
                             .copies = 1};
 }
 
@@ -151,6 +152,7 @@ bool bk_loaded_scene_create(const bk_scene* scene, const bk_scene_options* optio
   wd.stress = options->stress;
   wd.physics_budget_ms = options->physics_budget_ms;
   wd.budget_fidelity_time = options->budget_fidelity_time;
+  wd.budget_fidelity_factor = options->budget_fidelity_factor;
   if (scene->fit_to_mesh && out->tree_count) {
     bk_world_breakable_def object = bk_scene_object_def(&out->fitted.objects[0], &out->trees[0], options);
     bk_scene_fit_shots(&out->fitted, &out->trees[0], &object.breakable.material, &wd);

@@ -73,6 +73,9 @@ void bk_physics::collect_contacts() {
       bk_contact c;
       c.a = id_of(a);
       c.b = id_of(b);
+      // Bullet's compound algorithm tags each point with the child it touched.
+      c.child_a = o0->getCollisionShape()->isCompound() ? pt.m_index0 : -1;
+      c.child_b = o1->getCollisionShape()->isCompound() ? pt.m_index1 : -1;
       // Bullet's normal on B points from B towards A, as bk_contact wants.
       c.normal = to_bk(pt.m_normalWorldOnB);
       if (pt.m_localPointA.isZero() && o0->getCcdSweptSphereRadius() > 0) {
@@ -162,14 +165,18 @@ void free_algorithm(btBroadphasePair& pair, btCollisionDispatcher& dispatcher) {
 void near_callback(btBroadphasePair& pair, btCollisionDispatcher& dispatcher, const btDispatcherInfo& info) {
   const btBroadphaseProxy* a = pair.m_pProxy0;
   const btBroadphaseProxy* b = pair.m_pProxy1;
+  const auto* object_a = static_cast<const btCollisionObject*>(a->m_clientObject);
+  const auto* object_b = static_cast<const btCollisionObject*>(b->m_clientObject);
   // Two sleepers (frozen, asleep or static) keep no manifold: thousands of
   // them in a settled heap were walked every step by the island builder and
   // the contact report. Contacts come back within a step of a wake.
-  if (!static_cast<const btCollisionObject*>(a->m_clientObject)->isActive() &&
-      !static_cast<const btCollisionObject*>(b->m_clientObject)->isActive()) {
+  if (!object_a->isActive() && !object_b->isActive()) {
     free_algorithm(pair, dispatcher);
     return;
   }
+  // A body moving near a watched one (whose box is grown by its margin).
+  if (object_a->getUserIndex2() == watched_tag || object_b->getUserIndex2() == watched_tag)
+    note_watched_pair(static_cast<Dispatcher&>(dispatcher).owner, object_a, object_b);
   // Bullet grows every box by gContactBreakingThreshold (2 cm); 5 mm of that
   // is kept: contact points of resting fragments are born within ~2 mm, and
   // fast bodies' boxes already cover their motion over the substep.
@@ -238,6 +245,7 @@ bk_physics* bk_physics_create(const bk_physics_def* desc, bk_error* err) {
   // Bullet keeps this one setting in a global; every world here uses the same value.
   gDeactivationTime = (btScalar)sleep_time;
   w->dispatcher.setNearCallback(near_callback);
+  w->dispatcher.owner = w;
   w->broadphase.getOverlappingPairCache()->setOverlapFilterCallback(&w->overlaps);
   w->dispatcher.registerCollisionCreateFunc(CONVEX_HULL_SHAPE_PROXYTYPE, CONVEX_HULL_SHAPE_PROXYTYPE,
                                             &w->hull_pair_create);

@@ -189,7 +189,7 @@ void bk_physics_body_set_transform(bk_physics* w, bk_body_id body, bk_transform 
   if (!s || !transform_is_finite(transform)) return;
   w->thaw(*s, true);
   s->body->setCenterOfMassTransform(to_bt(transform));
-  w->world.updateSingleAabb(s->body);
+  if (!s->parked) w->world.updateSingleAabb(s->body); // a parked body has no box till it is back
   if (s->mass > 0.0 && !s->pinned) s->body->activate(true);
 }
 
@@ -257,7 +257,7 @@ void bk_physics_body_apply_impulse(bk_physics* w, bk_body_id body, bk_vec3 impul
 
 bool bk_physics_body_awake(const bk_physics* w, bk_body_id body) {
   const BodySlot* s = w ? w->body(body) : nullptr;
-  return s && s->mass > 0.0 && s->body->isActive();
+  return s && s->mass > 0.0 && !s->parked && s->body->isActive();
 }
 
 uint64_t bk_physics_body_user_data(const bk_physics* w, bk_body_id body) {

@@ -1,7 +1,8 @@
 // bk_physics (private): the types the physics*.cpp files share, with Bullet
 // under them: the slot tables and the conversions, the Bullet world
 // subclasses and callbacks, and struct bk_physics itself. Only the
-// physics*.cpp files include it (and with it Bullet).
+// physics*.cpp files include it (and with it Bullet), and
+// tests/test_removal_order.cpp, which checks a removal against Bullet's own.
 //
 // Ids index slot tables; a slot's generation moves on when its object is
 // destroyed, so stale ids are detected and ignored.
@@ -53,6 +54,15 @@ struct BodySlot {
   uint64_t user_data = 0;
   bool pinned = false;   // frozen until unpinned: touches do not thaw it (bk_physics_body_set_pinned)
   bool reshaped = false; // its shape changed: its pairs' algorithms go before the next step
+  // Parked: out of Bullet's world, its state kept (physics_settle.cpp); the
+  // filter it goes back in with.
+  bool parked = false;
+  int park_group = 0, park_mask = 0;
+  // Watched (a static body standing in for parked ones): disturbed when a
+  // fast body comes near it or a neighbour is destroyed. Its collision
+  // object's user index 2 is watched_tag meanwhile, for the near callback.
+  bool watched = false, disturbed = false, undermined = false;
+  double watch_speed = 0.0, watch_margin = 0.0;
   // Velocities and centre of mass at the start of the current substep.
   btVector3 linear_velocity{0, 0, 0}, angular_velocity{0, 0, 0}, center{0, 0, 0};
 };
@@ -166,6 +176,9 @@ public:
     btAlignedFree(m_islandManager);
     m_islandManager = new (btAlignedAlloc(sizeof(ContactIslandManager), 16)) ContactIslandManager();
   }
+  /// The dynamic bodies Bullet integrates (removeRigidBody finds one by a
+  /// linear search: bodies leaving by the thousand go through this instead).
+  btAlignedObjectArray<btRigidBody*>& non_static_bodies() { return m_nonStaticRigidBodies; }
 };
 
 /// Creates the hull pair algorithm (physics_pairs.cpp) for pairs of hulls.
@@ -184,7 +197,19 @@ btDefaultCollisionConstructionInfo collision_info();
 struct Dispatcher : public btCollisionDispatcher {
   explicit Dispatcher(btCollisionConfiguration* configuration) : btCollisionDispatcher(configuration) {}
   uint32_t narrow_pairs = 0;
+  bk_physics* owner = nullptr; // for note_watched_pair
 };
+
+/// The user index 2 of a watched body's collision object.
+constexpr int watched_tag = 1;
+/// In the near callback, a pair with a watched body: disturbs it when the
+/// other is a body moving faster than its watch speed (physics_settle.cpp).
+void note_watched_pair(bk_physics* w, const btCollisionObject* a, const btCollisionObject* b);
+/// A body is being destroyed: disturbs (if `disturb`) the watched bodies one
+/// of whose compound's children it touched, whatever their filters (a
+/// static support under a static stand-in has no pair with it), and forgets
+/// it if it was watched (physics_settle.cpp).
+void note_removed(bk_physics* w, uint32_t index, bool disturb);
 
 /// Bullet's own group and mask test, counting the box overlaps the
 /// broadphase finds (filtered or not): a moving box's tree query costs
@@ -245,6 +270,8 @@ struct bk_physics {
   // Bodies whose filter or shape changed since the last step (refresh_pairs).
   std::vector<uint32_t> changed_pairs, gained_pairs;
   bool any_reshaped = false;
+  std::vector<uint32_t> watched_slots; // bodies watched (physics_settle.cpp), a few
+  std::vector<int> removal_pairs;      // destroy_body_slot's scratch: the pairs of the body it removes
 
   BodySlot* body(bk_body_id id) {
     return bodies.valid(id.index, id.generation) ? &bodies.slots[id.index] : nullptr;
@@ -362,11 +389,16 @@ struct bk_physics {
   }
 
   static bool is_debris(const BodySlot& s) {
+    if (s.parked) return s.park_group == btBroadphaseProxy::DebrisFilter; // the filter it goes back with
     const btBroadphaseProxy* proxy = s.body->getBroadphaseHandle();
     return proxy && proxy->m_collisionFilterGroup == btBroadphaseProxy::DebrisFilter;
   }
 
   void set_debris(BodySlot& s, bool debris) {
+    if (s.parked) {
+      filter_of(debris, s.mass > 0.0, &s.park_group, &s.park_mask);
+      return;
+    }
     btBroadphaseProxy* proxy = s.body->getBroadphaseHandle();
     if (!proxy || is_debris(s) == debris) return;
     filter_of(debris, s.mass > 0.0, &proxy->m_collisionFilterGroup, &proxy->m_collisionFilterMask);
@@ -385,7 +417,7 @@ struct bk_physics {
     ++shapes.slots[shape_index].uses;
     s.shape = shape_index;
     s.body->setCollisionShape(shapes.slots[shape_index].shape);
-    world.updateSingleAabb(s.body);
+    if (!s.parked) world.updateSingleAabb(s.body); // a parked body has no box till it is back
     s.reshaped = true;
     any_reshaped = true;
     changed_pairs.push_back((uint32_t)(&s - bodies.slots.data()));
@@ -394,25 +426,55 @@ struct bk_physics {
   /// Before a step (physics.cpp).
   void refresh_pairs();
 
-  /// One body, as Bullet removes it (two walks over the pair cache, and one
-  /// here to wake what rested on it): the order of the pairs left, and with
-  /// it every later step, is the one the scenes and their numbers were made
-  /// with. Many bodies at once go through destroy_body_slots.
+  /// One body, leaving the pair cache exactly as Bullet's removal does: the
+  /// order of the pairs left, and with it every later step, is the one the
+  /// scenes and their numbers were made with. Bullet walks the whole cache
+  /// twice (cleanProxyFromPairs frees the pairs' algorithms in array order;
+  /// removeOverlappingPairsContainingProxy then removes them, each taking
+  /// the last pair's place), and waking the neighbours took a third walk: a
+  /// split's removal cost 0.1-0.2 ms among tens of thousands of pairs. Here
+  /// one walk finds the body's pairs and wakes its neighbours; the same
+  /// frees and removals follow on those pairs alone, in Bullet's order; and
+  /// Bullet removes the body with a pair cache holding nothing of it. Many
+  /// bodies at once go through destroy_body_slots.
   void destroy_body_slot(uint32_t index) {
     BodySlot& s = bodies.slots[index];
-    // What rested on it falls. Frozen pairs keep no manifold (see
-    // near_callback), so the neighbours are the broadphase's.
-    const btBroadphasePairArray& pairs = broadphase.getOverlappingPairCache()->getOverlappingPairArray();
+    btOverlappingPairCache* cache = broadphase.m_paircache;
+    btBroadphasePairArray& pairs = cache->getOverlappingPairArray();
+    const btBroadphaseProxy* proxy = s.body->getBroadphaseHandle();
+    bool listed = true; // every pair of the body is in removal_pairs
+    removal_pairs.clear();
     for (int i = 0; i < pairs.size(); ++i) {
-      const void* a = pairs[i].m_pProxy0->m_clientObject;
-      const void* b = pairs[i].m_pProxy1->m_clientObject;
-      const void* other = a == s.body ? b : b == s.body ? a : nullptr;
-      BodySlot* neighbour = other ? slot_of(static_cast<const btCollisionObject*>(other)) : nullptr;
+      const btBroadphaseProxy* p0 = pairs[i].m_pProxy0;
+      const btBroadphaseProxy* p1 = pairs[i].m_pProxy1;
+      if (p0 != proxy && p1 != proxy) continue;
+      // What rested on it falls. Frozen pairs keep no manifold (see
+      // near_callback), so the neighbours are the broadphase's.
+      const void* other = (p0 == proxy ? p1 : p0)->m_clientObject;
+      BodySlot* neighbour = slot_of(static_cast<const btCollisionObject*>(other));
       if (neighbour) thaw(*neighbour, true);
+      try {
+        if (listed) removal_pairs.push_back(i);
+      } catch (...) {
+        listed = false; // out of memory: Bullet's own walks remove its pairs
+      }
     }
+    if (!listed) removal_pairs.clear();
+    for (int i : removal_pairs)
+      cache->cleanOverlappingPair(pairs[i], &dispatcher);
+    // Bullet's walk: at each of the body's pairs, ascending, the pair goes
+    // and the last one takes its place, to be looked at again. A pair of the
+    // body past the end by then has been moved down and removed already.
+    for (int i : removal_pairs)
+      while (i < pairs.size() && (pairs[i].m_pProxy0 == proxy || pairs[i].m_pProxy1 == proxy))
+        cache->removeOverlappingPair(pairs[i].m_pProxy0, pairs[i].m_pProxy1, &dispatcher);
+    btNullPairCache emptied;
+    if (listed) broadphase.m_paircache = &emptied;
     // A slot waiting for refresh_pairs is skipped there once released.
     s.reshaped = false;
-    world.removeRigidBody(s.body);
+    note_removed(this, index, true);
+    if (!s.parked) world.removeRigidBody(s.body);
+    broadphase.m_paircache = cache;
     delete s.body;
     --shapes.slots[s.shape].uses;
     bodies.release(index);
@@ -455,7 +517,8 @@ struct bk_physics {
       BodySlot& s = bodies.slots[indices[i]];
       // A slot waiting for refresh_pairs is skipped there once released.
       s.reshaped = false;
-      world.removeRigidBody(s.body);
+      note_removed(this, indices[i], wake_neighbours);
+      if (!s.parked) world.removeRigidBody(s.body);
       delete s.body;
       --shapes.slots[s.shape].uses;
       bodies.release(indices[i]);

@@ -175,6 +175,33 @@ bk_shape_id bk_physics_create_hull(bk_physics* w, const bk_vec3* points, uint32_
   }
 }
 
+bk_shape_id bk_physics_copy_hull(bk_physics* w, bk_shape_id hull, bk_transform transform) {
+  const ShapeSlot* s = w ? w->shape(hull) : nullptr;
+  if (!s || s->kind != ShapeKind::hull || !transform_is_finite(transform)) return bk_shape_id{0, 0};
+  try {
+    const btConvexHullShape* from = static_cast<const btConvexHullShape*>(s->shape);
+    const double volume = s->hull_volume; // s may move when the new slot is added
+    int count = from->getNumPoints();
+    if (count < 4) return bk_shape_id{0, 0};
+    std::vector<btVector3> vertices((size_t)count);
+    // Moved in double precision, rounded once.
+    for (int i = 0; i < count; ++i)
+      vertices[(size_t)i] = to_bt(bk_transform_point(transform, to_bk(from->getUnscaledPoints()[i])));
+    btConvexHullShape* moved = new btConvexHullShape(&vertices[0].x(), count, sizeof(btVector3));
+    moved->setMargin(from->getMargin());
+    // As in bk_physics_create_hull: the constructor's bounds used the default margin.
+    moved->recalcLocalAabb();
+    // The sphere inside it about the new origin is not known without its
+    // faces; 0 lets continuous collision take a quarter of its least extent.
+    bk_shape_id id = w->add_shape(moved, ShapeKind::hull, 0.0);
+    ShapeSlot* slot = w->shape(id);
+    if (slot) slot->hull_volume = volume;
+    return id;
+  } catch (...) {
+    return bk_shape_id{0, 0};
+  }
+}
+
 bk_shape_id bk_physics_create_sphere(bk_physics* w, double radius) {
   if (!w || !(std::isfinite(radius) && radius > 0.0)) return bk_shape_id{0, 0};
   return w->add_shape(new btSphereShape((btScalar)radius), ShapeKind::sphere, radius);

@@ -31,16 +31,20 @@ bk_world_def bk_default_world_def(void) {
                         .max_new_bodies_per_step = 48,
                         .max_hit_fragments_per_step = 1024,
                         .projectile_lifetime = 8.0,
-                        .retire_volume = 0.0,
+                        .retire_volume = 2e-5,
                         .retire_after = 10.0,
                         .stress = true,
                         .stress_budget = 16000,
-                        .physics_budget_ms = 0.0,
+                        .physics_budget_ms = 8.0,
                         .physics_budget_measured = false,
                         .budget_large_volume = 0.008,
                         .budget_focus_radius = 2.0,
                         .budget_fidelity_time = 1.0,
-                        .budget_fidelity_radius = 8.0};
+                        .budget_fidelity_radius = 8.0,
+                        .budget_visible_angle = 0.006,
+                        .budget_fidelity_factor = 2.0,
+                        .settle_cell = 2.0,
+                        .settle_wake_speed = 2.0};
 }
 
 // The runtime asks where a cluster's body is; Bullet knows.
@@ -81,9 +85,25 @@ bk_world* bk_world_create(const bk_world_def* def, bk_error* err) {
     return bk_error_set(err, "world: budget_fidelity_time must be finite and >= 0 (got %g)",
                         d.budget_fidelity_time),
            NULL;
+  if (!(d.budget_fidelity_factor == 0.0 ||
+        (d.budget_fidelity_factor >= 1.0 && isfinite(d.budget_fidelity_factor))))
+    return bk_error_set(err, "world: budget_fidelity_factor must be 0 (no bound) or finite and >= 1 (got %g)",
+                        d.budget_fidelity_factor),
+           NULL;
+  if (!(d.budget_visible_angle >= 0.0 && d.budget_visible_angle <= 1.0))
+    return bk_error_set(err, "world: budget_visible_angle must be within 0..1 radians (got %g)",
+                        d.budget_visible_angle),
+           NULL;
   if (!(d.budget_fidelity_radius >= 0.0) || !isfinite(d.budget_fidelity_radius))
     return bk_error_set(err, "world: budget_fidelity_radius must be finite and >= 0 (got %g)",
                         d.budget_fidelity_radius),
+           NULL;
+
+  if (!(d.settle_cell >= 0.0) || !isfinite(d.settle_cell))
+    return bk_error_set(err, "world: settle_cell must be finite and >= 0 (got %g)", d.settle_cell), NULL;
+  if (!(d.settle_wake_speed > 0.0) || !isfinite(d.settle_wake_speed))
+    return bk_error_set(err, "world: settle_wake_speed must be a positive finite number (got %g)",
+                        d.settle_wake_speed),
            NULL;
 
   bk_world* w = bk_calloc(1, sizeof *w);
@@ -160,6 +180,7 @@ void bk_world_destroy(bk_world* w) {
   free(w->supports);
   free(w->stress_loads);
   bk_world_budget_free(w);
+  bk_world_settle_free(w);
   free(w);
 }
 
@@ -286,9 +307,10 @@ static void apply_contacts(bk_world* w, uint32_t contact_count) {
   for (uint32_t i = 0; i < n; ++i) {
     const bk_contact* ct = &w->contacts[i];
     bk_cluster_id cluster = {0, 0};
-    if (cluster_of(w, ct->a, &cluster))
+    // A hit on a settle area's compound damages the piece it touched.
+    if (cluster_of(w, ct->a, &cluster) || bk_world_settle_cluster(w, ct->a, ct->child_a, &cluster))
       w->damage[count++] = (bk_damage_contact){cluster, ct->point, ct->impulse, ct->approach_speed};
-    if (cluster_of(w, ct->b, &cluster))
+    if (cluster_of(w, ct->b, &cluster) || bk_world_settle_cluster(w, ct->b, ct->child_b, &cluster))
       w->damage[count++] = (bk_damage_contact){cluster, ct->point, ct->impulse, ct->approach_speed};
   }
   w->hits_hold_splits = false;
@@ -340,8 +362,10 @@ static void solve_stress(bk_world* w, uint32_t contact_count) {
 }
 
 // Small loose fragments leave after a while: each was a body the solver kept
-// paying for. Their mass is accounted for.
+// paying for, and one to draw. Their mass is accounted for, and they are
+// handed to bk_world_retired_bodies for the renderer to fade out.
 static void retire_fragments(bk_world* w) {
+  w->aged_count = 0;
   if (w->def.retire_volume <= 0.0) return;
   uint64_t max_age = (uint64_t)(w->def.retire_after / w->def.fixed_dt);
   for (uint32_t i = 0; i < w->live_count; ++i) {
@@ -356,6 +380,18 @@ static void retire_fragments(bk_world* w) {
     if (bk_mesh_tree_leaf(tree, info.leaves[0])->moments.v >= w->def.retire_volume) continue;
     w->retired_mass += info.mass;
     w->fragments_retired++;
+    if (w->aged_count == w->aged_capacity) {
+      w->aged_capacity = bk_grow_capacity(w->aged_capacity, w->aged_count + 1);
+      w->aged = bk_realloc(w->aged, sizeof(bk_retired_body) * w->aged_capacity);
+    }
+    w->aged[w->aged_count++] =
+        (bk_retired_body){.breakable = info.breakable,
+                          .node = info.nodes[0],
+                          .tree_to_world = bk_world_tree_to_world(w, index),
+                          .linear_velocity = bk_physics_body_linear_velocity(w->physics, wbody->body),
+                          .angular_velocity = bk_physics_body_angular_velocity(w->physics, wbody->body),
+                          .center = bk_physics_body_transform(w->physics, wbody->body).position,
+                          .mass = info.mass};
     bk_runtime_remove_cluster(w->runtime, wbody->cluster);
     bk_world_release_body(w, index);
   }
@@ -370,6 +406,7 @@ void bk_world_step(bk_world* w) {
   for (uint32_t i = 0; i < w->live_count; ++i)
     w->bodies[w->live[i]].previous = bk_world_tree_to_world(w, w->live[i]);
   bk_world_retire_projectiles(w);
+  bk_world_settle_before_physics(w);
   w->step_count++;
   double cpu_start = cpu_ms();
   bk_physics_step(w->physics, w->def.fixed_dt, 1);
@@ -396,6 +433,7 @@ void bk_world_step(bk_world* w) {
   bk_world_refresh_live(w);
   bk_world_budget_step(w);
   bk_world_refresh_live(w);
+  bk_world_settle_step(w);
   w->events_of_last_step = w->event_count;
   double end = now_ms();
   w->break_ms = end - after_physics;

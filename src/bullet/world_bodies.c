@@ -73,7 +73,9 @@ static void choose_colliders(bk_world* w, const world_breakable* wb, const bk_cl
   wbody->collider_count = kept;
 }
 
-static bool build_body(bk_world* w, const bk_cluster_created* created, bk_error* err) {
+// `loose_since`: the step its bonds broke, earlier than now when the split
+// waited for the split budget; the budget's first second counts from it.
+static bool build_body(bk_world* w, const bk_cluster_created* created, uint64_t loose_since, bk_error* err) {
   const bk_cluster_info* info = &created->cluster;
   uint32_t index = info->id.index;
   reserve_bodies(w, index);
@@ -94,11 +96,13 @@ static bool build_body(bk_world* w, const bk_cluster_created* created, bk_error*
   if (wbody->collider_count == 1 && info->node_count == 1 && wbody->colliders[0] == info->nodes[0]) {
     // One node, one hull (every loose fragment): its principal frame is the
     // body frame, so a hull made in that frame needs no compound. That keeps
-    // fragment pairs off Bullet's costly compound-compound path.
+    // fragment pairs off Bullet's costly compound-compound path. A fragment's
+    // was made at load time; a larger node's is its tree-frame hull moved
+    // into that frame, once: computing a hull here cost 40-80 us a body,
+    // half the break work of the step that needed a few.
     uint32_t node = info->nodes[0];
     if (bk_shape_is_null(wb->node_body_hull[node]))
-      wb->node_body_hull[node] =
-          make_body_hull(w, bk_runtime_breakable_tree(w->runtime, info->breakable), node);
+      wb->node_body_hull[node] = bk_physics_copy_hull(w->physics, wb->node_hull[node], child_local);
     def.shape = wb->node_body_hull[node];
   }
   if (bk_shape_is_null(def.shape)) {
@@ -129,7 +133,10 @@ static bool build_body(bk_world* w, const bk_cluster_created* created, bk_error*
   w->budget.demotions += def.debris;
   wbody->shape = def.shape;
   wbody->previous = bk_transform_mul(created->body.transform, child_local);
-  wbody->born = w->step_count;
+  wbody->made = w->step_count;
+  wbody->born = loose_since;
+  wbody->split_waiting = loose_since < w->step_count; // the rest of a split that waits keeps its start
+  wbody->split_since = loose_since;
   wbody->piled = 0;
   wbody->shaken = 0;
   wbody->body = bk_physics_create_body(w->physics, &def, err);
@@ -139,6 +146,7 @@ static bool build_body(bk_world* w, const bk_cluster_created* created, bk_error*
 void bk_world_release_body(bk_world* w, uint32_t index) {
   world_body* wbody = &w->bodies[index];
   if (!wbody->alive) return;
+  bk_world_settle_forget(w, index); // its settle area wakes: a piece under it may be going
   if (!bk_body_is_null(wbody->body)) bk_physics_destroy_body(w->physics, wbody->body);
   if (!bk_shape_is_null(wbody->compound)) bk_physics_destroy_shape(w->physics, wbody->compound);
   if (!bk_shape_is_null(wbody->simple)) bk_physics_destroy_shape(w->physics, wbody->simple);
@@ -179,10 +187,16 @@ bool bk_world_apply_results(bk_world* w, bk_error* err) {
   uint32_t next = 0, failed = 0;
   bk_cluster_id* failed_ids = NULL;
   for (uint32_t r = 0; r <= removed; ++r) {
-    if (r < removed) bk_world_release_body(w, w->removed[r].index);
+    uint64_t loose_since = w->step_count;
+    if (r < removed) {
+      const world_body* parent = &w->bodies[w->removed[r].index];
+      if (parent->alive && parent->split_waiting && parent->split_since < loose_since)
+        loose_since = parent->split_since;
+      bk_world_release_body(w, w->removed[r].index);
+    }
     while (next < created && (r == removed || bk_cluster_equal(w->created[next].parent, w->removed[r]))) {
       w->live_dirty = true;
-      if (!build_body(w, &w->created[next], err)) {
+      if (!build_body(w, &w->created[next], loose_since, err)) {
         ok = false;
         if (!failed_ids) failed_ids = bk_alloc(sizeof(bk_cluster_id) * created);
         failed_ids[failed++] = w->created[next].cluster.id;

@@ -28,7 +28,10 @@ typedef struct world_body {
   uint32_t* colliders; // nodes whose hulls are the compound's children
   uint32_t collider_count;
   bk_transform previous; // tree frame at the start of the last step (for interpolated drawing)
-  uint64_t born;         // step the body was made
+  uint64_t made;         // step the body was made
+  uint64_t born;         // step it came loose: made, or its parent's bonds broke if that waited to split
+  bool split_waiting;    // its cluster has broken bonds waiting for the split budget (world_budget.c)
+  uint64_t split_since;  // since this step
   bk_shape_id shape;     // its own shape (a hull or the compound), which a simplified body gives back
   bk_shape_id simple;    // the sphere or box standing in for it while simplified (owned)
   bk_budget_tier tier;   // what the physics budget made of it
@@ -36,7 +39,33 @@ typedef struct world_body {
   uint64_t piled;        // last step it pressed on another loose body at a low relative speed
   uint64_t shaken;       // last step a moving body pressed on it while it was frozen
   double pressed;        // normal impulse (N s) dynamic bodies pressed on it in the last step, frozen
+  uint32_t area;         // 1 + the settle area it is merged into (world_settle.c); 0: not merged
 } world_body;
+
+/// Settled pieces of one cell, parked behind one static compound (world_settle.c).
+typedef struct settle_area {
+  int64_t cell[3];
+  bool used;
+  bk_body_id body;      // static, watched; null while empty
+  bk_shape_id compound; // children: the members' hulls where they lie
+  uint32_t* members;    // world body indices, ascending
+  uint32_t member_count, member_capacity;
+  uint32_t* child_member; // per compound child: its member's body index
+  uint32_t child_count, child_capacity;
+  bk_vec3 lo, hi; // the members' box
+} settle_area;
+
+/// The settle state: areas, and counters for the stats.
+typedef struct world_settle {
+  settle_area* areas;
+  uint32_t area_count, area_capacity;
+  uint32_t merged, live_areas, wakes;
+  double batch_ms;
+  void* candidates; // scratch: the pieces a batch merges, with their cells
+  uint32_t candidate_capacity;
+  bk_body_id* ids; // scratch: bodies to park or unpark at once
+  uint32_t id_capacity;
+} world_settle;
 
 /// A hit waiting for the step's hit budget (world_hits.c).
 typedef struct world_hit {
@@ -50,6 +79,7 @@ typedef struct world_hit {
 /// The physics budget's state (world_budget.c).
 typedef struct world_budget {
   double level;       // 0..4: tier k reaches the least important (level - k + 1) of the pieces
+  double young_share; // 0..1: the least important young pieces that give up their first second
   double cost_ms;     // last step's cost as compared with the budget
   double smoothed_ms; // its average over recent steps (relaxing waits for it)
   uint32_t top_steps; // steps in a row with the level past 3 (retiring waits for some)
@@ -112,11 +142,15 @@ struct bk_world {
   bk_stress_load* stress_loads; // what rests on clusters, from the step's slow contacts
   uint32_t stress_load_capacity;
   world_budget budget;
+  world_settle settle;
+  bk_retired_body* aged; // small fragments retire_volume removed in the last step
+  uint32_t aged_count, aged_capacity;
 };
 
 /// User data tags on physics bodies.
 #define BK_USER_CLUSTER 0x100000000ull
 #define BK_USER_PROJECTILE 0x200000000ull
+#define BK_USER_AREA 0x400000000ull
 
 /// Makes every node's hull (and each fragment's body-frame hull) now, at load
 /// time, so breaking later only creates bodies: a shattering hit must not
@@ -153,3 +187,19 @@ bk_budget_tier bk_world_budget_birth_tier(const bk_world* world, const bk_cluste
 void bk_world_budget_step(bk_world* world);
 /// Frees the budget's buffers.
 void bk_world_budget_free(bk_world* world);
+/// A body about to be merged (world_settle.c): unpinned at rest if frozen,
+/// its own shape back if simplified; debris stays debris (debris that came
+/// to rest inside other debris would be pushed out of it once woken).
+void bk_world_budget_settle(bk_world* world, uint32_t index);
+/// Before the physics of a step: wakes the settle areas that were disturbed
+/// (a fast body came near, a body under them went) or that a projectile
+/// will reach within two steps.
+void bk_world_settle_before_physics(bk_world* world);
+/// After a step: every batch's steps, merges the pieces at rest.
+void bk_world_settle_step(bk_world* world);
+/// A body about to be released: its area, if merged, wakes first.
+void bk_world_settle_forget(bk_world* world, uint32_t index);
+/// The cluster whose piece a contact touched on a settle area's compound.
+bool bk_world_settle_cluster(const bk_world* world, bk_body_id body, int32_t child, bk_cluster_id* out);
+/// Frees the settle state's buffers.
+void bk_world_settle_free(bk_world* world);

@@ -52,6 +52,10 @@ bk_world_stats bk_world_get_stats(const bk_world* w) {
   s.budget_restorations = w->budget.restorations;
   s.budget_level = w->budget.level;
   s.budget_cost_ms = w->budget.cost_ms;
+  s.settled_bodies = w->settle.merged;
+  s.settled_areas = w->settle.live_areas;
+  s.settle_wakes = w->settle.wakes;
+  s.settle_batch_ms = w->settle.batch_ms;
   for (uint32_t i = 0; i < w->projectile_count; ++i)
     s.nan = s.nan || body_has_nan(w, w->projectiles[i]);
   return s;

@@ -194,11 +194,12 @@ static void draw_transparent(bk_renderer* r) {
 }
 
 // The sky where the ground is not: drawn first, on the far plane, without
-// depth writes, so that everything after covers it.
+// depth writes, so that everything after covers it. Nothing is drawn before
+// it since the clear, so it needs no depth test either (a software renderer
+// reads the depth of every pixel it tests).
 static void draw_sky(bk_renderer* r, mat4 view_projection, const vec3 sun) {
   const bk_camera* c = &r->camera;
-  glDepthMask(GL_FALSE);
-  glDepthFunc(GL_LEQUAL);
+  glDisable(GL_DEPTH_TEST);
   // It stops below the horizon where the ground's far edge is seen:
   // the edge's slope from the eye, doubled because sky.vert measures it
   // along the view's heading (rays at the screen's sides, up to 60 degrees
@@ -224,8 +225,7 @@ static void draw_sky(bk_renderer* r, mat4 view_projection, const vec3 sun) {
     glDrawArrays(GL_TRIANGLES, 0, program == SKY_DOME ? sky_dome_vertices : 6);
   }
   glDisable(GL_CLIP_DISTANCE0);
-  glDepthFunc(GL_LESS);
-  glDepthMask(GL_TRUE);
+  glEnable(GL_DEPTH_TEST);
 }
 
 unsigned bk_renderer_end_frame(bk_renderer* r) {

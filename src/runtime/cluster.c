@@ -35,6 +35,7 @@ void rt_cluster_free(bk_runtime* rt, uint32_t slot) {
   uint32_t generation = c->generation;
   free(c->leaves);
   free(c->nodes);
+  free(c->split_labels);
   rt_stress_release(c);
   memset(c, 0, sizeof *c);
   c->generation = generation;

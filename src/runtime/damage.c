@@ -5,6 +5,8 @@
 // one the caller's solver applied; resting contact closes at ~g dt, so with
 // penetration recovery kept out of the impulse (split impulse) resting breaks
 // nothing.
+#include <stdlib.h>
+
 #include "runtime_internal.h"
 
 void rt_break_bond(bk_runtime* rt, uint32_t slot, uint32_t bond, bk_vec3 position, bk_vec3 velocity,
@@ -13,8 +15,10 @@ void rt_break_bond(bk_runtime* rt, uint32_t slot, uint32_t bond, bk_vec3 positio
     rt->broken_capacity = bk_grow_capacity(rt->broken_capacity, rt->broken_count + 1);
     rt->broken = bk_realloc(rt->broken, sizeof(bk_bond_break) * rt->broken_capacity);
   }
-  const rt_cluster* c = &rt->clusters[slot];
+  rt_cluster* c = &rt->clusters[slot];
   rt_breakable* b = &rt->breakables[c->breakable];
+  free(c->split_labels); // its components change
+  c->split_labels = NULL;
   b->bond_hp[bond] = 0.0;
   b->bond_broken[bond] = 1;
   rt->bonds_broken++;

@@ -56,6 +56,7 @@ void bk_runtime_destroy(bk_runtime* rt) {
   for (uint32_t i = 0; i < rt->cluster_count; ++i) {
     free(rt->clusters[i].leaves);
     free(rt->clusters[i].nodes);
+    free(rt->clusters[i].split_labels);
     rt_stress_release(&rt->clusters[i]);
   }
   for (uint32_t i = 0; i < rt->breakable_count; ++i) {

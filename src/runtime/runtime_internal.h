@@ -65,6 +65,12 @@ typedef struct rt_cluster {
   uint32_t stress_load_count;
   rt_leaf_load* stress_window;
   uint32_t stress_window_count, stress_window_calls;
+  // What a split left waiting for the budget: its leaves' components
+  // (indexed like leaves, numbered as label_components numbers them) and
+  // how many, so that the next split need not search it again; NULL once a
+  // bond of it breaks.
+  uint32_t* split_labels;
+  uint32_t split_components;
 } rt_cluster;
 
 struct bk_runtime {
