@@ -114,18 +114,23 @@ done
 for file in lib/libbreakables-authoring.a lib/libbreakables-runtime.a lib/libbreakables-bullet.a \
   lib/cmake/breakables/breakables-config.cmake lib/cmake/breakables/breakables-config-version.cmake \
   lib/pkgconfig/breakables-authoring.pc lib/pkgconfig/breakables-runtime.pc lib/pkgconfig/breakables-bullet.pc \
-  bin/breakables share/breakables/assets/meshes/bunny.obj share/breakables/shaders/mesh.vert; do
+  bin/breakables share/breakables/assets/meshes/bunny.obj share/breakables/shaders/mesh.vert \
+  share/doc/breakables/embedding.md share/doc/breakables/gltf.md share/doc/breakables/patterns.md; do
   [[ -s "$prefix/$file" ]] || fail layout "$file is missing or empty"
 done
 [[ -x "$prefix/bin/breakables" ]] || fail layout "bin/breakables is not executable"
 for dir in share/breakables/assets/textures share/breakables/shaders; do
   [[ -n "$(ls -A "$prefix/$dir")" ]] || fail layout "$dir is empty"
 done
+# The documents the headers name are installed beside them.
+for doc in $(grep -ohE '[a-z_]+\.md' "$prefix"/include/breakables/*.h | sort -u); do
+  [[ -s "$prefix/share/doc/breakables/$doc" ]] || fail layout "a header names $doc, which is not installed"
+done
 # Nothing installed may point back into the source or build trees.
 if grep -rlF -e "$tmp/src" -e "$tmp/build" "$prefix/lib/cmake" "$prefix/lib/pkgconfig"; then
   fail layout "the CMake package or a .pc file names the source or build directory"
 fi
-ok "layout: 4 public headers (each compiles alone), 3 static libraries, CMake package, 3 .pc files, bin/breakables, share/breakables/{assets,shaders}"
+ok "layout: 4 public headers (each compiles alone), 3 static libraries, CMake package, 3 .pc files, bin/breakables, share/breakables/{assets,shaders}, share/doc/breakables (the documents the headers name)"
 
 # ---------------------------------------------------------------- c. symbols
 authoring_lib="$prefix/lib/libbreakables-authoring.a"

@@ -794,7 +794,8 @@ typedef struct bk_gltf_def {
   const bk_gltf_material* materials;
   uint32_t material_count;
   /// Material parameters recorded in asset.extras.breakables.material for
-  /// the game (see docs/gltf.md): density in kg/m^3 (> 0, default 2400),
+  /// the game (see gltf.md in the installed documentation,
+  /// share/doc/breakables): density in kg/m^3 (> 0, default 2400),
   /// frailty (>= 0, default 1), bond strength in hit points per m^2 of bond
   /// area (> 0, default 2e5): the runtime's defaults.
   double density, frailty, bond_strength;
@@ -811,7 +812,8 @@ bk_gltf_def bk_default_gltf_def(void);
 /// material's surface or its cut faces).
 /// The extras (volumes, moments, bounds, leaf ranges, bonds, fracture and
 /// material parameters) and the embedded .mtree that makes the file load back
-/// exactly are described in docs/gltf.md. Written atomically, in the C locale.
+/// exactly are described in gltf.md (share/doc/breakables). Written
+/// atomically, in the C locale.
 /// def may be NULL for the defaults.
 bool bk_mesh_tree_save_gltf(const bk_mesh_tree* tree, const char* path, const bk_gltf_def* def,
                             bk_error* err);

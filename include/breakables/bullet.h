@@ -54,7 +54,8 @@ typedef struct bk_physics_def {
 bk_physics_def bk_default_physics_def(void);
 /// Creates a world (split impulse on, so penetration recovery adds no
 /// contact impulse). It also sets two of Bullet's process-wide globals,
-/// gDeactivationTime (2 s) and gDbvtMargin (1 cm), the same values every
+/// gDeactivationTime (0.5 s: a body still that long falls asleep) and
+/// gDbvtMargin (1 cm), the same values every
 /// time: other Bullet worlds in the process share them, so create worlds
 /// from one thread, not while another world steps. Returns NULL with err naming the bad field.
 bk_physics* bk_physics_create(const bk_physics_def* def, bk_error* err);

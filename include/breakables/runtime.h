@@ -10,7 +10,9 @@
 //      the body of each cluster it reports as removed;
 //   2. answers where a cluster's body is and how it moves (bk_body_state_fn);
 //   3. feeds it contacts (bk_runtime_apply_contacts) or blasts
-//      (bk_runtime_damage_at), then calls bk_runtime_split.
+//      (bk_runtime_damage_at), and, for structures, the weights they carry
+//      (bk_runtime_solve_stress: bonds also break under load), then calls
+//      bk_runtime_split.
 // Every call that changes clusters or bonds (add_breakable, apply_contacts,
 // damage_at, split, remove_cluster) replaces the results of the previous one
 // (created clusters, removed clusters, broken bonds); pull them as arrays
@@ -109,13 +111,16 @@ bool bk_material_validate(const bk_material* material, bk_error* err);
 /// The body frame is the cluster's centre of mass with its principal axes
 /// (bk_cluster_info.principal places it in the tree frame).
 typedef struct bk_body_state {
-  bk_transform transform; ///< body frame in the world
-  bk_vec3 linear_velocity, angular_velocity;
+  bk_transform transform;   ///< body frame in the world
+  bk_vec3 linear_velocity;  ///< of the centre of mass (the body frame's origin), m/s, in world axes
+  bk_vec3 angular_velocity; ///< rad/s, in world axes (not the body frame's)
 } bk_body_state;
 
 /// Asked for the state of a live cluster's body whenever the runtime needs it
 /// (to bring a contact point into the tree frame, to give new clusters their
-/// parent's motion). Static clusters may report zero velocities.
+/// parent's motion). A static cluster's velocities are taken as zero
+/// whatever is reported, so the pieces a static (anchored) object loses start
+/// at rest, and fall.
 typedef bk_body_state bk_body_state_fn(bk_cluster_id cluster, void* context);
 
 typedef struct bk_runtime bk_runtime;
@@ -215,9 +220,12 @@ bk_cluster_id bk_runtime_leaf_cluster(const bk_runtime* runtime, bk_breakable_id
 /// A contact on a cluster's body, from the caller's physics.
 typedef struct bk_damage_contact {
   bk_cluster_id cluster;
-  bk_vec3 point;        ///< world position
-  double impulse;       ///< normal impulse (N s)
-  double closing_speed; ///< speed along the normal before the contact (m/s)
+  bk_vec3 point;  ///< world position
+  double impulse; ///< normal impulse (N s)
+  /// Speed at which the two surfaces approached along the normal before the
+  /// contact (m/s): positive when closing, the sign damage needs; contacts
+  /// slower than impact_speed do no damage
+  double closing_speed;
 } bk_damage_contact;
 
 /// Damages bonds from contacts that pass the thresholds; stale clusters are
@@ -226,7 +234,9 @@ typedef struct bk_damage_contact {
 void bk_runtime_apply_contacts(bk_runtime* runtime, const bk_damage_contact* contacts, uint32_t count);
 /// Damages every live cluster as if a contact with this impulse happened at
 /// the world point (explosions, scripted destruction), without the
-/// thresholds. Results: broken bonds.
+/// thresholds. Results: broken bonds. It breaks bonds only and pushes
+/// nothing: the pieces keep their body's motion, and a blast that should
+/// throw them is the caller's impulse on the new bodies.
 void bk_runtime_damage_at(bk_runtime* runtime, bk_vec3 point, double impulse);
 /// Splits clusters with broken bonds into connected clusters, creating at
 /// most max_new_clusters_per_split; what does not fit waits for the next
