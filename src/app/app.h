@@ -325,6 +325,8 @@ bool bk_app_relative_path(const char* from_file, const char* target, char* out, 
 double bk_median(double* values, uint32_t count);
 /// The p-th percentile (0..100, nearest rank) of values (sorted in place); 0 for none.
 double bk_percentile(double* values, uint32_t count, double p);
+/// The largest of values (0 for none, or when all are negative).
+double bk_maximum(const double* values, uint32_t count);
 
 /// What the player sees of the loose pieces, to compare a run under the
 /// physics budget with one without: the simulated debris is every dynamic

@@ -260,6 +260,13 @@ double bk_percentile(double* values, uint32_t count, double p) {
   return values[index];
 }
 
+double bk_maximum(const double* values, uint32_t count) {
+  double m = 0.0;
+  for (uint32_t i = 0; i < count; ++i)
+    m = values[i] > m ? values[i] : m;
+  return m;
+}
+
 size_t bk_append_name(char* out, size_t size, size_t used, uint32_t index, uint32_t count, const char* name) {
   if (used >= size) return used;
   int n =

@@ -52,13 +52,6 @@ typedef struct budget_run {
   bool nan;
 } budget_run;
 
-static double maximum(const double* v, uint32_t n) {
-  double m = 0.0;
-  for (uint32_t i = 0; i < n; ++i)
-    m = v[i] > m ? v[i] : m;
-  return m;
-}
-
 static bool run_load(const bench* b, const budget_load* load, double budget_ms, double fidelity_s,
                      budget_run* out, bk_error* err) {
   memset(out, 0, sizeof *out);
@@ -114,15 +107,14 @@ static bool run_load(const bench* b, const budget_load* load, double budget_ms, 
     }
   }
   out->settled_ms = settled_sum / SETTLED_STEPS;
-  // Each percentile sorts its values; the maximum is then the last one.
   out->physics[0] = bk_percentile(physics, timed, 50.0);
   out->physics[1] = bk_percentile(physics, timed, 95.0);
-  out->physics[2] = maximum(physics, timed);
+  out->physics[2] = bk_maximum(physics, timed);
   out->fresh_p95 = bk_percentile(fresh, fresh_count, 95.0);
   out->later_p95 = bk_percentile(later, later_count, 95.0);
   out->brk[0] = bk_percentile(brk, break_count, 50.0);
   out->brk[1] = bk_percentile(brk, break_count, 99.0);
-  out->brk[2] = maximum(brk, break_count);
+  out->brk[2] = bk_maximum(brk, break_count);
   free(all);
   bk_loaded_scene_destroy(&loaded);
   return true;

@@ -117,13 +117,6 @@ static int usage_error(const char* option, const char* what) {
   return 2;
 }
 
-static double maximum(const double* values, uint32_t count) {
-  double m = 0.0;
-  for (uint32_t i = 0; i < count; ++i)
-    m = values[i] > m ? values[i] : m;
-  return m;
-}
-
 // The patterns the objects' trees were made with (a tree loaded from a file
 // keeps its own): JSON members "pattern" (the one they share, else "mixed")
 // and "patterns" (one per object), or a line of text.
@@ -385,8 +378,8 @@ int bk_cmd_sim(int argc, char** argv) {
   bk_physics_stats physics = bk_physics_get_stats(bk_world_physics(loaded.world));
   // What the budget retired has left the world, not the simulation's books.
   double mass_error = fabs(final.total_mass + final.retired_mass - initial.total_mass) / initial.total_mass;
-  double step_max = maximum(step_ms, (uint32_t)steps), break_max = maximum(break_ms, break_steps);
-  double physics_max = maximum(physics_ms, (uint32_t)steps);
+  double step_max = bk_maximum(step_ms, (uint32_t)steps), break_max = bk_maximum(break_ms, break_steps);
+  double physics_max = bk_maximum(physics_ms, (uint32_t)steps);
   double physics_median = bk_median(physics_ms, (uint32_t)steps);
   double physics_p95 = bk_percentile(physics_ms, (uint32_t)steps, 95.0);
   bk_debris_sample debris = bk_fidelity_mean(&fidelity);
@@ -400,7 +393,7 @@ int bk_cmd_sim(int argc, char** argv) {
   double step_p95 = bk_percentile(step_ms, (uint32_t)steps, 95.0);
   uint32_t pieces = fragments_of(&loaded) * loaded.copies;
   uint32_t fallen = fragments_fallen(&loaded, rest_heights);
-  double stress_median = bk_median(stress_ms, stress_steps), stress_max = maximum(stress_ms, stress_steps);
+  double stress_median = bk_median(stress_ms, stress_steps), stress_max = bk_maximum(stress_ms, stress_steps);
   if (json) {
     // Every number through BK_APP_JSON_NUMBER: a non-finite one is null, never inf or nan.
     fputs("{\"scene\": ", stdout);

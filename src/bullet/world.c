@@ -384,14 +384,7 @@ static void retire_fragments(bk_world* w) {
       w->aged_capacity = bk_grow_capacity(w->aged_capacity, w->aged_count + 1);
       w->aged = bk_realloc(w->aged, sizeof(bk_retired_body) * w->aged_capacity);
     }
-    w->aged[w->aged_count++] =
-        (bk_retired_body){.breakable = info.breakable,
-                          .node = info.nodes[0],
-                          .tree_to_world = bk_world_tree_to_world(w, index),
-                          .linear_velocity = bk_physics_body_linear_velocity(w->physics, wbody->body),
-                          .angular_velocity = bk_physics_body_angular_velocity(w->physics, wbody->body),
-                          .center = bk_physics_body_transform(w->physics, wbody->body).position,
-                          .mass = info.mass};
+    w->aged[w->aged_count++] = bk_world_retired_record(w, index, &info);
     bk_runtime_remove_cluster(w->runtime, wbody->cluster);
     bk_world_release_body(w, index);
   }

@@ -259,6 +259,17 @@ static void restore(bk_world* w, uint32_t index) {
   w->budget.restorations++;
 }
 
+bk_retired_body bk_world_retired_record(const bk_world* w, uint32_t index, const bk_cluster_info* info) {
+  bk_body_id body = w->bodies[index].body;
+  return (bk_retired_body){.breakable = info->breakable,
+                           .node = info->nodes[0],
+                           .tree_to_world = bk_world_tree_to_world(w, index),
+                           .linear_velocity = bk_physics_body_linear_velocity(w->physics, body),
+                           .angular_velocity = bk_physics_body_angular_velocity(w->physics, body),
+                           .center = bk_physics_body_transform(w->physics, body).position,
+                           .mass = info->mass};
+}
+
 // The last tier: the body leaves, and what it was is kept for the renderer
 // to fade out. Its mass is accounted for as retire_volume's is.
 static void retire(bk_world* w, uint32_t index, const bk_cluster_info* info) {
@@ -270,14 +281,7 @@ static void retire(bk_world* w, uint32_t index, const bk_cluster_info* info) {
     b->retired_index = bk_realloc(b->retired_index, sizeof(uint32_t) * b->retired_capacity);
   }
   b->retired_index[b->retired_count] = index;
-  b->retired_bodies[b->retired_count++] =
-      (bk_retired_body){.breakable = info->breakable,
-                        .node = info->nodes[0],
-                        .tree_to_world = bk_world_tree_to_world(w, index),
-                        .linear_velocity = bk_physics_body_linear_velocity(w->physics, wb->body),
-                        .angular_velocity = bk_physics_body_angular_velocity(w->physics, wb->body),
-                        .center = bk_physics_body_transform(w->physics, wb->body).position,
-                        .mass = info->mass};
+  b->retired_bodies[b->retired_count++] = bk_world_retired_record(w, index, info);
   w->retired_mass += info->mass;
   w->fragments_retired += info->leaf_count;
   b->retired++;

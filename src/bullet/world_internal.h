@@ -65,6 +65,8 @@ typedef struct world_settle {
   uint32_t candidate_capacity;
   bk_body_id* ids; // scratch: bodies to park or unpark at once
   uint32_t id_capacity;
+  uint32_t* wake; // scratch: the areas a step wakes
+  uint32_t wake_capacity;
 } world_settle;
 
 /// A hit waiting for the step's hit budget (world_hits.c).
@@ -185,6 +187,9 @@ bk_budget_tier bk_world_budget_birth_tier(const bk_world* world, const bk_cluste
 /// After a step: compares the step's physics cost with the budget and
 /// moves bodies between tiers.
 void bk_world_budget_step(bk_world* world);
+/// What a renderer needs of a one-node body leaving the world (retired by
+/// the budget or by retire_volume) to carry it on and fade it out.
+bk_retired_body bk_world_retired_record(const bk_world* world, uint32_t index, const bk_cluster_info* info);
 /// Frees the budget's buffers.
 void bk_world_budget_free(bk_world* world);
 /// A body about to be merged (world_settle.c): unpinned at rest if frozen,

@@ -127,7 +127,8 @@ static bool boxes_overlap(bk_vec3 lo, bk_vec3 hi, bk_vec3 lo2, bk_vec3 hi2) {
 void bk_world_settle_before_physics(bk_world* w) {
   world_settle* s = &w->settle;
   if (s->live_areas == 0) return;
-  uint32_t* wake = bk_alloc(sizeof(uint32_t) * s->area_count);
+  reserve((void**)&s->wake, &s->wake_capacity, s->area_count, sizeof(uint32_t));
+  uint32_t* wake = s->wake;
   uint32_t n = 0;
   for (uint32_t a = 0; a < s->area_count; ++a) {
     const settle_area* area = &s->areas[a];
@@ -147,7 +148,6 @@ void bk_world_settle_before_physics(bk_world* w) {
     if (woken) wake[n++] = a;
   }
   wake_areas(w, wake, n);
-  free(wake);
 }
 
 // A candidate: a body index and its cell, sorted by cell then index.
@@ -335,5 +335,6 @@ void bk_world_settle_free(bk_world* w) {
   free(w->settle.areas);
   free(w->settle.candidates);
   free(w->settle.ids);
+  free(w->settle.wake);
   free(w->aged);
 }
