@@ -6,7 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../src/fracture/cap.h"
+#include "../src/lib/fracture/cap.h"
 #include "bk_fracture.h"
 #include "ensure.h"
 

@@ -382,13 +382,13 @@ static void test_play_frames_a_large_model(void) {
 // no look of the model's own: play draws such a model in the chosen
 // material (the rock fels.3ds was drawn flat white); a texture is one.
 static void test_default_material_is_no_look(void) {
-  bk_app_model_surface surface = {0};
-  ENSURE_MSG(!bk_app_read_model_surface(MODELS "/3DS/fels.3ds", &surface),
+  app_model_surface surface = {0};
+  ENSURE_MSG(!app_read_model_surface(MODELS "/3DS/fels.3ds", &surface),
              "fels.3ds's default grey was taken as its look (%g %g %g)", surface.color[0], surface.color[1],
              surface.color[2]);
-  bk_app_model_surface_free(&surface);
-  ENSURE(bk_app_read_model_surface(MODELS "/Collada/duck.dae", &surface) && surface.image != NULL);
-  bk_app_model_surface_free(&surface);
+  app_model_surface_free(&surface);
+  ENSURE(app_read_model_surface(MODELS "/Collada/duck.dae", &surface) && surface.image != NULL);
+  app_model_surface_free(&surface);
 }
 
 int main(void) {

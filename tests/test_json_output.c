@@ -53,11 +53,11 @@ static void test_parser_refuses_inf_and_nan(void) {
 
 static void test_app_number_writer(void) {
   char text[48] = "";
-  ENSURE(strcmp(bk_app_json_text(text, sizeof text, "%.4f", 1.25), "1.2500") == 0);
-  ENSURE(strcmp(bk_app_json_text(text, sizeof text, "%.3e", 2.5e-7), "2.500e-07") == 0);
+  ENSURE(strcmp(app_json_text(text, sizeof text, "%.4f", 1.25), "1.2500") == 0);
+  ENSURE(strcmp(app_json_text(text, sizeof text, "%.3e", 2.5e-7), "2.500e-07") == 0);
   const double bad[] = {INFINITY, -INFINITY, NAN, -NAN};
   for (int i = 0; i < 4; ++i) {
-    ENSURE_MSG(strcmp(bk_app_json_text(text, sizeof text, "%.4f", bad[i]), "null") == 0, "%g gave %s", bad[i],
+    ENSURE_MSG(strcmp(app_json_text(text, sizeof text, "%.4f", bad[i]), "null") == 0, "%g gave %s", bad[i],
                text);
     ENSURE(strcmp(BK_APP_JSON_NUMBER("%g", bad[i]), "null") == 0);
   }
@@ -70,9 +70,9 @@ static void test_app_number_writer(void) {
   // The shortest-text writer too.
   FILE* f = tmpfile();
   ENSURE(f != NULL);
-  bk_app_json_number(f, NAN);
+  app_json_number(f, NAN);
   fputc(' ', f);
-  bk_app_json_number(f, -INFINITY);
+  app_json_number(f, -INFINITY);
   rewind(f);
   char back[32] = "";
   ENSURE(fgets(back, sizeof back, f) && strcmp(back, "null null") == 0);

@@ -7,56 +7,55 @@
 #include <unistd.h>
 
 // The parsers belong to the executable, not to a library: compile them in.
-#include "../src/app/app_util.c"
+#include "../src/shared/app_util.c"
 #include "ensure.h"
 
 static void test_whole_numbers(void) {
   uint64_t v = 0;
-  ENSURE(bk_parse_u64("0", 0, 10, &v) && v == 0);
-  ENSURE(bk_parse_u64("007", 0, 10, &v) && v == 7);
-  ENSURE(bk_parse_u64("1048576", 1, 1u << 20, &v) && v == 1048576);
-  ENSURE(bk_parse_u64("18446744073709551615", 0, UINT64_MAX, &v) && v == UINT64_MAX);
+  ENSURE(parse_u64("0", 0, 10, &v) && v == 0);
+  ENSURE(parse_u64("007", 0, 10, &v) && v == 7);
+  ENSURE(parse_u64("1048576", 1, 1u << 20, &v) && v == 1048576);
+  ENSURE(parse_u64("18446744073709551615", 0, UINT64_MAX, &v) && v == UINT64_MAX);
   const char* malformed[] = {"",    " 1", "1 ",    "\t1",  "1\n",      "-1",
                              " -1", "+1", "-0",    "0x10", "010x",     "1e3",
                              "1.0", "1.", "1,000", "one",  "\xd9\xa1", " -18446744073709551615"};
   for (size_t i = 0; i < sizeof malformed / sizeof *malformed; ++i) {
     v = 42;
-    ENSURE_MSG(!bk_parse_u64(malformed[i], 0, UINT64_MAX, &v) && v == 42, "'%s' accepted", malformed[i]);
+    ENSURE_MSG(!parse_u64(malformed[i], 0, UINT64_MAX, &v) && v == 42, "'%s' accepted", malformed[i]);
   }
   const char* too_big[] = {"18446744073709551616", "99999999999999999999999999"};
   for (size_t i = 0; i < sizeof too_big / sizeof *too_big; ++i)
-    ENSURE_MSG(!bk_parse_u64(too_big[i], 0, UINT64_MAX, &v) && v == 42, "'%s' accepted", too_big[i]);
-  ENSURE(!bk_parse_u64("0", 1, 10, &v) && !bk_parse_u64("11", 1, 10, &v) && v == 42);
-  ENSURE(!bk_parse_u64(NULL, 0, 10, &v));
+    ENSURE_MSG(!parse_u64(too_big[i], 0, UINT64_MAX, &v) && v == 42, "'%s' accepted", too_big[i]);
+  ENSURE(!parse_u64("0", 1, 10, &v) && !parse_u64("11", 1, 10, &v) && v == 42);
+  ENSURE(!parse_u64(NULL, 0, 10, &v));
 }
 
 static void test_real_numbers(void) {
   double v = 0.0;
-  ENSURE(bk_parse_double("0.1", 1e-6, 1e6, &v) && v == 0.1);
-  ENSURE(bk_parse_double(".5", 0, 3, &v) && v == 0.5);
-  ENSURE(bk_parse_double("5.", 0, 10, &v) && v == 5.0);
-  ENSURE(bk_parse_double("+2", 0, 3, &v) && v == 2.0);
-  ENSURE(bk_parse_double("-2.5e-1", -1, 1, &v) && v == -0.25);
-  ENSURE(bk_parse_double("1E6", 1e-6, 1e6, &v) && v == 1e6);
-  ENSURE(bk_parse_double("1e-6", 1e-6, 1e6, &v) && v == 1e-6); // the bounds belong to the range
-  ENSURE(bk_parse_double("1e+6", 1e-6, 1e6, &v) && v == 1e6);
-  ENSURE(bk_parse_double("-0", 0, 3, &v) && v == 0.0 && !signbit(v));
+  ENSURE(parse_double("0.1", 1e-6, 1e6, &v) && v == 0.1);
+  ENSURE(parse_double(".5", 0, 3, &v) && v == 0.5);
+  ENSURE(parse_double("5.", 0, 10, &v) && v == 5.0);
+  ENSURE(parse_double("+2", 0, 3, &v) && v == 2.0);
+  ENSURE(parse_double("-2.5e-1", -1, 1, &v) && v == -0.25);
+  ENSURE(parse_double("1E6", 1e-6, 1e6, &v) && v == 1e6);
+  ENSURE(parse_double("1e-6", 1e-6, 1e6, &v) && v == 1e-6); // the bounds belong to the range
+  ENSURE(parse_double("1e+6", 1e-6, 1e6, &v) && v == 1e6);
+  ENSURE(parse_double("-0", 0, 3, &v) && v == 0.0 && !signbit(v));
   // Rounding to 0 is fine where 0 is allowed...
-  ENSURE(bk_parse_double("1e-400", 0, 3, &v) && v == 0.0);
+  ENSURE(parse_double("1e-400", 0, 3, &v) && v == 0.0);
   const char* malformed[] = {"",         " 0.5", "0.5 ", "\t1",   "1\n", "0x1p-3", "0X10", "inf",     "-inf",
                              "infinity", "nan",  "NAN",  ".",     "-.",  "e5",     "1e",   "1e+",     "1.2.3",
                              "1,5",      "--1",  "+-1",  "1e5.0", "1f",  "0.5m",   "1e 5", "\xd9\xa1"};
   for (size_t i = 0; i < sizeof malformed / sizeof *malformed; ++i) {
     v = 42.0;
-    ENSURE_MSG(!bk_parse_double(malformed[i], -1e9, 1e9, &v) && v == 42.0, "'%s' accepted", malformed[i]);
+    ENSURE_MSG(!parse_double(malformed[i], -1e9, 1e9, &v) && v == 42.0, "'%s' accepted", malformed[i]);
   }
   // ...but not where it is not, nor a denormal; overflow is never a number.
   const char* out_of_range[] = {"1e-300", "4.9e-324", "1e-400", "0", "1e999", "-1e999", "1000000.1", "-1"};
   for (size_t i = 0; i < sizeof out_of_range / sizeof *out_of_range; ++i)
-    ENSURE_MSG(!bk_parse_double(out_of_range[i], 1e-6, 1e6, &v) && v == 42.0, "'%s' accepted",
-               out_of_range[i]);
-  ENSURE(!bk_parse_double("1e-310", DBL_MIN, 1.0, &v) && v == 42.0);
-  ENSURE(!bk_parse_double(NULL, 0, 1, &v));
+    ENSURE_MSG(!parse_double(out_of_range[i], 1e-6, 1e6, &v) && v == 42.0, "'%s' accepted", out_of_range[i]);
+  ENSURE(!parse_double("1e-310", DBL_MIN, 1.0, &v) && v == 42.0);
+  ENSURE(!parse_double(NULL, 0, 1, &v));
 }
 
 // Runs one option parse with stderr sent to a file; returns what it printed.
@@ -83,15 +82,15 @@ static bool capture(bool (*parse)(void), const char* path) {
 static const char* option_text;
 static bool parse_seed(void) {
   uint64_t v = 0;
-  return bk_option_u64("fracture", "--seed", option_text, 0, UINT64_MAX, &v);
+  return option_u64("fracture", "--seed", option_text, 0, UINT64_MAX, &v);
 }
 static bool parse_texture_scale(void) {
   double v = 0.0;
-  return bk_option_double("fracture", "--texture-scale", option_text, 1e-6, 1e6, &v);
+  return option_double("fracture", "--texture-scale", option_text, 1e-6, 1e6, &v);
 }
 static bool parse_speed(void) {
   double v = 0.0;
-  return bk_option_double("sim", "--speed", option_text, 0.1, 2000.0, &v);
+  return option_double("sim", "--speed", option_text, 0.1, 2000.0, &v);
 }
 
 static void expect_message(bool (*parse)(void), const char* text, const char* message) {

@@ -18,8 +18,8 @@
 
 #define CACHE BK_TEST_TMP "/scene_patterns_cache"
 
-static const bk_scene_object* find_object(const char* scene, const char* mesh) {
-  const bk_scene* s = bk_scene_find(scene);
+static const scene_object* find_object(const char* scene, const char* mesh) {
+  const app_scene* s = scene_find(scene);
   ENSURE_MSG(s != NULL, "no scene %s", scene);
   for (uint32_t i = 0; i < s->object_count; ++i)
     if (strcmp(s->objects[i].mesh, mesh) == 0) return &s->objects[i];
@@ -38,8 +38,8 @@ static void test_scene_table(void) {
       {"wall", BK_PATTERN_BRICK},       {"pillar", BK_PATTERN_CLUSTERED}, {"bunny", BK_PATTERN_RADIAL},
       {"eggshell", BK_PATTERN_VORONOI}, {"slab", BK_PATTERN_PLANES},      {"torus", BK_PATTERN_RADIAL},
       {"tower", BK_PATTERN_RADIAL},     {"bridge", BK_PATTERN_RADIAL},    {"balcony", BK_PATTERN_RADIAL}};
-  for (uint32_t i = 0; i < bk_scene_count(); ++i) {
-    const bk_scene* s = bk_scene_at(i);
+  for (uint32_t i = 0; i < scene_count(); ++i) {
+    const app_scene* s = scene_at(i);
     for (uint32_t o = 0; o < s->object_count; ++o)
       for (size_t e = 0; e < sizeof expected / sizeof *expected; ++e)
         if (strcmp(s->objects[o].mesh, expected[e].mesh) == 0)
@@ -50,8 +50,8 @@ static void test_scene_table(void) {
   ENSURE(find_object("showcase", "wall")->pattern == BK_PATTERN_BRICK);
   bk_fracture_pattern p = BK_PATTERN_PLANES;
   bk_error err = {0};
-  ENSURE(bk_scene_pattern_from_name("clustered", &p, &err) && p == BK_PATTERN_CLUSTERED);
-  ENSURE(!bk_scene_pattern_from_name("gravel", &p, &err));
+  ENSURE(scene_pattern_from_name("clustered", &p, &err) && p == BK_PATTERN_CLUSTERED);
+  ENSURE(!scene_pattern_from_name("gravel", &p, &err));
   ENSURE_MSG(strcmp(err.message, "unknown pattern 'gravel': use planes, voronoi, clustered, radial, brick or "
                                  "cutout") == 0,
              "%s", err.message);
@@ -61,24 +61,24 @@ static void test_scene_table(void) {
 // while its uvs are the unscaled mesh's, so the bond scales with the object;
 // where the object stands and how it is turned change nothing.
 static void test_brick_follows_texture(void) {
-  bk_scene_options options = bk_default_scene_options();
+  scene_options options = default_scene_options();
   bk_fracture_def defaults = bk_default_fracture_def();
-  bk_fracture_def wall = bk_scene_fracture_def(bk_scene_find("wall"), 0, &options, NULL);
-  ENSURE(wall.pattern == BK_PATTERN_BRICK && wall.pieces == bk_scene_find("wall")->pieces);
+  bk_fracture_def wall = scene_fracture_def(scene_find("wall"), 0, &options, NULL);
+  ENSURE(wall.pattern == BK_PATTERN_BRICK && wall.pieces == scene_find("wall")->pieces);
   ENSURE(wall.brick_size.x == defaults.brick_size.x && wall.brick_size.y == defaults.brick_size.y);
   ENSURE(wall.brick_size.z == 0.0 && bk_v3_length(wall.brick_origin) == 0.0);
-  bk_scene scaled = *bk_scene_find("wall");
+  app_scene scaled = *scene_find("wall");
   scaled.objects[0].scale = 2.0;
   scaled.objects[0].position = bk_v3(3.0, 0.5, -7.0);
   scaled.objects[0].axis = bk_v3(0, 1, 0);
   scaled.objects[0].angle = 0.7;
-  bk_fracture_def big = bk_scene_fracture_def(&scaled, 0, &options, NULL);
+  bk_fracture_def big = scene_fracture_def(&scaled, 0, &options, NULL);
   ENSURE_SMALL(big.brick_size.x, 0.5, 1e-15);
   ENSURE_SMALL(big.brick_size.y, 0.25, 1e-15);
   ENSURE(big.brick_offset == defaults.brick_offset && bk_v3_length(big.brick_origin) == 0.0);
   // The showcase's wall stands elsewhere, unscaled: the same bond.
-  const bk_scene* showcase = bk_scene_find("showcase");
-  bk_fracture_def far = bk_scene_fracture_def(showcase, 0, &options, NULL);
+  const app_scene* showcase = scene_find("showcase");
+  bk_fracture_def far = scene_fracture_def(showcase, 0, &options, NULL);
   ENSURE(far.pattern == BK_PATTERN_BRICK && far.brick_size.x == defaults.brick_size.x);
 }
 
@@ -86,30 +86,30 @@ static void test_brick_follows_texture(void) {
 // back through the object's rotation and position (the tree is the scaled
 // mesh, so not through its scale), then along the shot to the surface.
 static void test_radial_impact(void) {
-  bk_scene_options options = bk_default_scene_options();
-  const bk_scene* showcase = bk_scene_find("showcase");
+  scene_options options = default_scene_options();
+  const app_scene* showcase = scene_find("showcase");
   uint32_t bunny = 3;
   ENSURE(strcmp(showcase->objects[bunny].mesh, "bunny") == 0);
-  bk_vec3 aim = bk_scene_object_aim(showcase, bunny);
+  bk_vec3 aim = scene_object_aim(showcase, bunny);
   ENSURE(aim.x == showcase->extra_targets[1].x && aim.z == showcase->extra_targets[1].z);
-  bk_fracture_def inside = bk_scene_fracture_def(showcase, bunny, &options, NULL);
+  bk_fracture_def inside = scene_fracture_def(showcase, bunny, &options, NULL);
   bk_vec3 expected = bk_v3_sub(aim, showcase->objects[bunny].position);
   ENSURE_SMALL(bk_v3_length(bk_v3_sub(inside.impact, expected)), 0.0, 1e-12);
 
   // A turned, moved and scaled bunny: the impact lies on its scaled mesh,
   // on the line from the eye through the aim point, on the eye's side.
-  bk_scene turned = *bk_scene_find("bunny");
-  bk_scene_object* o = &turned.objects[0];
+  app_scene turned = *scene_find("bunny");
+  scene_object* o = &turned.objects[0];
   o->position = bk_v3(0.4, 0.1, -0.3);
   o->axis = bk_v3(0, 1, 0);
   o->angle = 2.0;
   o->scale = 1.5;
   turned.target = bk_v3(0.4, 0.6, -0.3);
   bk_mesh source = {0};
-  ENSURE(bk_scene_object_source(o, &source));
+  ENSURE(scene_object_source(o, &source));
   bk_aabb box = bk_mesh_bounds(&source);
   ENSURE_SMALL(box.max.y - box.min.y, 1.5, 1e-9); // the bunny is 1 tall, scaled by 1.5
-  bk_fracture_def def = bk_scene_fracture_def(&turned, 0, &options, &source);
+  bk_fracture_def def = scene_fracture_def(&turned, 0, &options, &source);
   bk_transform place = {o->position, bk_quat_axis_angle(o->axis, o->angle)};
   bk_vec3 world = bk_transform_point(place, def.impact);
   bk_vec3 to_aim = bk_v3_sub(turned.target, turned.eye), to_hit = bk_v3_sub(world, turned.eye);
@@ -133,14 +133,14 @@ static void test_radial_impact(void) {
 
 // The options' pattern overrides every object's; its parameters go through.
 static void test_override(void) {
-  bk_scene_options options = bk_default_scene_options();
+  scene_options options = default_scene_options();
   ENSURE(options.pattern == -1);
   options.pattern = BK_PATTERN_CUTOUT;
   options.clusters = 9;
   options.radial_falloff = 0.0;
-  const bk_scene* showcase = bk_scene_find("showcase");
+  const app_scene* showcase = scene_find("showcase");
   for (uint32_t i = 0; i < showcase->object_count; ++i) {
-    bk_fracture_def d = bk_scene_fracture_def(showcase, i, &options, NULL);
+    bk_fracture_def d = scene_fracture_def(showcase, i, &options, NULL);
     ENSURE(d.pattern == BK_PATTERN_CUTOUT && d.clusters == 9 && d.radial_falloff == 0.0);
     ENSURE(d.cutout_pixels != NULL && d.cutout_width >= 2 && d.cutout_height >= 2);
     bk_error err = {0};
@@ -152,17 +152,17 @@ static void test_override(void) {
 // pattern that takes noise (planes too), scaled by the object's mesh, and
 // leaves brick flat; without the mesh there is no size and no noise.
 static void test_noise_option(void) {
-  bk_scene_options options = bk_default_scene_options();
+  scene_options options = default_scene_options();
   ENSURE(options.noise == 0.0);
   options.noise = 0.02;
-  const bk_scene* showcase = bk_scene_find("showcase");
+  const app_scene* showcase = scene_find("showcase");
   uint32_t noisy = 0, brick = 0;
   for (uint32_t i = 0; i < showcase->object_count; ++i) {
     bk_mesh source = {0};
-    ENSURE(bk_scene_object_source(&showcase->objects[i], &source));
+    ENSURE(scene_object_source(&showcase->objects[i], &source));
     bk_aabb box = bk_mesh_bounds(&source);
     double size = bk_v3_length(bk_v3_sub(box.max, box.min));
-    bk_fracture_def d = bk_scene_fracture_def(showcase, i, &options, &source);
+    bk_fracture_def d = scene_fracture_def(showcase, i, &options, &source);
     bk_error err = {0};
     ENSURE_MSG(bk_fracture_def_validate(&d, &err), "%s", err.message);
     if (d.pattern == BK_PATTERN_BRICK) {
@@ -173,14 +173,14 @@ static void test_noise_option(void) {
       ENSURE_REL(d.noise_frequency, 4.0 / size, 1e-12);
       noisy++;
     }
-    ENSURE(bk_scene_fracture_def(showcase, i, &options, NULL).noise_amplitude == 0.0);
+    ENSURE(scene_fracture_def(showcase, i, &options, NULL).noise_amplitude == 0.0);
     bk_mesh_free(&source);
   }
   ENSURE(noisy > 0 && brick > 0);
   options.pattern = BK_PATTERN_PLANES;
   bk_mesh source = {0};
-  ENSURE(bk_scene_object_source(&showcase->objects[0], &source));
-  ENSURE(bk_scene_fracture_def(showcase, 0, &options, &source).noise_amplitude > 0.0);
+  ENSURE(scene_object_source(&showcase->objects[0], &source));
+  ENSURE(scene_fracture_def(showcase, 0, &options, &source).noise_amplitude > 0.0);
   bk_mesh_free(&source);
 }
 
@@ -192,7 +192,7 @@ static void test_fracture_key(void) {
   bk_fracture_def base = bk_default_fracture_def();
   base.seed_points = points, base.seed_point_count = 2;
   base.cutout_pixels = pixels, base.cutout_width = base.cutout_height = 2;
-  uint64_t key = bk_app_fracture_key(&base);
+  uint64_t key = app_fracture_key(&base);
   enum { CHANGES = 24 };
   for (int c = 0; c < CHANGES; ++c) {
     bk_fracture_def d = base;
@@ -272,12 +272,12 @@ static void test_fracture_key(void) {
       d.pattern = BK_PATTERN_CUTOUT;
       break;
     }
-    ENSURE_MSG(bk_app_fracture_key(&d) != key, "change %d leaves the cache key as it was", c);
+    ENSURE_MSG(app_fracture_key(&d) != key, "change %d leaves the cache key as it was", c);
   }
   bk_fracture_def same = base;
   same.threads = 3;
   same.progress_user = &same;
-  ENSURE(bk_app_fracture_key(&same) == key);
+  ENSURE(app_fracture_key(&same) == key);
 }
 
 static int cache_files(const char* pattern_name) {

@@ -10,16 +10,16 @@
 #include "ensure.h"
 
 // In place: the world borrows the trees inside the loaded scene.
-static void load(bk_loaded_scene* scene, const bk_scene_options* options) {
+static void load(loaded_scene* scene, const scene_options* options) {
   bk_error err = {0};
-  ENSURE_MSG(bk_loaded_scene_create(bk_scene_find("showcase"), options, scene, &err), "%s", err.message);
+  ENSURE_MSG(loaded_scene_create(scene_find("showcase"), options, scene, &err), "%s", err.message);
 }
 
 int main(void) {
   setenv("BREAKABLES_CACHE_DIR", BK_TEST_TMP "/scene_setup_cache", 1);
-  bk_scene_options options = bk_default_scene_options();
+  scene_options options = default_scene_options();
   options.pieces = 16;
-  bk_loaded_scene scene = {0};
+  loaded_scene scene = {0};
   load(&scene, &options);
   ENSURE(scene.tree_count == 6);
   // The showcase's objects start with their own presets.
@@ -29,14 +29,14 @@ int main(void) {
 
   // The panel's preset: every object, now.
   const bk_material* wood = bk_material_find("wood");
-  bk_loaded_scene_apply_material(&scene, &options, wood);
+  loaded_scene_apply_material(&scene, &options, wood);
   for (uint32_t i = 0; i < scene.tree_count; ++i) {
     bk_material m = bk_world_material(scene.world, scene.ids[i]);
     ENSURE(strcmp(m.name, "wood") == 0 && m.frailty == wood->frailty && m.density == wood->density);
     ENSURE(m.bond_strength == wood->bond_strength && m.accumulate == wood->accumulate);
   }
   // ...and after the reload (what R and the panel's reset do).
-  bk_loaded_scene_destroy(&scene);
+  loaded_scene_destroy(&scene);
   load(&scene, &options);
   for (uint32_t i = 0; i < scene.tree_count; ++i) {
     bk_material m = bk_world_material(scene.world, scene.ids[i]);
@@ -46,16 +46,16 @@ int main(void) {
 
   // A slider's value is an override the reload keeps.
   options.frailty = 7.5;
-  bk_loaded_scene_destroy(&scene);
+  loaded_scene_destroy(&scene);
   load(&scene, &options);
   ENSURE(bk_world_frailty(scene.world, scene.ids[2]) == 7.5);
   ENSURE(bk_world_density(scene.world, scene.ids[2]) == wood->density);
   // A new preset replaces it.
   const bk_material* glass = bk_material_find("glass");
-  bk_loaded_scene_apply_material(&scene, &options, glass);
-  bk_loaded_scene_destroy(&scene);
+  loaded_scene_apply_material(&scene, &options, glass);
+  loaded_scene_destroy(&scene);
   load(&scene, &options);
   ENSURE(bk_world_frailty(scene.world, scene.ids[2]) == glass->frailty);
-  bk_loaded_scene_destroy(&scene);
+  loaded_scene_destroy(&scene);
   return 0;
 }

@@ -9,10 +9,10 @@
 // points each lie by a different one of its objects (so a volley in the
 // showcase goes round all of them).
 static void test_scene_targets(void) {
-  ENSURE(bk_scene_count() >= 10);
-  for (uint32_t i = 0; i < bk_scene_count(); ++i) {
-    const bk_scene* scene = bk_scene_at(i);
-    ENSURE(bk_scene_find(scene->name) == scene);
+  ENSURE(scene_count() >= 10);
+  for (uint32_t i = 0; i < scene_count(); ++i) {
+    const app_scene* scene = scene_at(i);
+    ENSURE(scene_find(scene->name) == scene);
     ENSURE(scene->extra_target_count <= 7);
     bool used[8] = {false};
     for (uint32_t t = 0; t < scene->extra_target_count; ++t) {
@@ -30,16 +30,16 @@ static void test_scene_targets(void) {
       used[nearest] = true;
     }
   }
-  const bk_scene* showcase = bk_scene_find("showcase");
+  const app_scene* showcase = scene_find("showcase");
   ENSURE(showcase && showcase->extra_target_count + 1 == showcase->object_count);
 }
 
 // ---------------------------------------------------------------- structures
 
 /// An object's mesh where it stands in the world (the scenes' structures are not turned).
-static bk_mesh placed_source(const bk_scene_object* object) {
+static bk_mesh placed_source(const scene_object* object) {
   bk_mesh m = {0};
-  ENSURE_MSG(bk_scene_object_source(object, &m), "cannot load %s", object->mesh);
+  ENSURE_MSG(scene_object_source(object, &m), "cannot load %s", object->mesh);
   ENSURE(bk_v3_length(object->axis) == 0.0);
   for (uint32_t i = 0; i < m.position_count; ++i)
     m.positions[i] = bk_v3_add(m.positions[i], object->position);
@@ -67,14 +67,14 @@ static bool first_hit(const bk_mesh* m, bk_vec3 origin, bk_vec3 through, bk_vec3
 }
 
 /// Where the game's camera starts: the scene's camera when it has one, else its eye.
-static bk_vec3 camera_of(const bk_scene* scene) {
+static bk_vec3 camera_of(const app_scene* scene) {
   return bk_v3_length(scene->camera) > 0.0 ? scene->camera : scene->eye;
 }
 
 /// Whether every corner of the mesh is in the picture the scene opens
 /// with, `margin` (a fraction of the half-size) inside its border: the
 /// renderer's default camera, 60 degrees high, in the default 1280x720 window.
-static bool in_view(const bk_scene* scene, const bk_mesh* m, double margin) {
+static bool in_view(const app_scene* scene, const bk_mesh* m, double margin) {
   bk_vec3 eye = camera_of(scene);
   bk_vec3 forward = bk_v3_normalize(bk_v3_sub(scene->target, eye));
   bk_vec3 right = bk_v3_normalize(bk_v3_cross(forward, bk_v3(0, 1, 0))), up = bk_v3_cross(right, forward);
@@ -104,10 +104,10 @@ static const double cannon_speed = 40.0, cannon_mass = 8.0, cannon_radius = 0.1;
 /// picture with room to spare; its aim point inside it and the first shot's
 /// line landing on it.
 static bk_vec3 check_structure(const char* name, const char* material) {
-  const bk_scene* scene = bk_scene_find(name);
+  const app_scene* scene = scene_find(name);
   ENSURE_MSG(scene != NULL, "no scene %s", name);
   ENSURE(scene->object_count == 1 && scene->extra_target_count == 0 && !scene->fit_to_mesh);
-  const bk_scene_object* o = &scene->objects[0];
+  const scene_object* o = &scene->objects[0];
   ENSURE(strcmp(o->mesh, name) == 0 && strcmp(o->material, material) == 0);
   ENSURE(o->anchored && o->pattern == BK_PATTERN_RADIAL);
   ENSURE(scene->pieces >= 128 && scene->pieces <= 256);
@@ -134,10 +134,10 @@ static void test_structures(void) {
   // the balcony in old concrete, whose limits they still stand at
   // untouched (tests/test_cli.c runs them).
   bk_vec3 tower = check_structure("tower", "stone");
-  ENSURE(bk_scene_find("tower")->target.y <= 0.5 && tower.y < 0.6);
+  ENSURE(scene_find("tower")->target.y <= 0.5 && tower.y < 0.6);
   const char* structures[] = {"tower", "bridge", "balcony"};
   for (int i = 0; i < 3; ++i) {
-    const bk_scene* scene = bk_scene_find(structures[i]);
+    const app_scene* scene = scene_find(structures[i]);
     ENSURE(scene->projectile_mass >= 10.0 * cannon_mass);
     double scale = scene->objects[0].stress_scale;
     ENSURE_MSG(i == 0 ? scale == 0.0 : scale > 0.1 && scale < 1.0, "%s: limits x %g", structures[i], scale);
@@ -153,12 +153,12 @@ static void test_structures(void) {
 // The showcase's tower: anchored, aimed at by its base, overlapping no
 // other object (their bounds apart in plan view) and all in the picture.
 static void test_showcase_tower(void) {
-  const bk_scene* showcase = bk_scene_find("showcase");
+  const app_scene* showcase = scene_find("showcase");
   uint32_t tower = UINT32_MAX;
   for (uint32_t i = 0; i < showcase->object_count; ++i)
     if (strcmp(showcase->objects[i].mesh, "tower") == 0) tower = i;
   ENSURE(tower != UINT32_MAX && showcase->objects[tower].anchored);
-  ENSURE(bk_scene_object_aim(showcase, tower).y <= 0.5);
+  ENSURE(scene_object_aim(showcase, tower).y <= 0.5);
   bk_aabb boxes[8] = {{{0}}};
   for (uint32_t i = 0; i < showcase->object_count; ++i) {
     bk_mesh m = placed_source(&showcase->objects[i]);
@@ -182,14 +182,14 @@ static void test_showcase_tower(void) {
 /// than `out_distance` m from the plane z = 0 or fallen below y = `fallen_y`.
 static uint32_t scripted_run(const char* name, uint32_t frames, uint32_t shots, double out_distance,
                              double fallen_y, uint32_t* out) {
-  bk_scene_options options = bk_default_scene_options();
-  bk_loaded_scene loaded = {0};
+  scene_options options = default_scene_options();
+  loaded_scene loaded = {0};
   bk_error err = {0};
-  ENSURE_MSG(bk_loaded_scene_create(bk_scene_find(name), &options, &loaded, &err), "%s", err.message);
+  ENSURE_MSG(loaded_scene_create(scene_find(name), &options, &loaded, &err), "%s", err.message);
   uint32_t fired = 0;
   for (uint32_t frame = 0; frame < frames; ++frame) {
     while (fired < shots && frame >= (fired + 1) * frames / (shots + 1)) {
-      bk_projectile_def shot = bk_scene_shot(loaded.scene, fired++, 0.0);
+      bk_projectile_def shot = scene_shot(loaded.scene, fired++, 0.0);
       bk_world_fire(loaded.world, &shot, NULL);
     }
     bk_world_step(loaded.world);
@@ -203,7 +203,7 @@ static uint32_t scripted_run(const char* name, uint32_t frames, uint32_t shots, 
     *out += fabs(at.z) > out_distance || at.y < fallen_y;
   }
   uint32_t freed = bk_world_get_stats(loaded.world).fragments_free;
-  bk_loaded_scene_destroy(&loaded);
+  loaded_scene_destroy(&loaded);
   return freed;
 }
 
@@ -216,7 +216,7 @@ static void test_wall_hole(void) {
   uint32_t out = 0, freed = scripted_run("wall", 82, 3, 0.25, -1.0, &out);
   fprintf(stderr, "    wall, 3 shots: %u bricks freed, %u knocked out\n", freed, out);
   ENSURE_MSG(freed >= 10 && out >= 4, "%u bricks freed, %u knocked out", freed, out);
-  const bk_scene* wall = bk_scene_find("wall");
+  const app_scene* wall = scene_find("wall");
   ENSURE(bk_v3_length(bk_v3_sub(camera_of(wall), wall->target)) < 2.6);
   bk_mesh m = placed_source(&wall->objects[0]);
   ENSURE(in_view(wall, &m, 0.3)); // all of it in view, well inside the border
@@ -227,7 +227,7 @@ static void test_wall_hole(void) {
 // not along the ground at its edge (those shots glanced off and bounced
 // over it), and seen from near enough to make out the crater.
 static void test_slab_framing(void) {
-  const bk_scene* slab = bk_scene_find("slab");
+  const app_scene* slab = scene_find("slab");
   bk_mesh m = placed_source(&slab->objects[0]);
   bk_vec3 hit = {0};
   ENSURE(first_hit(&m, slab->eye, slab->target, &hit));

@@ -212,7 +212,7 @@ static void test_weak_bridge_fails(void) {
 
 // ---------------------------------------------------------------- the pillar, shot
 
-// The pillar scene's pillar (src/app/scenes.c): 2 m of stone in 128
+// The pillar scene's pillar (src/scenes/scenes.c): 2 m of stone in 128
 // clustered pieces with the scene's aspect bias, standing free on the
 // ground, so that it is held up by its contacts with the ground alone.
 // Seed 5: whatever the shots' timing, they leave a strip of the band too
@@ -239,7 +239,7 @@ static bk_mesh_tree make_scene_pillar(void) {
 // they break: what rests above the band is the pillar's top.
 static const double pillar_middle = 1.0, pillar_band = 0.15;
 
-// Shot k as the pillar scene fires it (bk_scene_shot: from its eye, as heavy
+// Shot k as the pillar scene fires it (scene_shot: from its eye, as heavy
 // and fast as its projectiles, on a golden-angle spiral round the aim so
 // that a volley spreads), but aimed at the middle, where the scene aims
 // 0.2 m higher.

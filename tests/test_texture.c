@@ -35,11 +35,11 @@ static void test_black_and_white(void) {
   // Half black, half white is half the light: sRGB 188, not the byte mean 128.
   unsigned char rgb[12], out[3];
   fill(rgb, 4, (const int[]){0, 255, 255, 0});
-  bk_texture_halve(rgb, 2, 2, true, out);
+  texture_halve(rgb, 2, 2, true, out);
   ENSURE(out[0] == nearest_srgb_byte(0.5) && out[0] == 188);
   ENSURE(out[1] == out[0] && out[2] == out[0]);
   // Data that is not a colour (a normal map) averages its bytes.
-  bk_texture_halve(rgb, 2, 2, false, out);
+  texture_halve(rgb, 2, 2, false, out);
   ENSURE(out[0] == 128 && out[1] == 128 && out[2] == 128);
 }
 
@@ -49,7 +49,7 @@ static void test_every_byte_survives(void) {
     unsigned char rgb[12], out[3];
     fill(rgb, 4, (const int[]){b, b, b, b});
     for (int srgb = 0; srgb < 2; ++srgb) {
-      bk_texture_halve(rgb, 2, 2, srgb, out);
+      texture_halve(rgb, 2, 2, srgb, out);
       ENSURE_MSG(out[0] == b && out[1] == b && out[2] == b, "byte %d, srgb %d: got %d", b, srgb, out[0]);
     }
   }
@@ -60,7 +60,7 @@ static void test_mixed_channels(void) {
   // and blue from other mixes, against the exact curve.
   const unsigned char rgb[12] = {10, 200, 0, 240, 200, 0, 10, 50, 255, 240, 50, 255};
   unsigned char out[3];
-  bk_texture_halve(rgb, 2, 2, true, out);
+  texture_halve(rgb, 2, 2, true, out);
   for (int k = 0; k < 3; ++k) {
     double mean = 0.0;
     for (int i = 0; i < 4; ++i)
@@ -74,16 +74,16 @@ static void test_sizes(void) {
   // 3x3 to 1x1: the top-left 2x2 box; the last row and column are left out.
   unsigned char rgb[27], out[3];
   fill(rgb, 9, (const int[]){0, 0, 255, 0, 0, 255, 255, 255, 255});
-  bk_texture_halve(rgb, 3, 3, true, out);
+  texture_halve(rgb, 3, 3, true, out);
   ENSURE(out[0] == 0);
   // 1x4 to 1x2: a single column halves its rows only.
   unsigned char column[12], half[6];
   fill(column, 4, (const int[]){0, 0, 255, 255});
-  bk_texture_halve(column, 1, 4, true, half);
+  texture_halve(column, 1, 4, true, half);
   ENSURE(half[0] == 0 && half[3] == 255);
   // 1x1 stays itself.
   unsigned char one[3] = {7, 77, 177}, same[3];
-  bk_texture_halve(one, 1, 1, true, same);
+  texture_halve(one, 1, 1, true, same);
   ENSURE(memcmp(one, same, 3) == 0);
 }
 
@@ -99,8 +99,8 @@ static void test_in_place(void) {
   memcpy(copy, image, sizeof image);
   for (int srgb = 0; srgb < 2; ++srgb) {
     memcpy(image, copy, sizeof image);
-    bk_texture_halve(copy, W, H, srgb, out);
-    bk_texture_halve(image, W, H, srgb, image);
+    texture_halve(copy, W, H, srgb, out);
+    texture_halve(image, W, H, srgb, image);
     ENSURE_MSG(memcmp(image, out, sizeof out) == 0, "srgb %d: in-place result differs", srgb);
   }
 }
@@ -110,12 +110,12 @@ static void test_rgba_levels(void) {
   // rounded mean (no sRGB curve), each texel's four bytes kept together.
   const unsigned char rgba[16] = {0, 128, 255, 255, 255, 128, 255, 0, 255, 0, 250, 255, 0, 1, 250, 0};
   unsigned char out[4] = {0};
-  bk_texture_halve_rgba(rgba, 2, 2, out);
+  texture_halve_rgba(rgba, 2, 2, out);
   ENSURE_MSG(out[0] == 128 && out[1] == 64 && out[2] == 253 && out[3] == 128, "got %d %d %d %d", out[0],
              out[1], out[2], out[3]);
   // Odd sizes and in place, as the RGB levels: a 3x1 row keeps its first two texels' mean.
   unsigned char row[12] = {10, 20, 30, 40, 30, 40, 50, 60, 255, 255, 255, 255};
-  bk_texture_halve_rgba(row, 3, 1, row);
+  texture_halve_rgba(row, 3, 1, row);
   ENSURE(row[0] == 20 && row[1] == 30 && row[2] == 40 && row[3] == 50);
 }
 

@@ -1,8 +1,8 @@
 // UI layer: every call is harmless without a UI or outside a frame; with a
 // display (e.g. under xvfb-run), a hidden 3.3 core window: the UI draws into
 // the bound framebuffer (an FBO here) without GL errors, text shows, the
-// scale enlarges it, input callbacks installed before bk_ui_create are
-// chained and given back by bk_ui_destroy, and create/destroy cycles work.
+// scale enlarges it, input callbacks installed before ui_create are
+// chained and given back by ui_destroy, and create/destroy cycles work.
 // Without a display the GL part is skipped.
 #include <math.h>
 #include <stdbool.h>
@@ -12,9 +12,9 @@
 
 #include <GLFW/glfw3.h>
 
-#include "bk_ui.h"
 #include "ensure.h"
 #include "hud.h"
+#include "ui.h"
 
 enum { width = 800, height = 720 };
 
@@ -32,64 +32,64 @@ static void on_focus(GLFWwindow* window, int focused) {
 }
 
 static void test_without_ui(void) {
-  ENSURE(!bk_ui_create(NULL));
-  ENSURE(!bk_ui_wants_mouse());
-  ENSURE(!bk_ui_wants_keyboard());
-  bk_ui_begin_frame(); // no UI: nothing happens
+  ENSURE(!ui_create(NULL));
+  ENSURE(!ui_wants_mouse());
+  ENSURE(!ui_wants_keyboard());
+  ui_begin_frame(); // no UI: nothing happens
   bool open = true, check = false;
   double d = 1.0;
   int i = 3, current = 0;
   const char* const items[] = {"a", "b"};
   float values[4] = {1, 2, 3, 4};
-  ENSURE(!bk_ui_begin_window("w", 0, 0, 100, 100, &open));
-  ENSURE(!bk_ui_collapsing_header("h", true));
-  ENSURE(!bk_ui_button("b"));
-  ENSURE(!bk_ui_checkbox("c", &check) && !check);
-  ENSURE(!bk_ui_slider_double("d", &d, 0, 2, NULL, true) && d == 1.0);
-  ENSURE(!bk_ui_slider_int("i", &i, 0, 9) && i == 3);
-  ENSURE(!bk_ui_combo("m", &current, items, 2) && current == 0);
-  ENSURE(!bk_ui_radio("r", &i, 5) && i == 3);
-  bk_ui_text("%d", i);
-  bk_ui_text_colored(1, 0, 0, "%s", "x");
-  bk_ui_progress(0.5f, NULL);
-  bk_ui_plot("p", values, 4, 0, 0, 0, 0, NULL);
-  bk_ui_tooltip("t");
-  bk_ui_separator();
-  bk_ui_same_line();
-  bk_ui_push_id(1);
-  bk_ui_pop_id();
-  bk_ui_end_window();
-  bk_ui_end_frame();
+  ENSURE(!ui_begin_window("w", 0, 0, 100, 100, &open));
+  ENSURE(!ui_collapsing_header("h", true));
+  ENSURE(!ui_button("b"));
+  ENSURE(!ui_checkbox("c", &check) && !check);
+  ENSURE(!ui_slider_double("d", &d, 0, 2, NULL, true) && d == 1.0);
+  ENSURE(!ui_slider_int("i", &i, 0, 9) && i == 3);
+  ENSURE(!ui_combo("m", &current, items, 2) && current == 0);
+  ENSURE(!ui_radio("r", &i, 5) && i == 3);
+  ui_text("%d", i);
+  ui_text_colored(1, 0, 0, "%s", "x");
+  ui_progress(0.5f, NULL);
+  ui_plot("p", values, 4, 0, 0, 0, 0, NULL);
+  ui_tooltip("t");
+  ui_separator();
+  ui_same_line();
+  ui_push_id(1);
+  ui_pop_id();
+  ui_end_window();
+  ui_end_frame();
   const float white[4] = {1, 1, 1, 1};
   float w = -1.0f, h = -1.0f;
-  bk_ui_display_size(&w, &h);
+  ui_display_size(&w, &h);
   ENSURE(w == 0.0f && h == 0.0f);
-  bk_ui_text_size("text", &w, &h);
+  ui_text_size("text", &w, &h);
   ENSURE(w == 0.0f && h == 0.0f);
-  bk_ui_overlay_line(0, 0, 10, 10, white, 1);
-  bk_ui_overlay_rect(0, 0, 10, 10, white, 0);
-  bk_ui_overlay_text(0, 0, white, "t");
-  bk_hud_draw(0.0);
-  bk_ui_set_scale(1.0f);
-  bk_ui_destroy();
+  ui_overlay_line(0, 0, 10, 10, white, 1);
+  ui_overlay_rect(0, 0, 10, 10, white, 0);
+  ui_overlay_text(0, 0, white, "t");
+  hud_draw(0.0);
+  ui_set_scale(1.0f);
+  ui_destroy();
 }
 
 // The game's hint: shown in full at first, gone a few seconds later,
 // fading in between without a jump; both forms name the panel's key.
 static void test_hud_fade(void) {
-  ENSURE(bk_hud_hint_alpha(0.0) == 1.0f && bk_hud_hint_alpha(3.0) == 1.0f);
-  ENSURE(bk_hud_hint_alpha(10.0) == 0.0f && bk_hud_hint_alpha(1e9) == 0.0f);
-  ENSURE(bk_hud_hint_alpha(NAN) == 1.0f);
+  ENSURE(hud_hint_alpha(0.0) == 1.0f && hud_hint_alpha(3.0) == 1.0f);
+  ENSURE(hud_hint_alpha(10.0) == 0.0f && hud_hint_alpha(1e9) == 0.0f);
+  ENSURE(hud_hint_alpha(NAN) == 1.0f);
   float previous = 1.0f;
   for (double t = 5.0; t <= 8.0; t += 0.05) {
-    float a = bk_hud_hint_alpha(t);
+    float a = hud_hint_alpha(t);
     ENSURE_MSG(a <= previous && previous - a < 0.1f, "alpha %g at %g s after %g", a, t, previous);
     previous = a;
   }
-  float middle = bk_hud_hint_alpha(6.75);
+  float middle = hud_hint_alpha(6.75);
   ENSURE(middle > 0.2f && middle < 0.8f);
-  ENSURE(strstr(bk_hud_hint(false), "F1: panel") && strstr(bk_hud_hint(true), "F1: panel"));
-  ENSURE(strlen(bk_hud_hint(true)) < strlen(bk_hud_hint(false)));
+  ENSURE(strstr(hud_hint(false), "F1: panel") && strstr(hud_hint(true), "F1: panel"));
+  ENSURE(strlen(hud_hint(true)) < strlen(hud_hint(false)));
 }
 
 static void draw(bool* second_open) {
@@ -100,33 +100,33 @@ static void draw(bool* second_open) {
   static float history[32];
   for (int k = 0; k < 32; k++)
     history[k] = (float)(k % 7);
-  if (bk_ui_begin_window("Test", 10, 10, 380, 700, NULL)) {
-    bk_ui_text("Frame text %d", 42);
-    bk_ui_text_colored(1.0f, 0.5f, 0.0f, "Coloured");
-    bk_ui_separator();
-    if (bk_ui_collapsing_header("Settings", true)) {
-      ENSURE(!bk_ui_checkbox("Check", &check));
-      ENSURE(!bk_ui_slider_double("Speed", &speed, 0.0, 10.0, "%.1f", false));
-      ENSURE(!bk_ui_slider_double("Mass", &mass, 0.01, 1000.0, NULL, true));
-      ENSURE(!bk_ui_slider_int("Pieces", &pieces, 2, 4096));
-      ENSURE(!bk_ui_combo("Material", &material, materials, 3));
-      ENSURE(!bk_ui_radio("One", &mode, 0));
-      bk_ui_same_line();
-      ENSURE(!bk_ui_radio("Two", &mode, 1));
+  if (ui_begin_window("Test", 10, 10, 380, 700, NULL)) {
+    ui_text("Frame text %d", 42);
+    ui_text_colored(1.0f, 0.5f, 0.0f, "Coloured");
+    ui_separator();
+    if (ui_collapsing_header("Settings", true)) {
+      ENSURE(!ui_checkbox("Check", &check));
+      ENSURE(!ui_slider_double("Speed", &speed, 0.0, 10.0, "%.1f", false));
+      ENSURE(!ui_slider_double("Mass", &mass, 0.01, 1000.0, NULL, true));
+      ENSURE(!ui_slider_int("Pieces", &pieces, 2, 4096));
+      ENSURE(!ui_combo("Material", &material, materials, 3));
+      ENSURE(!ui_radio("One", &mode, 0));
+      ui_same_line();
+      ENSURE(!ui_radio("Two", &mode, 1));
     }
     for (int k = 0; k < 2; k++) {
-      bk_ui_push_id(k);
-      ENSURE(!bk_ui_button("Same label"));
-      bk_ui_pop_id();
+      ui_push_id(k);
+      ENSURE(!ui_button("Same label"));
+      ui_pop_id();
     }
-    bk_ui_tooltip("tip");
-    bk_ui_progress(0.3f, "loading");
-    bk_ui_plot("Plot", history, 32, 5, 0.0f, 0.0f, 40.0f, "overlay");
-    bk_ui_end_window();
+    ui_tooltip("tip");
+    ui_progress(0.3f, "loading");
+    ui_plot("Plot", history, 32, 5, 0.0f, 0.0f, 40.0f, "overlay");
+    ui_end_window();
   }
-  if (bk_ui_begin_window("Closable", 420, 10, 200, 100, second_open)) {
-    bk_ui_text("second");
-    bk_ui_end_window();
+  if (ui_begin_window("Closable", 420, 10, 200, 100, second_open)) {
+    ui_text("second");
+    ui_end_window();
   }
 }
 
@@ -145,11 +145,11 @@ static long render_and_count_text(uint8_t* pixels) {
     glViewport(0, 0, width, height);
     glClearColor(0.0f, 0.5f, 0.0f, 1.0f);
     glClear(GL_COLOR_BUFFER_BIT);
-    bk_ui_begin_frame();
-    bk_ui_begin_frame(); // a second begin inside a frame is ignored
+    ui_begin_frame();
+    ui_begin_frame(); // a second begin inside a frame is ignored
     draw(&second_open);
-    bk_ui_end_frame();
-    bk_ui_end_frame(); // and so is a second end
+    ui_end_frame();
+    ui_end_frame(); // and so is a second end
     ENSURE(gl_error_count() == 0);
   }
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
@@ -178,9 +178,9 @@ static void draw_hud(uint8_t* pixels, double seconds, long* centre, long* bottom
   glViewport(0, 0, width, height);
   glClearColor(0.0f, 0.5f, 0.0f, 1.0f);
   glClear(GL_COLOR_BUFFER_BIT);
-  bk_ui_begin_frame();
-  bk_hud_draw(seconds);
-  bk_ui_end_frame();
+  ui_begin_frame();
+  hud_draw(seconds);
+  ui_end_frame();
   ENSURE(gl_error_count() == 0);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
   glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, pixels);
@@ -259,9 +259,9 @@ static void test_with_display(void) {
   ENSURE(pixels);
   long text_small = 0;
   for (int cycle = 0; cycle < 2; cycle++) {
-    bk_ui_set_scale(1.0f);
-    ENSURE(bk_ui_create(window));
-    ENSURE(!bk_ui_create(window)); // one UI at a time
+    ui_set_scale(1.0f);
+    ENSURE(ui_create(window));
+    ENSURE(!ui_create(window)); // one UI at a time
     // ImGui's callback is installed over ours (and calls ours).
     GLFWwindowfocusfun installed = glfwSetWindowFocusCallback(window, NULL);
     ENSURE(installed != NULL && installed != on_focus);
@@ -278,16 +278,16 @@ static void test_with_display(void) {
       ENSURE_MSG(labs(text - text_small) < text_small / 20, "%ld vs %ld", text, text_small);
     // Larger scale (applied mid-lifetime: the font texture is rebuilt): more text pixels
     // (the window is tall enough to show everything at 1.5).
-    bk_ui_set_scale(1.5f);
+    ui_set_scale(1.5f);
     long text_large = render_and_count_text(pixels);
     ENSURE_MSG(text_large > text * 13 / 10, "scaled text pixels: %ld vs %ld", text_large, text);
     if (cycle == 0) fprintf(stderr, "  text pixels: %ld at scale 1, %ld at 1.5\n", text, text_large);
     if (cycle == 0) check_hud(pixels);
 
-    bk_ui_begin_frame();
-    bk_ui_destroy(); // inside a frame: allowed
-    bk_ui_destroy(); // twice: nothing
-    ENSURE(!bk_ui_wants_mouse());
+    ui_begin_frame();
+    ui_destroy(); // inside a frame: allowed
+    ui_destroy(); // twice: nothing
+    ENSURE(!ui_wants_mouse());
     ENSURE(glfwSetWindowFocusCallback(window, on_focus) == on_focus); // ours is back
     ENSURE(gl_error_count() == 0);
   }

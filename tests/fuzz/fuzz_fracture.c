@@ -49,7 +49,7 @@ enum { FUZZ_FRACTURE_MAX_BYTES = 4096 };
 
 static uint32_t pieces_of(uint8_t b) { return b >= '2' && b <= '8' ? (uint32_t)(b - '0') : 2u + b % 7u; }
 
-// The same repair as bk_app_load_mesh: an open mesh whose edges are each used
+// The same repair as app_load_mesh: an open mesh whose edges are each used
 // once per direction gets its holes filled; anything else goes to the build as is.
 static bool repair_like_the_cli(bk_mesh* mesh) {
   bk_closure closure = bk_mesh_check_closure(mesh);

@@ -1,4 +1,4 @@
-// Fuzzes the seed-point reader of `fracture --seeds` (bk_seed_points_parse)
+// Fuzzes the seed-point reader of `fracture --seeds` (seed_points_parse)
 // straight from memory. An accepted text must give at least one point, every
 // coordinate finite, and the points written back as text must read back the
 // same; a refused one must get one line naming the input, and no points.
@@ -21,7 +21,7 @@ int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   bk_vec3* points = NULL;
   uint32_t count = 0;
   bk_error err = {{0}};
-  if (!bk_seed_points_parse((const char*)data, size, "input.txt", &points, &count, &err)) {
+  if (!seed_points_parse((const char*)data, size, "input.txt", &points, &count, &err)) {
     if (!err.message[0]) bk_fuzz_fail("refused without a message");
     if (strchr(err.message, '\n')) bk_fuzz_fail("message is not one line: %s", err.message);
     if (strncmp(err.message, "input.txt", 9) != 0)
@@ -42,7 +42,7 @@ int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   }
   bk_vec3* again = NULL;
   uint32_t again_count = 0;
-  if (!bk_seed_points_parse(text, used, "written.txt", &again, &again_count, &err))
+  if (!seed_points_parse(text, used, "written.txt", &again, &again_count, &err))
     bk_fuzz_fail("the points written back are refused: %s", err.message);
   if (again_count != count) bk_fuzz_fail("%u points read back as %u", count, again_count);
   for (uint32_t i = 0; i < count; ++i)

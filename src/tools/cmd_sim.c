@@ -1,0 +1,485 @@
+// breakables sim: run a scene headless, fire projectiles, report.
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "app.h"
+#include "fracture_patterns.h"
+
+static const char* const sim_usage =
+    "usage: breakables sim [--scene NAME | --mesh PATH] [--material NAME] [--pattern NAME] [--pieces N]\n"
+    "                      [--scale S] [--units mm|cm|m|in]\n"
+    "                      [--seed S] [--shots K] [--steps F] [--volley V]\n"
+    "                      [--speed M/S] [--frailty X] [--density X] [--discrete|--accumulate] [--naive]\n"
+    "                      [--no-stress] [--stress-scale X] [--drop KG] [--drop-radius M] [--drop-at STEP]\n"
+    "                      [--budget-ms X] [--budget-fidelity S] [--budget-fidelity-factor F]\n"
+    "                      [--copies N] [--max-memory MIB] [--json]\n"
+    "\n"
+    "Runs a scene headless at a fixed 60 Hz: builds (or loads from the cache) the\n"
+    "scene's mesh tree, fires K projectiles at the object at regular intervals\n"
+    "during F steps, and reports what broke and what it cost.\n"
+    "\n"
+    "options:\n"
+    "  --scene NAME     wall, eggshell, pillar, slab, bunny, torus, showcase, tower, bridge,\n"
+    "                   balcony (default: wall)\n"
+    "  --mesh PATH      your own model instead of a scene (what fracture --mesh reads, an\n"
+    "                   .mtree, or a .glb/.gltf exported by fracture): stood on the ground\n"
+    "                   and shot at from the front\n"
+    "  --scale S        multiply a model file's size by S, 1e-06..1e+06 (default: 1)\n"
+    "  --units U        mm, cm, m or in: the unit of a model file whose format gives none\n"
+    "                   (OBJ, STL, PLY, ...; FBX, glTF and Collada give theirs; default: m)\n"
+    "  --material NAME  stone, concrete, glass, porcelain, eggshell, wood: every object's\n"
+    "                   material (default: the scene's; stone for --mesh)\n"
+    "  --pattern NAME   how every object breaks: planes, voronoi, clustered, radial, brick\n"
+    "                   or cutout (default: each object's own: the walls brick, the pillar\n"
+    "                   clustered, the bunny, torus, tower, bridge and balcony radial round\n"
+    "                   their aim points, the eggshell voronoi, the rest planes); see\n"
+    "                   'breakables fracture --help'\n"
+    "  --pieces N       fragments per object, 1..65536 (default: the scene's; cutout\n"
+    "                   makes as many as its fracture map has regions)\n"
+    "  --seed S         fracture seed, 0..18446744073709551615 (default: 3000)\n"
+    "  --shots K        projectiles to fire, 0..1000 (default: 3, or 0 with --drop)\n"
+    "  --steps F        60 Hz steps to run, 1..1000000 (default: 300)\n"
+    "  --volley V       fire the shots within the first V steps, 1..1000000 (default: all\n"
+    "                   F): the rest shows what the debris costs as it settles\n"
+    "  --speed M/S      projectile speed, 0.1..2000 (default: the scene's)\n"
+    "  --frailty X      damage multiplier, 1e-6..1e6 (default: the material's)\n"
+    "  --density X      kg/m^3, 1..1e5 (default: the material's)\n"
+    "  --discrete       a bond breaks only if one hit exceeds its hit points\n"
+    "  --accumulate     bonds lose hit points over hits (default: the material's choice)\n"
+    "  --naive          plain BCRB: one collider per fragment, for comparison\n"
+    "  --no-stress      no structural stress: what is still bonded to an anchor stays up\n"
+    "                   however little holds it (as before the stress solver)\n"
+    "  --stress-scale X every material's stress limits times X, 1e-6..1e6 (default 1)\n"
+    "  --drop KG        set a weight of KG, 1..1e6, down at rest on the top surface over the\n"
+    "                   first object's aim point (the bridge: the middle of its deck), for\n"
+    "                   the structure to carry (20000 breaks the bridge, 500 does not)\n"
+    "  --drop-radius M  the weight's radius, 0.01..2 m (default 0.3)\n"
+    "  --drop-at STEP   the step it is set down, 0..10000000, before --steps (default 60:\n"
+    "                   the structure has settled)\n"
+    "  --budget-ms X    the physics budget per step, 0..1000 ms (default 8, half a 60 Hz\n"
+    "                   frame; 0 turns it off): over it,\n"
+    "                   the least important loose pieces (small, far from the scene's eye,\n"
+    "                   slow, long at rest) get cheaper: no contacts among themselves, then\n"
+    "                   a fitted sphere or box, then frozen, then retired\n"
+    "  --budget-fidelity S  for S seconds after it comes loose, 0..60 (default 1), a piece\n"
+    "                   keeps what the player sees of it: no contacts dropped while it lies\n"
+    "                   on others, its own shape, never retired; 0 makes every piece fair\n"
+    "                   game at once (faster, but piles fall through themselves)\n"
+    "  --budget-fidelity-factor F  while new pieces keep that, a step may cost up to F\n"
+    "                   times the budget, 0 or 1..1000 (default 2); past it the least\n"
+    "                   important of them give it up; 0 keeps it whatever it costs\n"
+    "  --copies N       N copies of the scene side by side along x, 1..64 (default 1), a gap\n"
+    "                   between them; each shot hits every copy in the same step\n"
+    "  --max-memory MIB memory each fracture may use, 1..1073741824 MiB (default: the\n"
+    "                   available memory); a tree estimated to need more is refused\n"
+    "  --json           print one JSON object: scene, pieces, bodies_initial, bodies_final,\n"
+    "                   break_events, bonds_broken, colliders_initial, colliders_final,\n"
+    "                   colliders_naive_final, step_ms_median, step_ms_max, break_ms_median,\n"
+    "                   break_ms_max, step_ms_last_second, awake_final, pairs_final,\n"
+    "                   manifolds_final, mass_rel_error, nan, fragments_free, from_cache,\n"
+    "                   stress_bonds_broken (bonds the load they carried broke),\n"
+    "                   fragments_fallen (fragments whose centroid ends more than 0.5 m\n"
+    "                   below where it started), stress_ms_median and stress_ms_max (over\n"
+    "                   the steps the stress solve worked), pattern (the objects' pattern,\n"
+    "                   or \"mixed\"), patterns (one per object), drop_kg (0: no weight) and\n"
+    "                   drop_point (where the weight was set down, or null); step_ms_p95,\n"
+    "                   physics_ms_median, physics_ms_p95, physics_ms_max; budget_ms and\n"
+    "                   budget_fidelity_s, budget_fidelity_factor (the options), the budget's tiers now\n"
+    "                   (budget_debris, budget_simplified, budget_frozen)\n"
+    "                   and since the start (budget_retired, budget_demotions,\n"
+    "                   budget_restorations), mass_retired (kg; mass_rel_error counts it as\n"
+    "                   kept); copies; and what the player sees of the debris (every dynamic\n"
+    "                   piece still simulated), averaged over the first second after each\n"
+    "                   shot: debris_mass_1s (kg), debris_momentum_1s (the sum of |m v| over\n"
+    "                   the pieces: how much moves) and debris_net_momentum_1s (|sum of m v|),\n"
+    "                   and the same of the pieces within budget_fidelity_radius (8 m) of\n"
+    "                   the scene's eye that look large enough from it to see\n"
+    "                   (budget_visible_angle, 0.006 rad: about four pixels)\n"
+    "                   (debris_near_mass_1s, debris_near_momentum_1s,\n"
+    "                   debris_near_net_momentum_1s), to compare a run with a budget against\n"
+    "                   one without; break handling plus body creation (damage from\n"
+    "                   contacts, splits, the bodies they remove and make: CPU time of the\n"
+    "                   thread, not the stress solve) over the steps that had any (bonds\n"
+    "                   broke, a body split, or hits or splits waited for the world's budgets):\n"
+    "                   break_ms_median (= break_ms_p50), break_ms_p99, break_ms_max;\n"
+    "                   break_wait_steps_max (the most steps a shot's last piece waited\n"
+    "                   for its body: from the step it was hit until no hit or split waits);\n"
+    "                   settled_physics_ms (the physics engine's CPU time per step, mean\n"
+    "                   over the last 60 steps, when the debris has come to rest)\n"
+    "  -h, --help       show this help\n"
+    "\n"
+    "Mesh trees are cached in $BREAKABLES_CACHE_DIR (else $XDG_CACHE_HOME/breakables,\n"
+    "else ~/.cache/breakables).\n";
+
+static int usage_error(const char* option, const char* what) {
+  fprintf(stderr, "breakables sim: %s %s (see 'breakables sim --help')\n", option, what);
+  return 2;
+}
+
+// The patterns the objects' trees were made with (a tree loaded from a file
+// keeps its own): JSON members "pattern" (the one they share, else "mixed")
+// and "patterns" (one per object), or a line of text.
+static void print_patterns(const loaded_scene* s, bool json) {
+  const char* shared = s->tree_count ? bk_fracture_pattern_name(s->trees[0].desc.pattern) : "none";
+  for (uint32_t i = 1; i < s->tree_count; ++i)
+    if (s->trees[i].desc.pattern != s->trees[0].desc.pattern) shared = "mixed";
+  if (json) {
+    printf("\"pattern\": \"%s\", \"patterns\": [", shared);
+    for (uint32_t i = 0; i < s->tree_count; ++i)
+      printf("%s\"%s\"", i ? ", " : "", bk_fracture_pattern_name(s->trees[i].desc.pattern));
+    printf("]");
+  } else if (strcmp(shared, "mixed") != 0) {
+    printf("  pattern %s\n", shared);
+  } else {
+    printf("  patterns:");
+    for (uint32_t i = 0; i < s->tree_count; ++i)
+      printf("%s %s %s", i ? "," : "", s->scene->objects[i].mesh,
+             bk_fracture_pattern_name(s->trees[i].desc.pattern));
+    printf("\n");
+  }
+}
+
+// Fragments of one copy of the scene (the copies have the same trees).
+static uint32_t fragments_of(const loaded_scene* s) {
+  uint32_t total = 0;
+  for (uint32_t i = 0; i < s->tree_count; ++i)
+    total += s->trees[i].leaf_count;
+  return total;
+}
+
+// Every fragment's height now, object after object, copy after copy.
+static double* heights_of(const loaded_scene* s) {
+  uint32_t total = fragments_of(s), copies = s->copies ? s->copies : 1;
+  double* heights = bk_alloc(sizeof(double) * (total ? total * copies : 1u));
+  bk_vec3* centroids = bk_alloc(sizeof(bk_vec3) * (total ? total : 1u));
+  uint32_t at = 0;
+  for (uint32_t c = 0; c < copies; ++c) {
+    for (uint32_t i = 0; i < s->tree_count; ++i) {
+      uint32_t n = bk_world_fragment_centroids(s->world, loaded_scene_id(s, c, i), centroids, total);
+      for (uint32_t l = 0; l < n; ++l)
+        heights[at + l] = centroids[l].y;
+      at += s->trees[i].leaf_count;
+    }
+  }
+  free(centroids);
+  return heights;
+}
+
+// Fragments whose centroid ended more than 0.5 m below where it started.
+static uint32_t fragments_fallen(const loaded_scene* s, const double* rest_heights) {
+  uint32_t fallen = 0, count = fragments_of(s) * (s->copies ? s->copies : 1);
+  double* heights = heights_of(s);
+  for (uint32_t f = 0; f < count; ++f)
+    fallen += heights[f] < rest_heights[f] - 0.5; // NaN (gone) counts as not fallen
+  free(heights);
+  return fallen;
+}
+
+int cmd_sim(int argc, char** argv) {
+  const char* scene_name = "wall";
+  const char* mesh = NULL;
+  const char* material = NULL;
+  bool scene_given = false;
+  uint64_t shots = 3, steps = 300, volley = 0;
+  double speed = 0.0;
+  bool json = false, shots_given = false;
+  scene_options options = default_scene_options();
+  app_drop drop = default_drop();
+  for (int i = 1; i < argc; ++i) {
+    const char* arg = argv[i];
+    const char* value = i + 1 < argc ? argv[i + 1] : NULL;
+    bool flag = true;
+    uint64_t number = 0;
+    int dropped = parse_drop_option("sim", argc, argv, &i, &drop);
+    if (dropped == 0) continue;
+    if (dropped == 2) return 2;
+    int units = parse_model_units_option("sim", argc, argv, &i);
+    if (units == 0) continue;
+    if (units == 2) return 2;
+    if (strcmp(arg, "-h") == 0 || strcmp(arg, "--help") == 0) {
+      fputs(sim_usage, stdout);
+      return 0;
+    } else if (strcmp(arg, "--json") == 0) {
+      json = true;
+    } else if (strcmp(arg, "--naive") == 0) {
+      options.naive = true;
+    } else if (strcmp(arg, "--discrete") == 0) {
+      options.accumulate = 0;
+    } else if (strcmp(arg, "--accumulate") == 0) {
+      options.accumulate = 1;
+    } else if (strcmp(arg, "--no-stress") == 0) {
+      options.stress = false;
+    } else {
+      flag = false;
+    }
+    if (flag) continue;
+    const char* known[] = {"--scene",      "--pieces",          "--seed",
+                           "--shots",      "--steps",           "--volley",
+                           "--speed",      "--frailty",         "--density",
+                           "--mesh",       "--material",        "--pattern",
+                           "--max-memory", "--stress-scale",    "--budget-ms",
+                           "--copies",     "--budget-fidelity", "--budget-fidelity-factor"};
+    bool is_known = false;
+    for (size_t k = 0; k < sizeof known / sizeof *known; ++k)
+      is_known = is_known || strcmp(arg, known[k]) == 0;
+    if (!is_known) {
+      fprintf(stderr, "breakables sim: unknown option '%s' (see 'breakables sim --help')\n", arg);
+      return 2;
+    }
+    if (!value) return usage_error(arg, "needs a value");
+    ++i;
+    if (strcmp(arg, "--scene") == 0) {
+      scene_name = value;
+      scene_given = true;
+    } else if (strcmp(arg, "--mesh") == 0) {
+      mesh = value;
+    } else if (strcmp(arg, "--material") == 0) {
+      material = value;
+    } else if (strcmp(arg, "--pattern") == 0) {
+      bk_fracture_pattern pattern = BK_PATTERN_PLANES;
+      bk_error err = {0};
+      if (!scene_pattern_from_name(value, &pattern, &err)) {
+        fprintf(stderr, "breakables sim: %s\n", err.message);
+        return 2;
+      }
+      options.pattern = (int)pattern;
+    } else if (strcmp(arg, "--max-memory") == 0) {
+      if (!app_parse_max_memory("sim", value)) return 2;
+    } else if (strcmp(arg, "--pieces") == 0) {
+      if (!option_u64("sim", arg, value, 1, 65536, &number)) return 2;
+      options.pieces = (uint32_t)number;
+    } else if (strcmp(arg, "--seed") == 0) {
+      if (!option_u64("sim", arg, value, 0, UINT64_MAX, &options.seed)) return 2;
+    } else if (strcmp(arg, "--shots") == 0) {
+      if (!option_u64("sim", arg, value, 0, 1000, &shots)) return 2;
+      shots_given = true;
+    } else if (strcmp(arg, "--steps") == 0) {
+      // A million steps is 4.6 simulated hours, two timings of 8 bytes each.
+      if (!option_u64("sim", arg, value, 1, 1000000, &steps)) return 2;
+    } else if (strcmp(arg, "--volley") == 0) {
+      if (!option_u64("sim", arg, value, 1, 1000000, &volley)) return 2;
+    } else if (strcmp(arg, "--speed") == 0) {
+      // From a lob to twice a rifle bullet; continuous collision detection
+      // keeps even the fastest from passing through a thin wall.
+      if (!option_double("sim", arg, value, 0.1, 2000.0, &speed)) return 2;
+    } else if (strcmp(arg, "--stress-scale") == 0) {
+      if (!option_double("sim", arg, value, 1e-6, 1e6, &options.stress_scale)) return 2;
+    } else if (strcmp(arg, "--budget-ms") == 0) {
+      if (!app_parse_budget_ms("sim", value, &options)) return 2;
+    } else if (strcmp(arg, "--budget-fidelity-factor") == 0) {
+      if (!option_double("sim", arg, value, 0.0, BK_BUDGET_FIDELITY_FACTOR_MAX,
+                         &options.budget_fidelity_factor))
+        return 2;
+      if (options.budget_fidelity_factor > 0.0 && options.budget_fidelity_factor < 1.0) {
+        fprintf(stderr, "breakables sim: %s '%s' is out of range (0, or 1..%g)\n", arg, value,
+                BK_BUDGET_FIDELITY_FACTOR_MAX);
+        return 2;
+      }
+    } else if (strcmp(arg, "--budget-fidelity") == 0) {
+      if (!option_double("sim", arg, value, 0.0, BK_BUDGET_FIDELITY_MAX, &options.budget_fidelity_time))
+        return 2;
+    } else if (strcmp(arg, "--copies") == 0) {
+      if (!option_u64("sim", arg, value, 1, BK_COPIES_MAX, &number)) return 2;
+      options.copies = (uint32_t)number;
+    } else if (strcmp(arg, "--frailty") == 0) {
+      // Materials use 0.5..8. At 1e-6 no shot breaks a bond and at 1e6 every
+      // bond breaks at the first touch: beyond these nothing changes.
+      if (!option_double("sim", arg, value, 1e-6, 1e6, &options.frailty)) return 2;
+    } else if (strcmp(arg, "--density") == 0) {
+      // Aerogel to four times osmium covers any real solid. Far outside it,
+      // Bullet's float masses stop meaning anything: 1e-300 rounds to a mass
+      // of 0, which Bullet treats as static.
+      if (!option_double("sim", arg, value, 1.0, 1e5, &options.density)) return 2;
+    }
+  }
+  if (!check_drop("sim", &drop, steps, "--steps")) return 2;
+  // A weight is the load under test: shots on top of it would break the
+  // structure themselves and hide what the weight alone does.
+  if (drop.kg > 0.0 && !shots_given) shots = 0;
+  bk_error err = {0};
+  uint32_t scene_index = scene_resolve(scene_name, scene_given, mesh, material, &err);
+  if (scene_index == UINT32_MAX) {
+    fprintf(stderr, "breakables sim: %s\n", err.message);
+    return 2;
+  }
+  const app_scene* scene = scene_at(scene_index);
+  options.material = material;
+
+  loaded_scene loaded = {0};
+  if (!loaded_scene_create(scene, &options, &loaded, &err)) {
+    // A user's model: what failed to read or load it names its file already
+    // (once is enough); a built-in scene's name says which scene failed.
+    if (scene->fit_to_mesh && strstr(err.message, scene->objects[0].mesh))
+      fprintf(stderr, "breakables sim: %s\n", err.message);
+    else
+      fprintf(stderr, "breakables sim: %s: %s\n", scene->name, err.message);
+    return 1;
+  }
+  // The budget keeps what is near the eye fully simulated (with copies,
+  // the one in the middle, or the two either side of it).
+  bk_world_set_focus(loaded.world, loaded.scene->eye);
+  bk_world_stats initial = bk_world_get_stats(loaded.world);
+  double* rest_heights = heights_of(&loaded);
+  double* step_ms = bk_alloc(sizeof(double) * steps);
+  double* physics_ms = bk_alloc(sizeof(double) * steps);
+  app_fidelity fidelity = {0};
+  double* break_ms = bk_alloc(sizeof(double) * steps);
+  double* stress_ms = bk_alloc(sizeof(double) * steps);
+  uint32_t break_steps = 0, stress_steps = 0, fired = 0;
+  // Clusters waiting for the split budget: since which step, and the
+  // longest wait of a shot's last piece for its body.
+  uint64_t waiting_since = 0, wait_max = 0;
+  bool waiting = false;
+  // The last second's physics, when what the shots broke has come to rest.
+  uint32_t settled_from = steps < 60 ? 0u : (uint32_t)steps - 60u;
+  double settled_sum = 0.0;
+  bk_vec3 drop_point = {0.0, 0.0, 0.0};
+  bool drop_set = false;
+  for (uint64_t step = 0; step < steps; ++step) {
+    if (drop.kg > 0.0 && step == drop.at) {
+      bk_error drop_err = {0};
+      if (!scene_drop_point(&loaded, &drop_point) ||
+          !app_drop_weight(loaded.world, drop_point, drop.kg, drop.radius, &drop_err)) {
+        fprintf(stderr, "breakables sim: --drop: %s\n",
+                drop_err.message[0] ? drop_err.message
+                                    : "no surface of the first object to set the weight on");
+        free(step_ms), free(physics_ms), free(break_ms), free(stress_ms), free(rest_heights);
+        loaded_scene_destroy(&loaded);
+        return 1;
+      }
+      drop_set = true;
+    }
+    // Shots at regular intervals, leaving time after the last one.
+    uint64_t span = volley && volley < steps ? volley : steps;
+    uint32_t hits = 0;
+    while (fired < shots && step >= (fired + 1) * span / (shots + 1))
+      hits += loaded_scene_fire(&loaded, fired++, speed); // fitted to a user's model, at every copy
+    bk_world_stats before = bk_world_get_stats(loaded.world);
+    bk_world_step(loaded.world);
+    fidelity_step(&fidelity, loaded.world, step, hits);
+    bk_world_stats now = bk_world_get_stats(loaded.world);
+    step_ms[step] = now.step_ms;
+    physics_ms[step] = now.physics_ms;
+    // Steps with break work: bonds broke, a body split, or splits waited.
+    if (break_step(&before, &now)) break_ms[break_steps++] = now.fracture_ms;
+    bool pending = now.pending_splits > 0 || now.pending_hits > 0;
+    if (pending && !waiting) waiting = true, waiting_since = step;
+    if (waiting && (!pending || step + 1 == steps)) {
+      // The run may end first: then the wait so far.
+      wait_max = step - waiting_since > wait_max ? step - waiting_since : wait_max;
+      waiting = pending;
+    }
+    if (step >= settled_from) settled_sum += now.physics_cpu_ms;
+    if (now.stress_iterations) stress_ms[stress_steps++] = now.stress_ms;
+  }
+  bk_world_stats final = bk_world_get_stats(loaded.world);
+  // Walks every manifold: read once here, not in the per-step world stats.
+  bk_physics_stats physics = bk_physics_get_stats(bk_world_physics(loaded.world));
+  // What the budget retired has left the world, not the simulation's books.
+  double mass_error = fabs(final.total_mass + final.retired_mass - initial.total_mass) / initial.total_mass;
+  double step_max = app_maximum(step_ms, (uint32_t)steps), break_max = app_maximum(break_ms, break_steps);
+  double physics_max = app_maximum(physics_ms, (uint32_t)steps);
+  double physics_median = app_median(physics_ms, (uint32_t)steps);
+  double physics_p95 = app_percentile(physics_ms, (uint32_t)steps, 95.0);
+  debris_sample debris = fidelity_mean(&fidelity);
+  debris_sample near = fidelity_near_mean(&fidelity);
+  // The last second alone: the steady cost of what the shots left behind.
+  uint32_t tail = steps < 60 ? (uint32_t)steps : 60;
+  double last_median = app_median(step_ms + (steps - tail), tail);
+  double step_median = app_median(step_ms, (uint32_t)steps), break_median = app_median(break_ms, break_steps);
+  double break_p99 = app_percentile(break_ms, break_steps, 99.0);
+  double settled_ms = settled_sum / (double)(steps - settled_from);
+  double step_p95 = app_percentile(step_ms, (uint32_t)steps, 95.0);
+  uint32_t pieces = fragments_of(&loaded) * loaded.copies;
+  uint32_t fallen = fragments_fallen(&loaded, rest_heights);
+  double stress_median = app_median(stress_ms, stress_steps),
+         stress_max = app_maximum(stress_ms, stress_steps);
+  if (json) {
+    // Every number through BK_APP_JSON_NUMBER: a non-finite one is null, never inf or nan.
+    fputs("{\"scene\": ", stdout);
+    app_json_string(stdout, scene->name);
+    printf(", \"pieces\": %u, \"shots\": %u, \"steps\": %llu, \"bodies_initial\": %u, "
+           "\"bodies_final\": %u, \"break_events\": %u, \"bonds_broken\": %u, \"colliders_initial\": %u, "
+           "\"colliders_final\": %u, \"colliders_naive_final\": %u, \"fragments_free\": %u, "
+           "\"step_ms_median\": %s, \"step_ms_max\": %s, \"break_ms_median\": %s, \"break_ms_max\": %s, "
+           "\"step_ms_last_second\": %s, \"awake_final\": %u, \"pairs_final\": %u, \"manifolds_final\": %u, "
+           "\"mass_rel_error\": %s, \"nan\": %s, \"from_cache\": %s, \"stress_bonds_broken\": %u, "
+           "\"fragments_fallen\": %u, \"stress_ms_median\": %s, \"stress_ms_max\": %s, ",
+           pieces, fired, (unsigned long long)steps, initial.bodies, final.bodies, final.break_events,
+           final.bonds_broken, initial.colliders, final.colliders, final.colliders_naive,
+           final.fragments_free, BK_APP_JSON_NUMBER("%.4f", step_median),
+           BK_APP_JSON_NUMBER("%.4f", step_max), BK_APP_JSON_NUMBER("%.4f", break_median),
+           BK_APP_JSON_NUMBER("%.4f", break_max), BK_APP_JSON_NUMBER("%.4f", last_median),
+           physics.awake_bodies, physics.pairs, physics.manifolds, BK_APP_JSON_NUMBER("%.3e", mass_error),
+           final.nan ? "true" : "false", loaded.from_cache ? "true" : "false", final.stress_bonds_broken,
+           fallen, BK_APP_JSON_NUMBER("%.4f", stress_median), BK_APP_JSON_NUMBER("%.4f", stress_max));
+    print_patterns(&loaded, true);
+    printf(", \"drop_kg\": %s, \"drop_point\": ", BK_APP_JSON_NUMBER("%g", drop_set ? drop.kg : 0.0));
+    if (drop_set)
+      printf("[%s, %s, %s], ", BK_APP_JSON_NUMBER("%.4f", drop_point.x),
+             BK_APP_JSON_NUMBER("%.4f", drop_point.y), BK_APP_JSON_NUMBER("%.4f", drop_point.z));
+    else
+      printf("null, ");
+    printf("\"copies\": %u, \"step_ms_p95\": %s, \"physics_ms_median\": %s, \"physics_ms_p95\": %s, "
+           "\"physics_ms_max\": %s, \"budget_ms\": %s, \"budget_fidelity_s\": %s, "
+           "\"budget_fidelity_factor\": %s, \"budget_debris\": %u, "
+           "\"budget_simplified\": %u, "
+           "\"budget_frozen\": %u, \"budget_retired\": %u, \"budget_demotions\": %u, "
+           "\"budget_restorations\": %u, \"mass_retired\": %s, \"debris_mass_1s\": %s, "
+           "\"debris_momentum_1s\": %s, \"debris_net_momentum_1s\": %s, \"debris_near_mass_1s\": %s, "
+           "\"debris_near_momentum_1s\": %s, \"debris_near_net_momentum_1s\": %s, ",
+           loaded.copies, BK_APP_JSON_NUMBER("%.4f", step_p95), BK_APP_JSON_NUMBER("%.4f", physics_median),
+           BK_APP_JSON_NUMBER("%.4f", physics_p95), BK_APP_JSON_NUMBER("%.4f", physics_max),
+           BK_APP_JSON_NUMBER("%g", options.physics_budget_ms),
+           BK_APP_JSON_NUMBER("%g", options.budget_fidelity_time),
+           BK_APP_JSON_NUMBER("%g", options.budget_fidelity_factor), final.budget_debris,
+           final.budget_simplified, final.budget_frozen, final.budget_retired, final.budget_demotions,
+           final.budget_restorations, BK_APP_JSON_NUMBER("%.6g", final.retired_mass),
+           BK_APP_JSON_NUMBER("%.6g", debris.mass), BK_APP_JSON_NUMBER("%.6g", debris.momentum),
+           BK_APP_JSON_NUMBER("%.6g", debris.net_momentum), BK_APP_JSON_NUMBER("%.6g", near.mass),
+           BK_APP_JSON_NUMBER("%.6g", near.momentum), BK_APP_JSON_NUMBER("%.6g", near.net_momentum));
+    printf("\"break_ms_p50\": %s, \"break_ms_p99\": %s, \"break_wait_steps_max\": %llu, "
+           "\"settled_physics_ms\": %s}\n",
+           BK_APP_JSON_NUMBER("%.4f", break_median), BK_APP_JSON_NUMBER("%.4f", break_p99),
+           (unsigned long long)wait_max, BK_APP_JSON_NUMBER("%.4f", settled_ms));
+  } else {
+    if (loaded.copies > 1) printf("%u copies %.3g m apart, ", loaded.copies, loaded.copy_spacing);
+    printf("%s: %u fragments, %u shots over %llu steps (%.1f s)\n", scene->name, pieces, fired,
+           (unsigned long long)steps, (double)steps / 60.0);
+    printf("  bodies %u -> %u (%u splits, %u bonds broken, %u fragments free)\n", initial.bodies,
+           final.bodies, final.break_events, final.bonds_broken, final.fragments_free);
+    printf("  colliders %u -> %u (plain BCRB would use %u)\n", initial.colliders, final.colliders,
+           final.colliders_naive);
+    printf(
+        "  step ms median %.3f max %.3f; break handling ms median %.3f p99 %.3f max %.3f (CPU), last piece "
+        "waited %llu steps\n",
+        step_median, step_max, break_median, break_p99, break_max, (unsigned long long)wait_max);
+    printf("  last second: step ms median %.3f, %u bodies awake, %u pairs, %u manifolds, %u contact points\n",
+           last_median, physics.awake_bodies, physics.pairs, physics.manifolds, physics.contact_points);
+    printf("  stress: %u bonds broken, %u fragments fell; ms median %.3f max %.3f over %u steps\n",
+           final.stress_bonds_broken, fallen, stress_median, stress_max, stress_steps);
+    if (drop_set)
+      printf("  weight: %g kg (radius %g m) set on (%.2f, %.2f, %.2f) at step %llu\n", drop.kg, drop.radius,
+             drop_point.x, drop_point.y, drop_point.z, (unsigned long long)drop.at);
+    printf("  physics ms median %.3f p95 %.3f max %.3f; step ms p95 %.3f\n", physics_median, physics_p95,
+           physics_max, step_p95);
+    if (options.physics_budget_ms > 0.0)
+      printf("  budget %g ms: now %u debris, %u simplified, %u frozen; %u retired (%.3g kg), %u demotions, "
+             "%u restorations\n",
+             options.physics_budget_ms, final.budget_debris, final.budget_simplified, final.budget_frozen,
+             final.budget_retired, final.retired_mass, final.budget_demotions, final.budget_restorations);
+    if (fidelity.weight > 0.0)
+      printf("  debris over the first second after each shot: %.4g kg, momentum %.4g kg m/s (net %.4g)\n",
+             debris.mass, debris.momentum, debris.net_momentum);
+    printf("  mass error %.2e%s\n", mass_error, final.nan ? ", NaN detected" : "");
+    print_patterns(&loaded, false);
+  }
+  free(step_ms);
+  free(physics_ms);
+  free(break_ms);
+  free(stress_ms);
+  free(rest_heights);
+  loaded_scene_destroy(&loaded);
+  return final.nan ? 1 : 0;
+}
