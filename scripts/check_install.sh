@@ -242,7 +242,7 @@ diff -u "$logs/own_physics.out" "$logs/subproject.out" >&2 || fail subproject "o
 for option in BK_BUILD_TESTS BK_INSTALL; do
   grep -qx "$option:BOOL=OFF" "$sub/build/CMakeCache.txt" || fail subproject "$option is not OFF in a sub-project"
 done
-if [[ -n "$(find "$sub/build/breakables" -type f \( -name 'libglad.a' -o -name 'libbk_ui.a' -o -name 'test_*' \))" ]]; then
+if [[ -n "$(find "$sub/build/breakables" -type f \( -name 'libglad.a' -o -name 'libapp_ui.a' -o -name 'test_*' \))" ]]; then
   fail subproject "the demo or the tests were built as a sub-project"
 fi
 ok "subproject: add_subdirectory with BK_BUILD_DEMO=OFF builds and links breakables::runtime (no demo, no tests)"
@@ -257,11 +257,11 @@ demo_entries() { grep -vE '^(//|#)' "$1" | cut -d: -f1 | grep -E 'GLFW|IMGUI|CGL
 found="$(demo_entries "$headless/CMakeCache.txt" | tr '\n' ' ')"
 [[ -z "$found" ]] || fail headless "the demo's dependencies were looked up: $found"
 run headless headless-build.log cmake --build "$headless" -j2
-if [[ -n "$(find "$headless" -type f \( -name 'libglad.a' -o -name 'libbk_ui.a' -o -name 'libbk_render.a' -o -name 'breakables' \))" ]]; then
+if [[ -n "$(find "$headless" -type f \( -name 'libglad.a' -o -name 'libapp_ui.a' -o -name 'libapp_render.a' -o -name 'breakables' \))" ]]; then
   fail headless "glad, the UI, the renderer or the game was built"
 fi
 targets="$(cmake --build "$headless" --target help)"
-if grep -qwE 'glad|bk_ui|bk_render|breakables' <<<"$targets"; then
+if grep -qwE 'glad|app_ui|app_render|app_core|breakables' <<<"$targets"; then
   fail headless "a target of the demo exists"
 fi
 run headless headless-ctest.log ctest --test-dir "$headless" --output-on-failure -j2
