@@ -6,13 +6,20 @@
 #             pkg-config files, the executable and its data;
 #   symbols   the runtime and authoring libraries need nothing from Bullet, GL,
 #             GLFW, ImGui or the C++ runtime (nm -u); runtime nothing from bullet;
+#   shared    the shared libraries: soname, links, run path, only bk_ names
+#             exported and every public function among them;
 #   pkg-config  breakables-runtime names no Bullet, breakables-bullet does;
+#             programs linked with plain `pkg-config --libs` (the shared
+#             libraries) run with no LD_LIBRARY_PATH;
+#   shared-use  the CMake package's shared targets link programs that run;
+#             Python's ctypes loads libbreakables-runtime.so and calls it;
 #   examples  each of examples/ built against the prefix with find_package (and
 #             own_physics with plain pkg-config flags), run; own_physics gives
 #             the same output every time and its binary has no Bullet in it;
 #   subproject  add_subdirectory(breakables) with BK_BUILD_DEMO=OFF;
-#   headless  a libraries-only build (BK_BUILD_DEMO=OFF): none of the demo's
-#             dependencies looked up, its tests pass;
+#   headless  a build without the demo (BK_BUILD_DEMO=OFF): none of the
+#             demo's dependencies looked up, its tests pass; its installed
+#             breakables runs fracture and sim and loads no GLFW, GL or ImGui;
 #   no-bullet an install without Bullet (BK_BUILD_BULLET=OFF) builds the
 #             runtime examples and refuses COMPONENTS bullet with a message;
 #   relocated the installed executable, with the source and build trees moved
@@ -96,22 +103,23 @@ run install install-install.log cmake --install "$tmp/build" --prefix "$prefix"
 ok "release build with the demo in $((SECONDS - build_start)) s, installed into $prefix"
 
 # ---------------------------------------------------------------- b. layout
-public_headers=(types.h authoring.h runtime.h bullet.h)
+public_headers=(types.h base.h authoring.h runtime.h bullet.h)
 for header in "${public_headers[@]}"; do
   [[ -s "$prefix/include/breakables/$header" ]] || fail layout "include/breakables/$header is missing"
 done
-extra_headers="$(find "$prefix/include" -type f | grep -vE '/include/breakables/(types|authoring|runtime|bullet)\.h$' || true)"
+extra_headers="$(find "$prefix/include" -type f | grep -vE '/include/breakables/(types|base|authoring|runtime|bullet)\.h$' || true)"
 [[ -z "$extra_headers" ]] || fail layout "headers that are not public were installed: $extra_headers"
 # Each public header stands alone in C11 and includes only public headers.
 for header in "${public_headers[@]}"; do
   echo "#include <breakables/$header>" >"$tmp/header_check.c"
   run layout "header_$header.log" cc -std=c11 -Wall -Wextra -Werror -pedantic -fsyntax-only -I"$prefix/include" \
     "$tmp/header_check.c"
-  if grep -E '^#include "' "$prefix/include/breakables/$header" | grep -vqE '"(types|authoring|runtime)\.h"'; then
+  if grep -E '^#include "' "$prefix/include/breakables/$header" | grep -vqE '"(types|base|authoring|runtime)\.h"'; then
     fail layout "$header includes a header that is not installed"
   fi
 done
 for file in lib/libbreakables-authoring.a lib/libbreakables-runtime.a lib/libbreakables-bullet.a \
+  lib/libbreakables-authoring.so lib/libbreakables-runtime.so lib/libbreakables-bullet.so \
   lib/cmake/breakables/breakables-config.cmake lib/cmake/breakables/breakables-config-version.cmake \
   lib/pkgconfig/breakables-authoring.pc lib/pkgconfig/breakables-runtime.pc lib/pkgconfig/breakables-bullet.pc \
   bin/breakables share/breakables/assets/meshes/bunny.obj share/breakables/shaders/mesh.vert \
@@ -130,7 +138,7 @@ done
 if grep -rlF -e "$tmp/src" -e "$tmp/build" "$prefix/lib/cmake" "$prefix/lib/pkgconfig"; then
   fail layout "the CMake package or a .pc file names the source or build directory"
 fi
-ok "layout: 4 public headers (each compiles alone), 3 static libraries, CMake package, 3 .pc files, bin/breakables, share/breakables/{assets,shaders}, share/doc/breakables (the documents the headers name)"
+ok "layout: 4 public headers (each compiles alone), 3 static and 3 shared libraries, CMake package, 3 .pc files, bin/breakables, share/breakables/{assets,shaders}, share/doc/breakables (the documents the headers name)"
 
 # ---------------------------------------------------------------- c. symbols
 authoring_lib="$prefix/lib/libbreakables-authoring.a"
@@ -156,6 +164,43 @@ found="$(comm -12 "$tmp/runtime.undefined" "$tmp/bullet.defined" | head -n 5 | t
 found="$(sort -u "$tmp/bullet.defined" "$tmp/runtime.defined" | comm -12 "$tmp/authoring.undefined" - | head -n 5 | tr '\n' ' ')"
 [[ -z "$found" ]] || fail symbols "libbreakables-authoring.a needs symbols of runtime or bullet: $found"
 ok "symbols: runtime ($(wc -l <"$tmp/runtime.undefined") undefined) and authoring ($(wc -l <"$tmp/authoring.undefined")) need no Bullet, GL, GLFW, ImGui or C++ runtime; runtime nothing of bullet"
+
+# ---------------------------------------------------------------- c2. shared
+# The soname follows the package's compatibility (SameMinorVersion): .so.0.1
+# for 0.1.x, .so.<major> from 1.0. The links are .so -> .so.<soversion> ->
+# .so.<version>; the run path $ORIGIN finds the sibling libraries wherever the
+# prefix is. Only bk_ names are exported (the version script hides the C++ of
+# Bullet and libstdc++ that the bullet library's objects define), and every
+# function a public header declares is among them.
+version="$(sed -n 's/^Version: //p' "$prefix/lib/pkgconfig/breakables-runtime.pc")"
+IFS=. read -r major minor _ <<<"$version"
+if ((major == 0)); then soversion="$major.$minor"; else soversion="$major"; fi
+# Functions declared in a public header (not the static inline math).
+public_functions() { cat "$@" | grep -vE '^\s*(static|typedef|//|#|\*)' | grep -oE '^[A-Za-z_][A-Za-z0-9_ *]*[ *]bk_[a-z0-9_]+\(' |
+  grep -oE 'bk_[a-z0-9_]+\($' | tr -d '(' | sort -u; }
+declare -A public_headers_of=([authoring]="types.h base.h authoring.h" [runtime]="runtime.h" [bullet]="bullet.h")
+grep -qE '^_Z' "$tmp/bullet.defined" || fail shared "libbreakables-bullet.a defines no C++ symbol: the export check itself is broken"
+for lib in authoring runtime bullet; do
+  so="$prefix/lib/libbreakables-$lib.so"
+  [[ "$(readlink "$so")" == "libbreakables-$lib.so.$soversion" ]] ||
+    fail shared "libbreakables-$lib.so links to '$(readlink "$so")', not libbreakables-$lib.so.$soversion"
+  [[ "$(readlink "$so.$soversion")" == "libbreakables-$lib.so.$version" && -f "$so.$version" ]] ||
+    fail shared "libbreakables-$lib.so.$soversion links to '$(readlink "$so.$soversion")', not libbreakables-$lib.so.$version"
+  dynamic="$(readelf -d "$so.$version")"
+  soname="$(sed -n 's/.*Library soname: \[\(.*\)\]$/\1/p' <<<"$dynamic")"
+  [[ "$soname" == "libbreakables-$lib.so.$soversion" ]] || fail shared "libbreakables-$lib.so's soname is '$soname', not libbreakables-$lib.so.$soversion"
+  runpath="$(sed -n 's/.*Library runpath: \[\(.*\)\]$/\1/p' <<<"$dynamic")"
+  [[ "$runpath" == '$ORIGIN' ]] || fail shared "libbreakables-$lib.so's run path is '$runpath', not \$ORIGIN"
+  nm -D --defined-only "$so" | awk 'NF == 3 { print $3 }' | sort -u >"$tmp/$lib.exported"
+  found="$(grep -v '^bk_' "$tmp/$lib.exported" | head -n 5 | tr '\n' ' ' || true)"
+  [[ -z "$found" ]] || fail shared "libbreakables-$lib.so exports names that are not bk_: $found"
+  # shellcheck disable=SC2086 # the header list is meant to split
+  (cd "$prefix/include/breakables" && public_functions ${public_headers_of[$lib]}) >"$tmp/$lib.public"
+  (($(wc -l <"$tmp/$lib.public") >= 3)) || fail shared "found no public function of $lib: the export check itself is broken"
+  found="$(comm -23 "$tmp/$lib.public" "$tmp/$lib.exported" | head -n 5 | tr '\n' ' ')"
+  [[ -z "$found" ]] || fail shared "libbreakables-$lib.so does not export public functions: $found"
+done
+ok "shared: libbreakables-{authoring,runtime,bullet}.so.$version, soname .so.$soversion, run path \$ORIGIN; they export only bk_ names ($(wc -l <"$tmp/authoring.exported"), $(wc -l <"$tmp/runtime.exported"), $(wc -l <"$tmp/bullet.exported")), every public function among them"
 
 # ---------------------------------------------------------------- d. pkg-config
 export PKG_CONFIG_PATH="$prefix/lib/pkgconfig"
@@ -201,15 +246,30 @@ done
 [[ -s "$tmp/run/bake_and_load/bunny.mtree" ]] || fail examples "bake_and_load wrote no bunny.mtree"
 ok "example bake_and_load with an OBJ ($(tail -n 1 "$logs/bake_and_load_bunny.out"))"
 
-# own_physics as a project without CMake would build it, from pkg-config alone.
+# own_physics and headless_wall as a project without CMake would build them,
+# with plain `pkg-config --cflags --libs` (no --static): the linker takes the
+# shared libraries, and the .pc files' run path finds them, so the programs
+# run with no LD_LIBRARY_PATH.
 # shellcheck disable=SC2046 # pkg-config's flags are meant to split
 run examples own_physics_pkg-config.log cc -std=c11 -O2 -Wall -Wextra -Werror "$tmp/src/examples/own_physics/main.c" \
-  -o "$tmp/own_physics_pc" $(pkg-config --cflags --static --libs breakables-runtime)
+  -o "$tmp/own_physics_pc" $(pkg-config --cflags --libs breakables-runtime)
+# shellcheck disable=SC2046
+run examples headless_wall_pkg-config.log cc -std=c11 -O2 -Wall -Wextra -Werror "$tmp/src/examples/headless_wall/main.c" \
+  -o "$tmp/headless_wall_pc" $(pkg-config --cflags --libs breakables-bullet)
 "$tmp/examples/own_physics/own_physics" >"$logs/own_physics.2.out"
-"$tmp/own_physics_pc" >"$logs/own_physics_pc.out"
+env -u LD_LIBRARY_PATH "$tmp/own_physics_pc" >"$logs/own_physics_pc.out" 2>&1 ||
+  { cat "$logs/own_physics_pc.out" >&2; fail examples "own_physics linked with plain pkg-config --libs does not run"; }
+(cd "$tmp/run/headless_wall" && env -u LD_LIBRARY_PATH "$tmp/headless_wall_pc" >"$logs/headless_wall_pc.out" 2>&1) ||
+  { cat "$logs/headless_wall_pc.out" >&2; fail examples "headless_wall linked with plain pkg-config --libs does not run"; }
 diff -u "$logs/own_physics.out" "$logs/own_physics.2.out" >&2 || fail examples "own_physics printed something else on its second run"
 diff -u "$logs/own_physics.out" "$logs/own_physics_pc.out" >&2 || fail examples "own_physics built with pkg-config printed something else"
-ok "example own_physics: built with pkg-config too; three runs (two builds) print the same"
+diff -u "$logs/headless_wall.out" "$logs/headless_wall_pc.out" >&2 || fail examples "headless_wall built with pkg-config printed something else"
+for binary in own_physics_pc:runtime headless_wall_pc:bullet; do
+  needed="$(readelf -d "$tmp/${binary%%:*}" | sed -n 's/.*(NEEDED).*\[\(.*\)\]$/\1/p' | tr '\n' ' ')"
+  grep -qw "libbreakables-${binary#*:}\.so\.$soversion" <<<"$needed" ||
+    fail examples "${binary%%:*} (plain pkg-config --libs) does not load libbreakables-${binary#*:}.so.$soversion: $needed"
+done
+ok "examples own_physics and headless_wall: linked with plain pkg-config --libs (the shared libraries), run without LD_LIBRARY_PATH, print the same"
 for binary in "$tmp/examples/own_physics/own_physics" "$tmp/own_physics_pc"; do
   found="$(nm "$binary" | grep -E "$bullet_re" | head -n 3 | tr '\n' ' ' || true)"
   [[ -z "$found" ]] || fail examples "$binary has Bullet symbols: $found"
@@ -222,6 +282,75 @@ done
 libs="$(ldd "$tmp/examples/headless_wall/headless_wall")"
 grep -q libBulletDynamics <<<"$libs" || fail examples "headless_wall does not load Bullet: the check itself is broken"
 ok "example own_physics: no Bullet symbol (nm) and no Bullet library (ldd) in its binaries"
+
+# ---------------------------------------------------------------- shared-use
+# The CMake package's shared targets: own_physics on breakables::runtime_shared
+# and headless_wall on breakables::bullet_shared print what the static builds
+# print, load the prefix's shared libraries, and hold no bk_ function themselves.
+shared_use="$tmp/shared-use"
+mkdir -p "$shared_use"
+cp "$tmp/src/examples/own_physics/main.c" "$shared_use/own_physics.c"
+cp "$tmp/src/examples/headless_wall/main.c" "$shared_use/headless_wall.c"
+cat >"$shared_use/CMakeLists.txt" <<CMAKE
+cmake_minimum_required(VERSION 3.20)
+project(uses_shared LANGUAGES C)
+find_package(breakables $version REQUIRED COMPONENTS bullet)
+add_executable(own_physics own_physics.c)
+target_link_libraries(own_physics PRIVATE breakables::runtime_shared)
+add_executable(headless_wall headless_wall.c)
+target_link_libraries(headless_wall PRIVATE breakables::bullet_shared)
+CMAKE
+run shared-use shared-use-configure.log cmake -S "$shared_use" -B "$shared_use/build" -DCMAKE_BUILD_TYPE=Release \
+  -DCMAKE_PREFIX_PATH="$prefix"
+run shared-use shared-use-build.log cmake --build "$shared_use/build" -j2
+for example in own_physics headless_wall; do
+  binary="$shared_use/build/$example"
+  (cd "$tmp/run/$example" && env -u LD_LIBRARY_PATH "$binary" >"$logs/$example-shared.out" 2>&1) ||
+    { cat "$logs/$example-shared.out" >&2; fail shared-use "$example on the shared target does not run"; }
+  diff -u "$logs/$example.out" "$logs/$example-shared.out" >&2 || fail shared-use "$example on the shared target printed something else"
+  found="$(nm --defined-only "$binary" | awk '$3 ~ /^bk_/ { print $3 }' | head -n 3 | tr '\n' ' ')"
+  [[ -z "$found" ]] || fail shared-use "$example on the shared target has the library inside: $found"
+  libs="$(ldd "$binary")"
+  grep -q "libbreakables-runtime.so.$soversion => $prefix/lib/" <<<"$libs" ||
+    fail shared-use "$example on the shared target does not load the prefix's libbreakables-runtime.so: $libs"
+done
+ok "shared-use: own_physics on breakables::runtime_shared and headless_wall on breakables::bullet_shared run and print what the static builds print"
+
+# Another language: Python's ctypes loads libbreakables-runtime.so (its run
+# path brings in authoring), reads the version and the runtime's defaults, and
+# gets a one-line error from bk_runtime_create for the missing callback.
+cat >"$tmp/load.py" <<'PYTHON'
+import ctypes
+import sys
+
+class Version(ctypes.Structure):
+    _fields_ = [("major", ctypes.c_int), ("minor", ctypes.c_int), ("revision", ctypes.c_int)]
+
+class RuntimeDef(ctypes.Structure):
+    # The leading fields of bk_runtime_def, then room for the rest: returned
+    # by value through a hidden pointer, as any struct of this size.
+    _fields_ = [("impact_speed", ctypes.c_double), ("impulse_threshold", ctypes.c_double),
+                ("damage_min_distance", ctypes.c_double), ("rest", ctypes.c_char * 4096)]
+
+lib = ctypes.CDLL(sys.argv[1])
+lib.bk_get_version.restype = Version
+version = lib.bk_get_version()
+lib.bk_default_runtime_def.restype = RuntimeDef
+runtime_def = lib.bk_default_runtime_def()
+lib.bk_runtime_create.restype = ctypes.c_void_p
+error = ctypes.create_string_buffer(4096)
+runtime = lib.bk_runtime_create(ctypes.byref(runtime_def), error)
+print(f"version {version.major}.{version.minor}.{version.revision}")
+print(f"impact_speed {runtime_def.impact_speed:g} damage_min_distance {runtime_def.damage_min_distance:g}")
+print(f"create {'NULL' if runtime is None else 'made'}: {error.value.decode()}")
+PYTHON
+run python python.log env -u LD_LIBRARY_PATH python3 "$tmp/load.py" "$prefix/lib/libbreakables-runtime.so"
+grep -qx "version $version" "$logs/python.log" || fail python "bk_get_version through ctypes is not $version: $(cat "$logs/python.log")"
+grep -qx 'impact_speed 1 damage_min_distance 0.05' "$logs/python.log" ||
+  fail python "bk_default_runtime_def through ctypes gave other defaults: $(cat "$logs/python.log")"
+grep -qE '^create NULL: .*body_state' "$logs/python.log" ||
+  fail python "bk_runtime_create without body_state did not fail naming it: $(cat "$logs/python.log")"
+ok "python: ctypes loads libbreakables-runtime.so and calls it ($(paste -sd ';' "$logs/python.log"))"
 
 # ---------------------------------------------------------------- f. subproject
 sub="$tmp/subproject"
@@ -242,10 +371,10 @@ diff -u "$logs/own_physics.out" "$logs/subproject.out" >&2 || fail subproject "o
 for option in BK_BUILD_TESTS BK_INSTALL; do
   grep -qx "$option:BOOL=OFF" "$sub/build/CMakeCache.txt" || fail subproject "$option is not OFF in a sub-project"
 done
-if [[ -n "$(find "$sub/build/breakables" -type f \( -name 'libglad.a' -o -name 'libapp_ui.a' -o -name 'test_*' \))" ]]; then
-  fail subproject "the demo or the tests were built as a sub-project"
+if [[ -n "$(find "$sub/build/breakables" -type f \( -name 'libglad.a' -o -name 'libapp_ui.a' -o -name 'libapp_core.a' -o -name 'breakables' -o -name 'test_*' \))" ]]; then
+  fail subproject "the demo, the command line or the tests were built as a sub-project"
 fi
-ok "subproject: add_subdirectory with BK_BUILD_DEMO=OFF builds and links breakables::runtime (no demo, no tests)"
+ok "subproject: add_subdirectory with BK_BUILD_DEMO=OFF builds and links breakables::runtime (no demo, no command line, no tests)"
 
 # ---------------------------------------------------------------- g. headless
 headless="$tmp/build-headless"
@@ -257,15 +386,45 @@ demo_entries() { grep -vE '^(//|#)' "$1" | cut -d: -f1 | grep -E 'GLFW|IMGUI|CGL
 found="$(demo_entries "$headless/CMakeCache.txt" | tr '\n' ' ')"
 [[ -z "$found" ]] || fail headless "the demo's dependencies were looked up: $found"
 run headless headless-build.log cmake --build "$headless" -j2
-if [[ -n "$(find "$headless" -type f \( -name 'libglad.a' -o -name 'libapp_ui.a' -o -name 'libapp_render.a' -o -name 'breakables' \))" ]]; then
-  fail headless "glad, the UI, the renderer or the game was built"
+if [[ -n "$(find "$headless" -type f \( -name 'libglad.a' -o -name 'libapp_ui.a' -o -name 'libapp_render.a' \))" ]]; then
+  fail headless "glad, the UI or the renderer was built"
 fi
+# The command line is there (its windowless part), the game's targets are not.
 targets="$(cmake --build "$headless" --target help)"
-if grep -qwE 'glad|app_ui|app_render|app_core|breakables' <<<"$targets"; then
-  fail headless "a target of the demo exists"
+if grep -qwE 'glad|app_ui|app_render' <<<"$targets"; then
+  fail headless "a target of the game exists"
 fi
+for target in app_core breakables; do
+  grep -qw "$target" <<<"$targets" || fail headless "there is no $target target: the command line is not built"
+done
 run headless headless-ctest.log ctest --test-dir "$headless" --output-on-failure -j2
-ok "headless: no GLFW/ImGui/cglm/OpenGL lookup, no demo target; $(grep -E 'tests passed' "$logs/headless-ctest.log")"
+ok "headless: no GLFW/ImGui/cglm/OpenGL lookup, no target of the game; $(grep -E 'tests passed' "$logs/headless-ctest.log")"
+# Its install has the command line: fracture and sim run from it, and it
+# loads no GLFW, GL or ImGui; play says in one line that there is no game.
+headless_prefix="$tmp/prefix-headless"
+run headless headless-install.log cmake --install "$headless" --prefix "$headless_prefix"
+headless_exe="$headless_prefix/bin/breakables"
+[[ -x "$headless_exe" ]] || fail headless "the headless install has no bin/breakables"
+[[ ! -e "$headless_prefix/share/breakables/shaders" ]] || fail headless "the headless install has the game's shaders"
+# GLU (authoring's tessellator) brings libOpenGL.so.0 in on Debian, never
+# called; the program itself needs no GL library, and nothing loads GLFW,
+# libGL (GLX) or ImGui.
+needed() { readelf -d "$1" | sed -n 's/.*(NEEDED).*\[\(.*\)\]$/\1/p'; }
+found="$(needed "$headless_exe" | grep -iE 'glfw|^libGL\.|^libGLX|^libOpenGL|imgui' | tr '\n' ' ' || true)"
+[[ -z "$found" ]] || fail headless "the headless breakables links the game's libraries: $found"
+found="$(ldd "$headless_exe" | grep -iE 'glfw|libGL\.so|libGLX|imgui' | tr '\n' ' ' || true)"
+[[ -z "$found" ]] || fail headless "the headless breakables loads the game's libraries: $found"
+grep -q 'libglfw' <<<"$(needed "$prefix/bin/breakables")" || fail headless "the demo's breakables links no GLFW: the check itself is broken"
+run headless headless-fracture.log "$headless_exe" fracture --mesh cube --pieces 8 --json
+python3 -c 'import json, sys; r = json.load(open(sys.argv[1])); sys.exit(0 if r["pieces_made"] == 8 and r["watertight"] else 1)' \
+  "$logs/headless-fracture.log" || fail headless "fracture --mesh cube --pieces 8 --json: $(head -c 300 "$logs/headless-fracture.log")"
+run headless headless-sim.log "$headless_exe" sim --scene wall --steps 60 --json
+python3 -c 'import json, sys; r = json.load(open(sys.argv[1])); sys.exit(0 if r["scene"] == "wall" and r["nan"] is False else 1)' \
+  "$logs/headless-sim.log" || fail headless "sim --scene wall --steps 60 --json: $(head -c 300 "$logs/headless-sim.log")"
+if "$headless_exe" play >"$logs/headless-play.log" 2>&1; then fail headless "play succeeded in a build without the game"; fi
+[[ "$(wc -l <"$logs/headless-play.log")" == 1 ]] && grep -q 'this build has no game' "$logs/headless-play.log" ||
+  fail headless "play in a build without the game did not say so in one line: $(cat "$logs/headless-play.log")"
+ok "headless: its installed breakables runs fracture (8 pieces) and sim (the wall, 60 steps) with no GLFW, GL or ImGui loaded; play says: $(cat "$logs/headless-play.log")"
 
 # ---------------------------------------------------------------- no-bullet
 # BK_BUILD_BULLET=OFF: an install without Bullet serves the runtime examples

@@ -1,7 +1,19 @@
 #!/usr/bin/env bash
 # Installs the Debian packages this project needs, if any is missing.
 # Safe to run repeatedly: it does nothing when everything is present.
+#   scripts/setup.sh          everything: the game, the tests, fuzzing, the checks
+#   scripts/setup.sh --game   only what building and running the game needs
+#                             (scripts/run.sh): no compilers for fuzzing, no
+#                             test models, no npm, so no network beyond apt
 set -euo pipefail
+
+game_only=0
+if [[ "${1:-}" == "--game" ]]; then
+  game_only=1
+elif [[ $# -gt 0 ]]; then
+  echo "setup: unknown option '$1' (use --game or nothing)" >&2
+  exit 2
+fi
 
 PACKAGES=(
   build-essential
@@ -23,6 +35,8 @@ PACKAGES=(
   # sample models (tests/test_import.c, scripts/import_tally.sh)
   libassimp-dev
   assimp-testmodels
+  # the glTF export's optional vertex compression (EXT_meshopt_compression)
+  libmeshoptimizer-dev
   # de_DE's locale source, compiled by test_obj to check OBJ numbers under a decimal comma
   locales
   xvfb
@@ -30,7 +44,27 @@ PACKAGES=(
   gnuplot-nox
   nodejs
   npm
+  # the Blender import check of the glTF export (tests/blender; its glTF importer needs numpy)
+  blender
+  python3-numpy
 )
+
+# What only the tests, fuzzing, the checks and the tools need; --game leaves
+# these out (the game builds from the committed OpenGL loader and needs no
+# formatter, fuzzer, test models, plotting, virtual display or npm).
+TEST_ONLY=(clang-format clang libclang-rt-dev python3-glad assimp-testmodels locales xvfb xauth gnuplot-nox
+  nodejs npm blender python3-numpy)
+if ((game_only)); then
+  kept=()
+  for pkg in "${PACKAGES[@]}"; do
+    skip=0
+    for t in "${TEST_ONLY[@]}"; do
+      [[ "$pkg" == "$t" ]] && skip=1
+    done
+    ((skip)) || kept+=("$pkg")
+  done
+  PACKAGES=("${kept[@]}")
+fi
 
 is_installed() {
   local pkg="$1" status
@@ -51,6 +85,7 @@ is_installed() {
 # installed into tests/js/node_modules
 # (git-ignored) when missing: the build and the tests never download.
 install_js_packages() {
+  ((game_only)) && return 0 # the game needs none
   local js
   js="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)/tests/js"
   if [[ -d "$js/node_modules/gltf-validator" && -d "$js/node_modules/three" &&

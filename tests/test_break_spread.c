@@ -1,5 +1,5 @@
 // Breaking many walls in one step: the world's split budget
-// (bk_world_def.max_new_bodies_per_step) spreads the new bodies over steps.
+// (bk_world_def.runtime.max_new_clusters_per_split) spreads the new bodies over steps.
 // No step makes more than it; every fragment gets its body in the end (the
 // same clusters as with no budget to speak of); a cluster waiting for its
 // turn keeps its old body; the same run gives the same state; and the budget
@@ -47,7 +47,7 @@ static void ensure_connected_clusters(const bk_world* world, bk_breakable_id id,
 // Walls side by side on the ground, not anchored, all shattered in one step.
 static spread_run run(const bk_mesh_tree* tree, uint32_t budget) {
   bk_world_def wd = bk_default_world_def();
-  wd.max_new_bodies_per_step = budget;
+  wd.runtime.max_new_clusters_per_split = budget;
   bk_error err = {0};
   bk_world* world = bk_world_create(&wd, &err);
   ENSURE_MSG(world != NULL, "%s", err.message);

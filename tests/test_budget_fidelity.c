@@ -182,7 +182,7 @@ static void test_first_second_from_the_break(void) {
   bk_world_def wd = bk_default_world_def();
   wd.physics_budget_ms = 0.05;
   wd.budget_fidelity_time = 0.25;
-  wd.max_new_bodies_per_step = 2;
+  wd.runtime.max_new_clusters_per_split = 2;
   wd.budget_fidelity_factor = 0.0; // young pieces keep their second whatever it costs
   bk_error err = {0};
   bk_world* world = bk_world_create(&wd, &err);

@@ -169,7 +169,7 @@ static void test_bench_budget(const char* report) {
   ensure_positive(t, keys, sizeof keys / sizeof *keys);
   const char* tiers[] = {"debris", "simplified", "frozen", "retired", "demotions", "restorations"};
   static const char* const loads[] = {"showcase volley", "walls", "cube"};
-  const double fragments[] = {768, 4096, 1024}; // --quick: 3 objects of 256, 4 walls and a cube of 1024
+  const double fragments[] = {384, 4096, 512}; // --quick: 3 objects of 128, 4 walls and a cube of 512
   const double budget = bk_default_world_def().physics_budget_ms;
   double demotions = 0.0;
   for (uint32_t i = 0; i < t->row_count; ++i) {

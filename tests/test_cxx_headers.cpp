@@ -2,6 +2,7 @@
 // its inline math gives the C results: engines and tools written in C++
 // include them directly.
 #include <breakables/authoring.h>
+#include <breakables/base.h>
 #include <breakables/runtime.h>
 #include <breakables/types.h>
 #if BK_TEST_BULLET
@@ -33,5 +34,12 @@ int main() {
   bk_shape_build(BK_SHAPE_CUBE, &mesh);
   CHECK(std::abs(bk_mesh_volume(&mesh) - 1.0) < 1e-12);
   bk_mesh_free(&mesh);
+  bk_rng rng = bk_rng_seed(1, 2);
+  double u = bk_rng_unit(&rng);
+  CHECK(u >= 0.0 && u < 1.0);
+  void* block = bk_alloc(16);
+  CHECK(block != nullptr && bk_allocation_count() == 1);
+  bk_free(block);
+  CHECK(bk_allocation_count() == 0);
   return 0;
 }

@@ -14,8 +14,8 @@
 #include <unistd.h>
 
 #include "bk_geom.h"
+#include "bk_json.h"
 #include "ensure.h"
-#include "gltf_json.h"
 
 #define DIR_PATH BK_TEST_TMP "/file_safety"
 

@@ -17,6 +17,8 @@
 #include "app.h"
 #include "bk_geom.h"
 #include "ensure.h"
+#include "model_surface.h"
+#include "scene_run.h"
 
 #define RUN_STDERR_PATH BK_TEST_TMP "/test_import_models_stderr.txt"
 #include "run_exe.h"

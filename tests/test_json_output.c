@@ -8,10 +8,10 @@
 #include <string.h>
 
 #include "bk_fracture.h"
+#include "bk_json.h"
 #include "ensure.h"
 #include "fracture_patterns.h"
 #include "gltf_internal.h"
-#include "gltf_json.h"
 
 // True when text is one strict JSON value.
 static bool parses(const char* text) {

@@ -5,7 +5,7 @@
 #include <string.h>
 
 #include "ensure.h"
-#include "game.h"
+#include "particles.h"
 
 static bk_break_event hit_at(bk_vec3 position, bk_vec3 velocity) {
   return (bk_break_event){.position = position, .velocity = velocity, .area = 0.01, .cause = BK_BREAK_DAMAGE};

@@ -43,12 +43,13 @@ static bk_runtime* make_runtime(bodies* b, uint32_t budget) {
 }
 
 // The caller's side: every created cluster gets a body in the state the
-// runtime gives it.
+// runtime gives it, and the events are cleared (taken).
 static uint32_t take_created(bk_runtime* rt, bodies* b, bk_cluster_created* out, uint32_t capacity) {
   uint32_t n = bk_runtime_created_clusters(rt, out, capacity);
   ENSURE(n <= capacity);
   for (uint32_t i = 0; i < n; ++i)
     b->state[out[i].cluster.id.index] = out[i].body;
+  bk_runtime_clear_events(rt);
   return n;
 }
 
@@ -154,8 +155,8 @@ static void test_split_results(void) {
 
   uint32_t made = bk_runtime_split(rt);
   ENSURE(made >= 2);
-  bk_cluster_id removed[4];
-  ENSURE(bk_runtime_removed_clusters(rt, removed, 4) == 1 && bk_cluster_equal(removed[0], parent));
+  bk_cluster_removed removed[4];
+  ENSURE(bk_runtime_removed_clusters(rt, removed, 4) == 1 && bk_cluster_equal(removed[0].cluster, parent));
   ENSURE(take_created(rt, b, created, 128) == made);
   uint32_t* seen = calloc(tree.leaf_count, sizeof(uint32_t));
   double total = 0.0;
@@ -308,39 +309,42 @@ static void test_live_parameters(void) {
   bk_runtime_damage_at(rt, bk_v3(0, 0, 0), 1e12);
   ENSURE(bk_runtime_broken_bonds(rt, NULL, 0) == 0);
 
-  ENSURE(bk_runtime_set_density(rt, id, 500.0) && bk_runtime_density(rt, id) == 500.0);
+  ENSURE(bk_runtime_set_density(rt, id, 500.0) == BK_OK && bk_runtime_density(rt, id) == 500.0);
   bk_cluster_info info = {0};
   ENSURE(bk_runtime_cluster(rt, created[0].cluster.id, &info));
   ENSURE_REL(info.mass, 500.0, 1e-12);
-  ENSURE(!bk_runtime_set_density(rt, id, -1.0) && bk_runtime_density(rt, id) == 500.0);
+  ENSURE(bk_runtime_set_density(rt, id, -1.0) == BK_ERROR_INVALID_ARGUMENT &&
+         bk_runtime_density(rt, id) == 500.0);
 
   double initial = 0.0, hp = bk_runtime_bond_health(rt, id, 0, &initial);
   ENSURE(hp == initial && hp > 0.0);
-  ENSURE(bk_runtime_set_bond_strength(rt, id, 4e5) && bk_runtime_bond_strength(rt, id) == 4e5);
+  ENSURE(bk_runtime_set_bond_strength(rt, id, 4e5) == BK_OK && bk_runtime_bond_strength(rt, id) == 4e5);
   double initial2 = 0.0;
   ENSURE_REL(bk_runtime_bond_health(rt, id, 0, &initial2), 2.0 * hp, 1e-12);
   ENSURE_REL(initial2, 2.0 * initial, 1e-12);
 
   const bk_material* glass = bk_material_find("glass");
-  ENSURE(bk_runtime_set_material(rt, id, glass));
+  ENSURE(bk_runtime_set_material(rt, id, glass) == BK_OK);
   bk_material m = bk_runtime_material(rt, id);
   ENSURE(strcmp(m.name, "glass") == 0 && m.frailty == glass->frailty && m.density == glass->density);
   ENSURE(bk_runtime_frailty(rt, id) == glass->frailty);
   ENSURE(bk_runtime_cluster(rt, created[0].cluster.id, &info));
   ENSURE_REL(info.mass, glass->density, 1e-12);
-  ENSURE(bk_runtime_set_frailty(rt, id, 0.5) && bk_runtime_frailty(rt, id) == 0.5);
+  ENSURE(bk_runtime_set_frailty(rt, id, 0.5) == BK_OK && bk_runtime_frailty(rt, id) == 0.5);
   // A material read back and written again (its name is the runtime's own).
   m = bk_runtime_material(rt, id);
   m.accumulate = !m.accumulate;
-  ENSURE(bk_runtime_set_material(rt, id, &m));
+  ENSURE(bk_runtime_set_material(rt, id, &m) == BK_OK);
   ENSURE(strcmp(bk_runtime_material(rt, id).name, "glass") == 0 &&
          bk_runtime_material(rt, id).accumulate == m.accumulate);
-  ENSURE(!bk_runtime_set_frailty(rt, (bk_breakable_id){0, 0}, 1.0));
+  ENSURE(bk_runtime_set_frailty(rt, (bk_breakable_id){0, 0}, 1.0) == BK_ERROR_STALE_ID);
   // Densities and strengths no material has are refused: a denormal density
   // gave every cluster an inertia of 0, a huge strength infinite hit points.
-  ENSURE(!bk_runtime_set_density(rt, id, 5e-324) && !bk_runtime_set_density(rt, id, 1e300));
-  ENSURE(!bk_runtime_set_bond_strength(rt, id, 5e-324) && !bk_runtime_set_bond_strength(rt, id, 1e300));
-  ENSURE(bk_runtime_set_density(rt, id, BK_MATERIAL_DENSITY_MIN) &&
+  ENSURE(bk_runtime_set_density(rt, id, 5e-324) == BK_ERROR_INVALID_ARGUMENT &&
+         bk_runtime_set_density(rt, id, 1e300) == BK_ERROR_INVALID_ARGUMENT);
+  ENSURE(bk_runtime_set_bond_strength(rt, id, 5e-324) == BK_ERROR_INVALID_ARGUMENT &&
+         bk_runtime_set_bond_strength(rt, id, 1e300) == BK_ERROR_INVALID_ARGUMENT);
+  ENSURE(bk_runtime_set_density(rt, id, BK_MATERIAL_DENSITY_MIN) == BK_OK &&
          bk_runtime_cluster(rt, created[0].cluster.id, &info));
   ENSURE(info.mass > 0.0 && info.inertia.x > 0.0 && info.inertia.y > 0.0 && info.inertia.z > 0.0);
   bk_error err = {0};
@@ -367,11 +371,11 @@ static void test_remove(void) {
   bk_cluster_created created[8];
   take_created(rt, b, created, 8);
   bk_cluster_id c = created[0].cluster.id;
-  ENSURE(bk_runtime_remove_cluster(rt, c));
-  bk_cluster_id removed = {0};
-  ENSURE(bk_runtime_removed_clusters(rt, &removed, 1) == 1 && bk_cluster_equal(removed, c));
+  ENSURE(bk_runtime_remove_cluster(rt, c) == BK_OK);
+  bk_cluster_removed removed = {0};
+  ENSURE(bk_runtime_removed_clusters(rt, &removed, 1) == 1 && bk_cluster_equal(removed.cluster, c));
   ENSURE(bk_cluster_is_null(bk_runtime_leaf_cluster(rt, id, 0)));
-  ENSURE(!bk_runtime_remove_cluster(rt, c));
+  ENSURE(bk_runtime_remove_cluster(rt, c) == BK_ERROR_STALE_ID);
   ENSURE(bk_runtime_get_stats(rt).clusters == 0 && bk_runtime_clusters(rt, NULL, 0) == 0);
   bk_runtime_destroy(rt);
   bk_mesh_tree_free(&tree);

@@ -10,6 +10,7 @@
 
 #include "app.h"
 #include "ensure.h"
+#include "scene_run.h"
 
 #define RUN_STDERR_PATH BK_TEST_TMP "/scene_patterns_stderr.txt"
 #include "run_exe.h"

@@ -8,6 +8,7 @@
 
 #include "app.h"
 #include "ensure.h"
+#include "scene_run.h"
 
 // In place: the world borrows the trees inside the loaded scene.
 static void load(loaded_scene* scene, const scene_options* options) {

@@ -4,6 +4,7 @@
 
 #include "app.h"
 #include "ensure.h"
+#include "scene_run.h"
 
 // Scene data: every scene is findable by name, and a scene's extra aim
 // points each lie by a different one of its objects (so a volley in the

@@ -209,7 +209,7 @@ static void test_discrete_vs_accumulating(void) {
     double initial = 0.0;
     bk_world_bond_health(world, id, 0, &initial);
     // Damage at the bond centroid is frailty x impulse / s_min^3: aim for 60% of its hit points.
-    double s_min = bk_default_world_def().damage_min_distance;
+    double s_min = bk_default_world_def().runtime.damage_min_distance;
     double impulse = 0.6 * initial * s_min * s_min * s_min / desc.breakable.material.frailty;
     bk_vec3 at = bk_v3_add(bond->centroid, bk_v3(0, 0.5, 0));
     bk_world_impact(world, at, impulse);
@@ -254,7 +254,7 @@ static void test_live_frailty_and_density(void) {
     }
     double initial = 0.0;
     bk_world_bond_health(world, id, 0, &initial);
-    double s_min = bk_default_world_def().damage_min_distance;
+    double s_min = bk_default_world_def().runtime.damage_min_distance;
     double impulse = 0.6 * initial * s_min * s_min * s_min / desc.breakable.material.frailty;
     bk_world_impact(world, bk_v3_add(tree.bonds[0].centroid, bk_v3(0, 0.5, 0)), impulse);
     bk_world_step(world);
@@ -279,7 +279,7 @@ static void test_live_stress(void) {
   bk_breakable_id id = add(world, &tree, desc);
   bk_material m = bk_world_material(world, id);
   m.compression_limit = m.tension_limit = m.shear_limit = 1.0;
-  ENSURE(bk_world_set_material(world, id, &m));
+  ENSURE(bk_world_set_material(world, id, &m) == BK_OK);
   bk_material back = bk_world_material(world, id);
   ENSURE(back.compression_limit == 1.0 && back.tension_limit == 1.0 && back.shear_limit == 1.0);
   for (int i = 0; i < 60; ++i)
@@ -364,7 +364,7 @@ static void test_split_keeps_motion(void) {
 static void test_split_budget(void) {
   bk_mesh_tree tree = make_tree(BK_SHAPE_SLAB, 32, 9);
   bk_world_def wd = bk_default_world_def();
-  wd.max_new_bodies_per_step = 4;
+  wd.runtime.max_new_clusters_per_split = 4;
   bk_world* world = bk_world_create(&wd, NULL);
   bk_world_breakable_def desc = bk_default_world_breakable_def();
   desc.breakable.transform.position = bk_v3(-2, 0, 0);
@@ -436,10 +436,26 @@ static void test_bad_input(void) {
   wd.fixed_dt = -1.0;
   ENSURE(bk_world_create(&wd, &err) == NULL);
   ENSURE_MSG(strstr(err.message, "fixed_dt") != NULL, "%s", err.message);
+  // The runtime's def inside the world's: a bad field of it is named by its
+  // place in the world's def, with the runtime's own check and code.
   wd = bk_default_world_def();
-  wd.max_new_bodies_per_step = 1;
+  wd.runtime.max_new_clusters_per_split = 1;
   ENSURE(bk_world_create(&wd, &err) == NULL);
-  ENSURE_MSG(strstr(err.message, "max_new_bodies_per_step") != NULL, "%s", err.message);
+  ENSURE_MSG(strcmp(err.message, "world: runtime.max_new_clusters_per_split must be at least 2 (got 1)") == 0,
+             "%s", err.message);
+  ENSURE(err.code == BK_ERROR_INVALID_ARGUMENT);
+  wd = bk_default_world_def();
+  wd.runtime.stress_tolerance = 0.5;
+  ENSURE(bk_world_create(&wd, &err) == NULL);
+  ENSURE_MSG(strcmp(err.message, "world: runtime.stress_tolerance must be in (0, 0.1] (got 0.5)") == 0, "%s",
+             err.message);
+  // What the world sets itself is not the caller's to get wrong.
+  wd = bk_default_world_def();
+  wd.runtime.body_state = NULL;
+  wd.runtime.gravity = bk_v3(NAN, 0, 0);
+  bk_world* set_by_world = bk_world_create(&wd, &err);
+  ENSURE_MSG(set_by_world != NULL, "%s", err.message);
+  bk_world_destroy(set_by_world);
   bk_projectile_def shot = bk_default_projectile_def();
   shot.position = bk_v3(NAN, 0, 0);
   ENSURE(bk_body_is_null(bk_world_fire(world, &shot, &err)));
@@ -476,7 +492,7 @@ static void test_many_breaks(void) {
     add(world, &tree, desc);
     // Knock out every bond, one at a time from a different one each round:
     // 30 times a bond's hit points at s_min from its centroid.
-    double s_min = bk_default_world_def().damage_min_distance;
+    double s_min = bk_default_world_def().runtime.damage_min_distance;
     for (uint32_t k = 0; k < tree.bond_count; ++k) {
       uint32_t bond = (k + 7u * (uint32_t)round) % tree.bond_count;
       double initial = 0.0;

@@ -11,6 +11,7 @@
 
 #include "ensure.h"
 #include "runtime_internal.h"
+#include "stress_leaves.h"
 #include "stress_system.h"
 
 enum { DOF = 6 };
@@ -213,6 +214,7 @@ static void take_created(bk_runtime* rt, bodies* b) {
   for (uint32_t i = 0; i < n; ++i)
     b->state[created[i].cluster.id.index] = created[i].body;
   free(created);
+  bk_runtime_clear_events(rt); // taken: the next calls' events start afresh
 }
 
 static bk_mesh_tree make_tree(bk_shape shape, uint32_t pieces, bk_fracture_pattern pattern) {

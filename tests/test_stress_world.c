@@ -37,7 +37,7 @@ typedef struct setup {
 static bk_world* make_world(const bk_mesh_tree* tree, const char* material, setup s, bk_breakable_id* id) {
   bk_world_def wd = bk_default_world_def();
   wd.stress = s.stress;
-  wd.damage_min_distance = s.damage_min_distance;
+  wd.runtime.damage_min_distance = s.damage_min_distance;
   bk_error err = {0};
   bk_world* world = bk_world_create(&wd, &err);
   ENSURE_MSG(world, "%s", err.message);

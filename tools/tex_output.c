@@ -5,7 +5,8 @@
 
 #include <stb_image_write.h>
 
-#include "bk_geom.h"
+#include <breakables/base.h>
+
 #include "tex.h"
 
 const char* tex_outdir = ".";

@@ -73,11 +73,13 @@ static bk_body_state body_state(bk_cluster_id cluster, void* context) {
   return bodies[cluster.index];
 }
 
-static uint32_t take_created(const bk_runtime* runtime) {
+// The runtime's events accumulate until cleared: take them, then clear.
+static uint32_t take_created(bk_runtime* runtime) {
   static bk_cluster_created created[4096];
   uint32_t count = bk_runtime_created_clusters(runtime, created, 4096);
   for (uint32_t i = 0; i < count && i < 4096; ++i)
     bodies[created[i].cluster.id.index] = created[i].body;
+  bk_runtime_clear_events(runtime);
   return count;
 }
 

@@ -3,9 +3,14 @@
 // connected set of fragments: one rigid body) but never moves anything and
 // links no physics engine. Your engine's side of the contract:
 //   - one body per cluster: create it when bk_runtime_created_clusters says,
-//     destroy it when bk_runtime_removed_clusters says;
+//     destroy it when bk_runtime_removed_clusters says. Those events (and the
+//     broken bonds) accumulate over the runtime's calls until you clear them:
+//     take them once a step, after its last runtime call, then
+//     bk_runtime_clear_events;
 //   - answer the body_state callback: where a cluster's body is, how it moves;
 //   - feed damage (contacts or blasts), then call bk_runtime_split.
+// Each cluster carries a pointer of yours (its user data: here its body) and
+// each breakable one (here its name), handed back in every event.
 // The "engine" here is gravity, Euler steps and a crude floor: a spinning glass cube is hit by a
 // scripted contact, an anchored stone wall by a blast. Two runs print the same, digit for digit.
 #include <breakables/runtime.h>
@@ -31,19 +36,33 @@ static bk_body_state body_state(bk_cluster_id cluster, void* context) {
   return (bk_body_state){{b->position, b->orientation}, b->velocity, b->angular_velocity};
 }
 
-// After each runtime call that changes clusters. Removed ones first: a created one may reuse its index.
-static void sync_bodies(const bk_runtime* runtime, const char* why) {
-  static bk_cluster_id removed[MAX_BODIES];
+// Once a step, after the runtime's calls of that step: the events since the
+// last take. Removed ones first: a created one may reuse its index.
+static void take_events(bk_runtime* runtime, const char* why) {
+  static bk_cluster_removed removed[MAX_BODIES];
   static bk_cluster_created created[MAX_BODIES];
+  static bk_bond_break broken[4 * MAX_BODIES];
   uint32_t removed_count = bk_runtime_removed_clusters(runtime, removed, MAX_BODIES);
   uint32_t created_count = bk_runtime_created_clusters(runtime, created, MAX_BODIES);
-  if (removed_count > MAX_BODIES || created_count > MAX_BODIES) fprintf(stderr, "too many bodies\n"), exit(1);
+  uint32_t broken_count = bk_runtime_broken_bonds(runtime, broken, 4 * MAX_BODIES);
+  if (removed_count > MAX_BODIES || created_count > MAX_BODIES || broken_count > 4 * MAX_BODIES)
+    fprintf(stderr, "too many events\n"), exit(1);
+  if (bk_runtime_cluster_capacity(runtime) > MAX_BODIES) fprintf(stderr, "too many bodies\n"), exit(1);
+  if (broken_count) { // e.g. dust where they broke; here, which object
+    double area = 0.0;
+    for (uint32_t i = 0; i < broken_count; ++i)
+      area += broken[i].area;
+    printf("%s: %u bonds of the %s broke (%.3f m^2)\n", why, broken_count,
+           (const char*)broken[0].breakable_user_data, area);
+  }
   for (uint32_t i = 0; i < removed_count; ++i)
-    bodies[removed[i].index].alive = false;
+    ((body*)removed[i].user_data)->alive = false; // the body we gave it
   if (created_count) printf("%s: %u clusters removed, %u created\n", why, removed_count, created_count);
   for (uint32_t i = 0; i < created_count; ++i) {
     const bk_cluster_info* c = &created[i].cluster;
     body* b = &bodies[c->id.index];
+    // A new cluster starts with its parent's user data: give it its own body.
+    bk_runtime_set_cluster_user_data(runtime, c->id, b);
     *b = (body){.alive = true, .is_static = c->is_static, .mass = c->mass, .radius = 0.5 * cbrt(c->volume)};
     b->position = created[i].body.transform.position;
     b->orientation = created[i].body.transform.rotation;
@@ -56,6 +75,7 @@ static void sync_bodies(const bk_runtime* runtime, const char* why) {
       printf(n ? " %u" : "%u", c->nodes[n]);
     printf("}\n");
   }
+  bk_runtime_clear_events(runtime); // taken: the next ones start afresh
 }
 
 // Semi-implicit Euler under gravity; a floor at y = 0 stops bodies dead.
@@ -76,11 +96,11 @@ static void integrate(double dt) {
   }
 }
 
-// After damage: report the broken bonds, split clusters into connected parts.
+// After damage: split clusters into connected parts, then take the step's events.
 static void break_apart(bk_runtime* runtime, int step, const char* what) {
-  printf("step %d: %s, %u bonds broke\n", step, what, bk_runtime_broken_bonds(runtime, NULL, 0));
+  printf("step %d: %s\n", step, what);
   bk_runtime_split(runtime);
-  sync_bodies(runtime, "split");
+  take_events(runtime, "split");
 }
 
 static bk_breakable_id add(bk_runtime* runtime, bk_mesh_tree* tree, bk_shape shape, uint32_t pieces,
@@ -96,10 +116,11 @@ static bk_breakable_id add(bk_runtime* runtime, bk_mesh_tree* tree, bk_shape sha
   def.tree = tree; // borrowed: must outlive the runtime
   def.material = *bk_material_find(material);
   def.transform.position = position;
-  def.anchored = anchored; // fragments touching y = 0 are bonded to the world
+  def.anchored = anchored; // fragments touching y = 0 (up: against gravity) are bonded to the world
+  def.user_data = (void*)bk_shape_name(shape); // handed back in its events
   bk_breakable_id id = bk_runtime_add_breakable(runtime, &def, &err);
-  if (bk_breakable_is_null(id)) fprintf(stderr, "%s\n", err.message), exit(1);
-  sync_bodies(runtime, bk_shape_name(shape));
+  if (bk_breakable_is_null(id)) fprintf(stderr, "%s (%s)\n", err.message, bk_result_name(err.code)), exit(1);
+  take_events(runtime, bk_shape_name(shape));
   return id;
 }
 
@@ -108,7 +129,7 @@ int main(void) {
   runtime_def.body_state = body_state;
   bk_error err = {0};
   bk_runtime* runtime = bk_runtime_create(&runtime_def, &err);
-  if (!runtime) return fprintf(stderr, "%s\n", err.message), 1;
+  if (!runtime) return fprintf(stderr, "%s (%s)\n", err.message, bk_result_name(err.code)), 1;
   // A 1 m glass cube let go 1.5 m up, and a stone wall 3 m away, anchored.
   bk_mesh_tree cube_tree = {0}, wall_tree = {0};
   bk_breakable_id cube = add(runtime, &cube_tree, BK_SHAPE_CUBE, 32, "glass", bk_v3(0.0, 1.5, 0.0), false);

@@ -9,6 +9,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "base.h"
 #include "types.h"
 
 #ifdef __cplusplus
@@ -491,6 +492,15 @@ typedef struct bk_fracture_def {
 bk_fracture_def bk_default_fracture_def(void);
 /// Checks a fracture def; err names the wrong field.
 bool bk_fracture_def_validate(const bk_fracture_def* def, bk_error* err);
+/// The cut-out's jittered grid on a w x h fracture map: *columns x *rows
+/// samples, returned; about 3,000 (2,600 to 3,000) whatever the map's
+/// shape, fewer only on a map of fewer pixels. A region no sample falls in
+/// becomes no piece.
+uint32_t bk_cutout_grid(uint32_t w, uint32_t h, uint32_t* columns, uint32_t* rows);
+/// The regions of a w x h fracture map (4-connected pixels below 128), as
+/// the cut-out labels them (8 bytes a pixel while counting): more regions
+/// than bk_cutout_grid's samples means some become no piece.
+uint32_t bk_cutout_regions(const uint8_t* pixels, uint32_t w, uint32_t h);
 
 #define BK_NULL_INDEX UINT32_MAX
 
@@ -750,10 +760,19 @@ bool bk_mesh_tree_load(const char* path, bk_mesh_tree* out, bk_error* err);
 
 // ---------------------------------------------------------------- glTF export
 
-/// Which mesh-tree nodes a glTF export holds.
+/// Which mesh-tree nodes a glTF export holds, and which of them have a mesh.
+/// Importers (three.js, Godot, Blender) draw every node that has a mesh, so
+/// only BK_GLTF_LEVELS_ALL draws the object more than once.
 typedef enum bk_gltf_levels {
-  BK_GLTF_LEVELS_ALL = 0, ///< every node, as the node hierarchy (root = source, children = split pieces)
-  BK_GLTF_LEVELS_LEAVES,  ///< the fragments only, each a root node of the scene
+  /// Every node as the node hierarchy (root = source, children = split
+  /// pieces), meshes on the fragments only: the object is drawn once, and
+  /// moving an inner node moves its fragments. The default.
+  BK_GLTF_LEVELS_HIERARCHY = 0,
+  BK_GLTF_LEVELS_LEAVES, ///< the fragments only, each a root node of the scene
+  /// Every node with its own mesh: each level of the tree draws the whole
+  /// object, so an engine shows one level at a time (coarse levels have fewer
+  /// triangles, for swapping in finer ones as it breaks).
+  BK_GLTF_LEVELS_ALL,
 } bk_gltf_levels;
 
 /// A texture of a glTF export: image bytes written into the file, or a URI
@@ -786,7 +805,16 @@ bk_gltf_material bk_default_gltf_material(void);
 /// Parameters of a glTF export: bk_default_gltf_def() fills every field;
 /// bk_mesh_tree_save_gltf takes them as given (and refuses bad ones, naming the field).
 typedef struct bk_gltf_def {
-  bk_gltf_levels levels; ///< default BK_GLTF_LEVELS_ALL
+  bk_gltf_levels levels; ///< default BK_GLTF_LEVELS_HIERARCHY
+  /// Embed the tree's exact .mtree bytes (default true), what
+  /// bk_mesh_tree_load_gltf reads back. Most of a file's size: a shipped game
+  /// that draws the meshes and reads the extras (bonds, node moments) can
+  /// leave it out; such a file does not load back.
+  bool embed_tree;
+  /// Compress the vertices with meshoptimizer (the EXT_meshopt_compression
+  /// extension, which the file then requires; three.js decodes it with its
+  /// MeshoptDecoder, Blender 3.4 and Godot 4.2 do not). Default false.
+  bool meshopt_compression;
   /// The source materials, indexed by bk_material_source of the triangles
   /// (at most BK_MATERIAL_SOURCES_MAX); NULL with material_count 0 (the
   /// default) = one bk_default_gltf_material(). Triangles of a source
@@ -825,6 +853,15 @@ bool bk_mesh_tree_load_gltf(const char* path, bk_mesh_tree* out, bk_error* err);
 /// bk_mesh_tree_load_gltf on bytes in memory; `name` prefixes error messages.
 bool bk_mesh_tree_load_gltf_memory(const void* data, size_t size, const char* name, bk_mesh_tree* out,
                                    bk_error* err);
+/// The format of an image file's bytes, told by its signature: "png",
+/// "jpeg" (glTF 2.0's core image formats, what a bk_gltf_image may hold) or
+/// NULL for anything else.
+const char* bk_image_format(const void* data, size_t size);
+/// Converts a TGA, BMP or GIF image (no more than 16384 pixels a side nor
+/// 2^26 pixels in all) to a PNG file's bytes (*png, released with bk_free),
+/// for a glTF export, whose images must be PNG or JPEG. False (nothing
+/// allocated) for bytes that are none of these or cannot be decoded.
+bool bk_image_convert_to_png(const void* data, size_t size, uint8_t** png, size_t* png_size);
 
 #ifdef __cplusplus
 }

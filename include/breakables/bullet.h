@@ -256,19 +256,21 @@ typedef struct bk_world bk_world;
 /// World parameters; bk_default_world_def() fills every field and
 /// bk_world_create takes them as given (zero gravity is zero gravity).
 typedef struct bk_world_def {
-  bk_vec3 gravity;                  ///< default (0, -9.81, 0)
-  double fixed_dt;                  ///< one bk_world_step, in (0, 0.1] s; default 1/60 s
-  bool ground;                      ///< a static ground plane at y = 0; default true
-  double impact_speed;              ///< contacts closing slower than this (m/s) do no damage; default 1.0
-  double impulse_threshold;         ///< contacts with less impulse (N s) do no damage; default 0.5
-  double damage_min_distance;       ///< s_min of the damage formula (m); default 0.05
-  uint32_t max_new_bodies_per_step; ///< split budget (at least 2); default 48
+  bk_vec3 gravity; ///< default (0, -9.81, 0)
+  double fixed_dt; ///< one bk_world_step, in (0, 0.1] s; default 1/60 s
+  bool ground;     ///< a static ground plane at y = 0; default true
+  /// The runtime the world drives (bk_default_runtime_def's values): its
+  /// damage thresholds, its split budget (max_new_clusters_per_split: the
+  /// new bodies one step may make) and its stress budget. The world sets its
+  /// gravity (from gravity above), body_state and context; bk_world_create
+  /// names a bad field as "runtime.<field>".
+  bk_runtime_def runtime;
   /// Hits (contacts that damage) one step may apply, as the fragments they
   /// sweep: a hit on a cluster of n fragments weighs every bond of it and
   /// costs n. Past it, the later hits wait for the next steps, oldest
   /// first, at the same place on their object (which keeps its body and
   /// moves with it). While hits wait, steps take turns: one applies hits
-  /// and splits nothing, the next splits (up to max_new_bodies_per_step)
+  /// and splits nothing, the next splits (up to runtime.max_new_clusters_per_split)
   /// and applies no hit, so damage and new bodies never add up in one
   /// step. A hit turn applies at least one hit; a waiting hit whose cluster
   /// has split meanwhile is dropped. Any value is valid; 0 = no limit.
@@ -283,11 +285,10 @@ typedef struct bk_world_def {
   double retire_volume;
   double retire_after; ///< seconds a small fragment lives once free (> 0); default 10
   /// Structural stress each step (bk_runtime_solve_stress): what has lost
-  /// its support breaks off and falls; default true
+  /// its support breaks off and falls; default true. Its work per step is
+  /// runtime.stress_budget (16,000 bond evaluations, about 0.35 ms on this
+  /// project's 2-core machine)
   bool stress;
-  /// Its work per step in bond evaluations (bk_runtime_def.stress_budget,
-  /// >= 1); default 16,000 (about 0.35 ms on this project's 2-core machine)
-  uint32_t stress_budget;
   /// What the physics of a step may cost, in ms (>= 0; 0 = no budget). Over
   /// it, the least important loose pieces get cheaper, tier by tier (see
   /// bk_budget_tier); at less than half of it, they get their fidelity back
@@ -382,16 +383,23 @@ typedef struct bk_world_breakable_def {
 } bk_world_breakable_def;
 
 bk_world_breakable_def bk_default_world_breakable_def(void);
-/// Adds a breakable as one body (static if anchored). Null id with err naming the bad field.
+/// Adds a breakable as one body (static if anchored). Null id with err naming
+/// the bad field, its code the runtime's (BK_ERROR_BAD_TREE for a tree that
+/// fails validation) or BK_ERROR_PHYSICS when Bullet refused a body.
 bk_breakable_id bk_world_add_breakable(bk_world* world, const bk_world_breakable_def* def, bk_error* err);
+/// Removes a breakable: its bodies leave Bullet's world and its id goes
+/// stale (bk_world_breakable_at gives a null id at its index until a new
+/// breakable takes the slot). BK_ERROR_STALE_ID for a stale id.
+bk_result bk_world_remove_breakable(bk_world* world, bk_breakable_id id);
 /// Live parameters, owned by the world's runtime: frailty applies to the next
 /// hits; density recomputes every body's mass and inertia; bond strength
 /// scales the hit points of intact bonds; a material sets all of them plus
-/// friction and restitution. Setters return false for a stale id or a bad value.
-bool bk_world_set_material(bk_world* world, bk_breakable_id id, const bk_material* material);
-bool bk_world_set_frailty(bk_world* world, bk_breakable_id id, double frailty);
-bool bk_world_set_density(bk_world* world, bk_breakable_id id, double density);
-bool bk_world_set_bond_strength(bk_world* world, bk_breakable_id id, double bond_strength);
+/// friction and restitution. Setters return the runtime's result: BK_OK, or
+/// (changing nothing) BK_ERROR_STALE_ID or BK_ERROR_INVALID_ARGUMENT.
+bk_result bk_world_set_material(bk_world* world, bk_breakable_id id, const bk_material* material);
+bk_result bk_world_set_frailty(bk_world* world, bk_breakable_id id, double frailty);
+bk_result bk_world_set_density(bk_world* world, bk_breakable_id id, double density);
+bk_result bk_world_set_bond_strength(bk_world* world, bk_breakable_id id, double bond_strength);
 /// Getters (read the live values back instead of keeping copies).
 bk_material bk_world_material(const bk_world* world, bk_breakable_id id);
 double bk_world_frailty(const bk_world* world, bk_breakable_id id);
@@ -444,7 +452,8 @@ double bk_world_settle_cell(const bk_world* world);
 void bk_world_set_focus(bk_world* world, bk_vec3 point);
 /// The focus, if one was set.
 bool bk_world_focus(const bk_world* world, bk_vec3* point);
-/// Breakables added so far, and the id of the one at index (null past the end).
+/// Breakable slots (the runtime's indices: a removed breakable's is used
+/// again), and the id of the one at index (null past the end, or removed).
 uint32_t bk_world_breakable_count(const bk_world* world);
 bk_breakable_id bk_world_breakable_at(const bk_world* world, uint32_t index);
 
@@ -481,6 +490,7 @@ typedef struct bk_break_event {
   bk_vec3 velocity; ///< velocity of the body it belonged to, at that point
   double area;
   bk_break_cause cause; ///< a hit, or the load it carried (stress)
+  void* user_data;      ///< the breakable's (bk_breakable_def.user_data)
 } bk_break_event;
 
 /// Copies the last step's break events; returns the total count.
@@ -567,6 +577,7 @@ typedef struct bk_body_view {
   bk_body_id body;
   bool is_static;
   bk_budget_tier tier; ///< what the physics budget made of it
+  void* user_data;     ///< the breakable's (bk_breakable_def.user_data)
 } bk_body_view;
 
 /// Number of breakable bodies; views are indexed 0..count-1 until the next step.

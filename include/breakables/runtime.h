@@ -13,11 +13,19 @@
 //      (bk_runtime_damage_at), and, for structures, the weights they carry
 //      (bk_runtime_solve_stress: bonds also break under load), then calls
 //      bk_runtime_split.
-// Every call that changes clusters or bonds (add_breakable, apply_contacts,
-// damage_at, split, remove_cluster) replaces the results of the previous one
-// (created clusters, removed clusters, broken bonds); pull them as arrays
-// right after the call, into buffers you own (capacity in, count out).
-// Setters, queries and calls that fail keep the previous results.
+// Events are never lost: every call that changes clusters or bonds
+// (add_breakable, apply_contacts, damage_at, solve_stress,
+// apply_fracture_commands, split, remove_cluster, remove_breakable) adds to
+// three lists (created clusters, removed clusters, broken bonds) that
+// accumulate until you call bk_runtime_clear_events. Read them as often as
+// you like into buffers you own (capacity in, count out), act on them (make
+// and remove bodies), then clear: once a step, after the runtime's calls of
+// that step, is the usual rule (Box2D's events likewise live until the next
+// step). A cluster created and removed between two clears appears in neither
+// list; until you clear, the runtime answers itself where a cluster you have
+// not been given yet is (its created event's body), and asks
+// bk_body_state_fn only about the others.
+// Setters, queries and calls that fail add nothing.
 // Same calls with the same inputs give the same results, bit for bit.
 // A runtime is not thread-safe: call it from one thread at a time.
 #pragma once
@@ -147,14 +155,29 @@ typedef struct bk_runtime_def {
   /// any point within their size) are not loaded: their weight is not at
   /// rest on anything; >= 0; default 0.25
   double stress_rest_speed;
+  /// World gravity (m/s^2, finite): its opposite is "up" for anchoring (a
+  /// breakable's anchor plane is perpendicular to it); +Y when zero. The
+  /// stress solve takes its own gravity per call. Default (0, -9.81, 0)
+  bk_vec3 gravity;
   bk_body_state_fn* body_state; ///< required
   void* context;                ///< passed to body_state
 } bk_runtime_def;
 
 bk_runtime_def bk_default_runtime_def(void);
-/// Creates a runtime; NULL with err naming the bad field.
+/// Creates a runtime; NULL with err naming the bad field (code
+/// BK_ERROR_INVALID_ARGUMENT).
 bk_runtime* bk_runtime_create(const bk_runtime_def* def, bk_error* err);
+/// Checks a def as bk_runtime_create does: false with err naming the bad
+/// field after `prefix` (code BK_ERROR_INVALID_ARGUMENT). bk_runtime_create's
+/// prefix is "runtime: "; a def that contains one names it as its field
+/// (bk_world_create: "world: runtime.").
+bool bk_runtime_def_validate(const bk_runtime_def* def, const char* prefix, bk_error* err);
 void bk_runtime_destroy(bk_runtime* runtime);
+/// Changes the gravity whose opposite is up for the anchoring of the
+/// breakables added from now on (those added keep their anchors).
+/// BK_ERROR_INVALID_ARGUMENT (nothing changed) when not finite.
+bk_result bk_runtime_set_gravity(bk_runtime* runtime, bk_vec3 gravity);
+bk_vec3 bk_runtime_gravity(const bk_runtime* runtime);
 
 /// A breakable: an instance of a mesh tree. bk_default_breakable_def() fills
 /// every field; the add call takes them as given.
@@ -162,30 +185,47 @@ typedef struct bk_breakable_def {
   const bk_mesh_tree* tree; ///< borrowed: must outlive the runtime; required
   bk_transform transform;   ///< places the tree frame in the world; default identity
   bk_material material;     ///< default: density 2400, frailty 1, bond strength 2e5, discrete
-  bool anchored;            ///< fragments touching the support plane are bonded to the world (static)
-  double anchor_height;     ///< world height of that plane; default 0
+  /// Fragments touching the support plane are bonded to the world (static):
+  /// those with a vertex at most anchor_height up (up: the opposite of the
+  /// runtime's gravity), the plane perpendicular to up through anchor_height
+  bool anchored;
+  double anchor_height; ///< height of that plane along up (m); default 0
+  /// Yours: handed back in views and events (bk_cluster_info and the
+  /// events' breakable_user_data); its first cluster's user data too.
+  /// Default NULL
+  void* user_data;
 } bk_breakable_def;
 
 bk_breakable_def bk_default_breakable_def(void);
 /// Adds a breakable as one cluster, reported as created: its body frame
 /// starts at def.transform x the cluster's principal frame, at rest. Null id
-/// with err naming the bad field; def.tree is checked by
-/// bk_mesh_tree_validate on every call (it is the caller's, and may have
-/// changed since the last), before anything is allocated: "breakable: tree:
-/// leaf 12 (node 40): volume -0.003 is not positive".
+/// with err naming the bad field (BK_ERROR_INVALID_ARGUMENT); def.tree is
+/// checked by bk_mesh_tree_validate on every call (it is the caller's, and
+/// may have changed since the last), before anything is allocated:
+/// "breakable: tree: leaf 12 (node 40): volume -0.003 is not positive"
+/// (BK_ERROR_BAD_TREE).
 bk_breakable_id bk_runtime_add_breakable(bk_runtime* runtime, const bk_breakable_def* def, bk_error* err);
+/// Removes a breakable and every cluster of it, each reported removed (in
+/// index order); its id and theirs become stale, and its slot may be reused
+/// (with a new generation). BK_ERROR_STALE_ID for a stale id.
+bk_result bk_runtime_remove_breakable(bk_runtime* runtime, bk_breakable_id id);
 /// The tree a breakable was made from (NULL for a stale id).
 const bk_mesh_tree* bk_runtime_breakable_tree(const bk_runtime* runtime, bk_breakable_id id);
+/// A breakable's user data (NULL for a stale id) and its setter (the
+/// events recorded from now on carry the new one; BK_ERROR_STALE_ID).
+void* bk_runtime_breakable_user_data(const bk_runtime* runtime, bk_breakable_id id);
+bk_result bk_runtime_set_breakable_user_data(bk_runtime* runtime, bk_breakable_id id, void* user_data);
 
 /// Live parameters. Frailty and the damage mode apply to the next hits; a new
 /// bond strength scales every intact bond's hit points (their fraction left
 /// is kept); density changes every cluster's mass and inertia (read them back
-/// with bk_runtime_cluster and give them to your bodies). Setters return false
-/// (and change nothing) for a stale id or a bad value.
-bool bk_runtime_set_material(bk_runtime* runtime, bk_breakable_id id, const bk_material* material);
-bool bk_runtime_set_frailty(bk_runtime* runtime, bk_breakable_id id, double frailty);
-bool bk_runtime_set_density(bk_runtime* runtime, bk_breakable_id id, double density);
-bool bk_runtime_set_bond_strength(bk_runtime* runtime, bk_breakable_id id, double bond_strength);
+/// with bk_runtime_cluster and give them to your bodies). Setters return
+/// BK_OK, or (and change nothing) BK_ERROR_STALE_ID for a stale id,
+/// BK_ERROR_INVALID_ARGUMENT for a bad value.
+bk_result bk_runtime_set_material(bk_runtime* runtime, bk_breakable_id id, const bk_material* material);
+bk_result bk_runtime_set_frailty(bk_runtime* runtime, bk_breakable_id id, double frailty);
+bk_result bk_runtime_set_density(bk_runtime* runtime, bk_breakable_id id, double density);
+bk_result bk_runtime_set_bond_strength(bk_runtime* runtime, bk_breakable_id id, double bond_strength);
 /// The material as it is now (name points into the runtime; zeroed for a stale id).
 bk_material bk_runtime_material(const bk_runtime* runtime, bk_breakable_id id);
 double bk_runtime_frailty(const bk_runtime* runtime, bk_breakable_id id);
@@ -207,6 +247,11 @@ typedef struct bk_cluster_info {
   double volume;          ///< m^3
   bk_transform principal; ///< body frame (centre of mass, principal axes) in the tree frame
   bk_vec3 inertia;        ///< principal moments of inertia (kg m^2)
+  /// Yours (bk_runtime_set_cluster_user_data). A new cluster starts with
+  /// its parent's (the cluster it split from), a breakable's first with the
+  /// breakable's: set your own when you take its created event.
+  void* user_data;
+  void* breakable_user_data; ///< its breakable's (bk_breakable_def.user_data)
 } bk_cluster_info;
 
 /// False for a stale id.
@@ -214,6 +259,13 @@ bool bk_runtime_cluster(const bk_runtime* runtime, bk_cluster_id id, bk_cluster_
 /// Live clusters in index order; writes at most capacity (none to NULL),
 /// returns how many live.
 uint32_t bk_runtime_clusters(const bk_runtime* runtime, bk_cluster_id* out, uint32_t capacity);
+/// A bound on cluster indices, to size a table by index: every live
+/// cluster's index is below it, and it never shrinks (slots are reused).
+uint32_t bk_runtime_cluster_capacity(const bk_runtime* runtime);
+/// A cluster's user data (NULL for a stale id), and its setter
+/// (BK_ERROR_STALE_ID for a stale id).
+void* bk_runtime_cluster_user_data(const bk_runtime* runtime, bk_cluster_id id);
+bk_result bk_runtime_set_cluster_user_data(bk_runtime* runtime, bk_cluster_id id, void* user_data);
 /// The cluster a fragment belongs to (null once its cluster was removed).
 bk_cluster_id bk_runtime_leaf_cluster(const bk_runtime* runtime, bk_breakable_id id, uint32_t leaf);
 
@@ -241,18 +293,31 @@ void bk_runtime_damage_at(bk_runtime* runtime, bk_vec3 point, double impulse);
 /// Splits clusters with broken bonds into connected clusters, creating at
 /// most max_new_clusters_per_split; what does not fit waits for the next
 /// call, in order. Results: removed clusters, then created ones (each split
-/// removes its parent and creates its parts). Returns the clusters created.
+/// removes its parent and creates its parts). Returns the clusters this call
+/// created.
 uint32_t bk_runtime_split(bk_runtime* runtime);
 /// Takes a cluster out (its fragments leave the simulation, e.g. retired
-/// debris). Results: that cluster removed. False for a stale id.
-bool bk_runtime_remove_cluster(bk_runtime* runtime, bk_cluster_id id);
+/// debris). Results: that cluster removed. BK_ERROR_STALE_ID for a stale id.
+bk_result bk_runtime_remove_cluster(bk_runtime* runtime, bk_cluster_id id);
 
-/// A cluster created by the last call.
+/// A cluster created since the last clear, live (one created and removed
+/// since is in neither list). The info is the cluster as it is now.
 typedef struct bk_cluster_created {
   bk_cluster_info cluster;
-  bk_cluster_id parent; ///< the cluster it split from (null for a new breakable's first)
-  bk_body_state body;   ///< where its body starts and how it moves (its parent's v + w x r)
+  /// The cluster it split from as you know it: one you were given before
+  /// (reported removed by now), never one created and removed since the
+  /// last clear; null for a breakable's first
+  bk_cluster_id parent;
+  bk_body_state body; ///< where its body starts and how it moves (its parent's v + w x r)
 } bk_cluster_created;
+
+/// A cluster removed since the last clear (one you were given).
+typedef struct bk_cluster_removed {
+  bk_cluster_id cluster;
+  bk_breakable_id breakable;
+  void* user_data; ///< the cluster's, as it was when removed
+  void* breakable_user_data;
+} bk_cluster_removed;
 
 /// What broke a bond.
 typedef enum bk_break_cause {
@@ -260,22 +325,33 @@ typedef enum bk_break_cause {
   BK_BREAK_STRESS, ///< the load it carried passed its material's limit
 } bk_break_cause;
 
-/// A bond broken by the last call.
+/// A bond broken since the last clear.
 typedef struct bk_bond_break {
   bk_breakable_id breakable;
-  bk_cluster_id cluster; ///< the cluster it was inside
-  uint32_t bond;         ///< index into the tree's bonds
-  bk_vec3 position;      ///< world position of the bond centroid
-  bk_vec3 velocity;      ///< velocity of the cluster's body at that point
-  double area;           ///< m^2
+  /// The cluster it was inside (one created and removed since the last
+  /// clear, which you never see, may be named)
+  bk_cluster_id cluster;
+  uint32_t bond;    ///< index into the tree's bonds
+  bk_vec3 position; ///< world position of the bond centroid
+  bk_vec3 velocity; ///< velocity of the cluster's body at that point
+  double area;      ///< m^2
   bk_break_cause cause;
+  void* user_data;           ///< its cluster's, when it broke
+  void* breakable_user_data; ///< its breakable's, when it broke
 } bk_bond_break;
 
-/// Results of the last call: each writes at most capacity entries and
-/// returns the total (out may be NULL: it writes none).
+/// The events since the last clear, oldest first: each writes at most
+/// capacity entries and returns the total (out may be NULL: it writes
+/// none); reading takes nothing away. What is written is a copy; the
+/// pointers of a created cluster's info stay valid until the next call that
+/// changes clusters (split, remove, add).
 uint32_t bk_runtime_created_clusters(const bk_runtime* runtime, bk_cluster_created* out, uint32_t capacity);
-uint32_t bk_runtime_removed_clusters(const bk_runtime* runtime, bk_cluster_id* out, uint32_t capacity);
+uint32_t bk_runtime_removed_clusters(const bk_runtime* runtime, bk_cluster_removed* out, uint32_t capacity);
 uint32_t bk_runtime_broken_bonds(const bk_runtime* runtime, bk_bond_break* out, uint32_t capacity);
+/// Empties the three lists: call it once you have acted on them (made the
+/// created clusters' bodies, removed the removed ones'). From then on the
+/// runtime asks bk_body_state_fn where every live cluster is.
+void bk_runtime_clear_events(bk_runtime* runtime);
 
 // ---------------------------------------------------------------- stress
 
@@ -301,7 +377,8 @@ typedef struct bk_stress_load {
 /// carry down to their supports: a static cluster's anchored fragments, and
 /// the fragments of a slow cluster at the given support points. Bonds whose
 /// stress passes their material's limits break. Results: broken bonds
-/// (cause BK_BREAK_STRESS); split next.
+/// (cause BK_BREAK_STRESS); split next. The same as bk_runtime_stress_commands
+/// with room for every command, then bk_runtime_apply_fracture_commands.
 ///
 /// Costs nothing for a cluster whose solve converged and whose bonds,
 /// supports, loads (within a tenth of its weight and loads) and limits did
@@ -311,6 +388,38 @@ typedef struct bk_stress_load {
 /// half-solved load).
 void bk_runtime_solve_stress(bk_runtime* runtime, bk_vec3 gravity, const bk_stress_support* supports,
                              uint32_t support_count, const bk_stress_load* loads, uint32_t load_count);
+
+/// A bond to break, as the stress solve reports it (as Blast's stress
+/// extension emits bond fracture commands instead of breaking bonds itself).
+typedef struct bk_fracture_command {
+  bk_cluster_id cluster; ///< the cluster the bond is inside
+  uint32_t bond;         ///< index into its breakable's tree bonds
+  bk_vec3 position;      ///< world position of the bond centroid (for the break event)
+  bk_vec3 velocity;      ///< velocity of the cluster's body there (for the break event)
+  bk_break_cause cause;  ///< BK_BREAK_STRESS from the stress solve
+} bk_fracture_command;
+
+/// Solves as bk_runtime_solve_stress does but breaks nothing: writes the
+/// bonds the solve finds past their limits to `commands` (at most capacity;
+/// commands may be NULL with capacity 0) and returns how many it wrote, so
+/// you can inspect, filter or defer them (apply them with
+/// bk_runtime_apply_fracture_commands). A cluster whose commands do not all
+/// fit writes none and is checked again on the next call; one whose commands
+/// were written counts as solved: commands you do not apply are not
+/// reported again until the cluster changes (a break, a new support or load,
+/// a material change).
+uint32_t bk_runtime_stress_commands(bk_runtime* runtime, bk_vec3 gravity, const bk_stress_support* supports,
+                                    uint32_t support_count, const bk_stress_load* loads, uint32_t load_count,
+                                    bk_fracture_command* commands, uint32_t capacity);
+
+/// Breaks the bonds the commands name, in order, and returns how many broke.
+/// A command is skipped when its cluster is stale, its bond index is out of
+/// range, its bond is broken already or not inside that cluster, or its
+/// cause is not a bk_break_cause. Results: broken bonds (with the command's
+/// position, velocity and cause; cause BK_BREAK_STRESS counts in
+/// stress_bonds_broken); split next.
+uint32_t bk_runtime_apply_fracture_commands(bk_runtime* runtime, const bk_fracture_command* commands,
+                                            uint32_t count);
 
 /// The stress a bond carried at its cluster's last converged solve.
 typedef struct bk_bond_stress {
@@ -330,7 +439,7 @@ double bk_runtime_bond_health(const bk_runtime* runtime, bk_breakable_id id, uin
 
 /// Totals since creation.
 typedef struct bk_runtime_stats {
-  uint32_t breakables;
+  uint32_t breakables;              ///< live
   uint32_t clusters;                ///< live
   uint32_t bonds_broken;            ///< since creation
   uint32_t splits;                  ///< clusters split since creation

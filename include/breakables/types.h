@@ -125,14 +125,57 @@ extern "C" {
 
 // ---------------------------------------------------------------- errors
 
-/// A failed call fills one line naming the problem (file, line, field).
+/// What went wrong, for a program to act on (the message is for people).
+/// Setters return it; a call that fills a bk_error sets its code. 0 is
+/// success, so `if (bk_runtime_set_density(...) != BK_OK)` tests a result.
+typedef enum bk_result {
+  BK_OK = 0,
+  /// A failure the library does not classify further: read the message
+  BK_ERROR_FAILED,
+  /// A NULL pointer, or a field or value out of its range (the message names it)
+  BK_ERROR_INVALID_ARGUMENT,
+  /// An id whose object was removed, or that this runtime or world never made
+  BK_ERROR_STALE_ID,
+  /// A mesh tree that fails bk_mesh_tree_validate (indices, masses, bonds)
+  BK_ERROR_BAD_TREE,
+  /// A file could not be opened, read or written
+  BK_ERROR_IO,
+  /// The physics engine refused something (a body, a shape)
+  BK_ERROR_PHYSICS,
+  /// The allocator (bk_set_allocator's, or malloc) gave no memory
+  BK_ERROR_OUT_OF_MEMORY,
+} bk_result;
+
+/// A failed call fills one line naming the problem (file, line, field) and
+/// its code. A zeroed bk_error has code BK_OK and an empty message.
 typedef struct bk_error {
   char message[512];
+  bk_result code;
 } bk_error;
 
-/// printf-style fill of an error; err may be NULL. Always returns false so a
-/// failing function can `return bk_error_set(err, ...)`.
+/// printf-style fill of an error with code BK_ERROR_FAILED; err may be NULL.
+/// Always returns false so a failing function can `return bk_error_set(err, ...)`.
 bool bk_error_set(bk_error* err, const char* fmt, ...) __attribute__((format(printf, 2, 3)));
+/// The same with a code.
+bool bk_error_set_code(bk_error* err, bk_result code, const char* fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+/// A short name of a code ("invalid argument", "stale id", ...).
+const char* bk_result_name(bk_result code);
+
+// ---------------------------------------------------------------- version
+
+/// A version of the libraries: the project's VERSION, major.minor.revision.
+typedef struct bk_version {
+  int major;
+  int minor;
+  int revision;
+} bk_version;
+
+/// The version of the libraries linked or loaded (all three are built
+/// together). A program that loads the shared libraries at run time checks
+/// it against the one it was written for; the soname changes with the minor
+/// version while the major is 0, then with the major.
+bk_version bk_get_version(void);
 
 #ifdef __cplusplus
 }

@@ -8,6 +8,7 @@
 
 #include "app.h"
 #include "bench_report.h"
+#include "scene_run.h"
 
 enum {
   ASSET_MAX_RUNS = 5,

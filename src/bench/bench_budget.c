@@ -16,6 +16,7 @@
 
 #include "app.h"
 #include "bench_report.h"
+#include "scene_run.h"
 
 /// One load, as sim's options would give it, and issue 32's targets for it
 /// under the default budget.
@@ -285,9 +286,11 @@ bool bench_section_budget(const bench* b) {
       {"cube", &bench_cube_scene, 4096, 1, 1, 60, 150, 900, 16.0, true, 33.0, false},
   };
   if (b->quick) {
-    loads[0].pieces = 256, loads[0].shots = 20, loads[0].volley = 80, loads[0].steps = 150;
-    loads[1].copies = 4, loads[1].steps = 100;
-    loads[2].pieces = 1024, loads[2].steps = 100;
+    // Small enough for the test suite under the sanitizers (each run is
+    // made three times), large enough that the budget has work to do.
+    loads[0].pieces = 128, loads[0].shots = 10, loads[0].volley = 50, loads[0].steps = 100;
+    loads[1].copies = 4, loads[1].steps = 80;
+    loads[2].pieces = 512, loads[2].steps = 80;
     for (int l = 0; l < 3; ++l)
       loads[l].settle_steps = 0; // no settling: its last 60 shooting steps stand for it
   }

@@ -11,6 +11,7 @@
 
 #include "app.h"
 #include "bench_report.h"
+#include "scene_run.h"
 
 enum {
   PATTERN_MAX_RUNS = 3,       ///< timed builds per row in the full run (1 with --quick)

@@ -15,6 +15,7 @@
 #include <unistd.h>
 
 #include "app.h"
+#include "scene_run.h"
 
 extern char** environ; // for gnuplot's environment (posix_spawnp)
 

@@ -10,8 +10,7 @@
 
 #include <breakables/authoring.h>
 
-#include "bk_geom.h"
-
+#include "scene_run.h"
 #include "scenes.h"
 
 enum {

@@ -11,6 +11,7 @@
 
 #include "app.h"
 #include "bench_report.h"
+#include "scene_run.h"
 
 enum {
   SCALING_PIECES = 256,    ///< fragments per wall in section 5

@@ -12,6 +12,8 @@
 
 #include "app.h"
 #include "bench_report.h"
+#include "commands.h"
+#include "scene_run.h"
 
 static const char* const bench_usage =
     "usage: breakables bench [--quick] [--only N] [--out DIR] [--seed S]\n"
@@ -386,7 +388,7 @@ static int usage_error(const char* option, const char* what) {
   return 2;
 }
 
-int app_cmd_bench(int argc, char** argv) {
+int cmd_bench(int argc, char** argv) {
   bench b = {.seed = 3000, .dir = "bench-out"};
   uint64_t only = 0;
   for (int i = 1; i < argc; ++i) {

@@ -1,6 +1,7 @@
 // The bond overlays of the game (B, V; --overlay bonds, stress): each body's
 // intact bonds as lines, coloured by their hit points or their stress.
-#include "game_state.h"
+#include "bond_overlay.h"
+#include "interpolate.h"
 
 // Green through yellow (half way) to red as t goes from 0 to 1.
 static void ramp_color(double t, float out[4]) {
@@ -23,7 +24,7 @@ void game_draw_bonds(app_game* g, double alpha, bool by_stress) {
   for (uint32_t i = 0; i < bodies; ++i) {
     bk_body_view v = {0};
     if (!bk_world_body_view(w, i, &v) || v.leaf_count < 2) continue;
-    bk_transform model = game_lerp_transform(v.tree_to_world_previous, v.tree_to_world, alpha);
+    bk_transform model = lerp_transform(v.tree_to_world_previous, v.tree_to_world, alpha);
     for (uint32_t b = 0; b < v.tree->bond_count; ++b) {
       const bk_bond* bond = &v.tree->bonds[b];
       // Leaves are ascending: a bond outside their range is another body's.

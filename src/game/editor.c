@@ -6,8 +6,13 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "game.h"
+#include <stdlib.h>
+
+#include "commands.h"
+#include "particles.h"
+#include "scene_run.h"
 #include "ui.h"
+#include "window.h"
 
 static const char* const editor_usage =
     "usage: breakables editor [--mesh NAME|PATH] [--pattern NAME] [--pieces N] [--seed S]\n"

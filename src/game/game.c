@@ -5,9 +5,18 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "game_state.h"
+#include "bond_overlay.h"
+#include "commands.h"
+#include "game.h"
+#include "game_budget.h"
 #include "hud.h"
+#include "interpolate.h"
+#include "model_surface.h"
+#include "panel.h"
+#include "scene_args.h"
 #include "ui.h"
+#include "window.h"
+#include "worker.h"
 
 static const char* const play_usage =
     "usage: breakables [play] [--scene NAME | --mesh PATH] [--material NAME] [--pattern NAME] [--pieces N]\n"
@@ -20,26 +29,13 @@ static const char* const play_usage =
     "\n"
     "The demo game: shoot projectiles at breakable objects and tune them live.\n"
     "\n"
-    "options:\n"
-    "  --scene NAME          wall, eggshell, pillar, slab, bunny, torus, showcase, tower, bridge,\n"
-    "                        balcony (default: showcase)\n"
-    "  --mesh PATH           your own model (what fracture --mesh reads, an .mtree, or a .glb/.gltf\n"
-    "                        exported by fracture), stood on the ground in front of "
-    "you\n" BK_MODEL_UNITS_USAGE
-    "  --material NAME       stone, concrete, glass, porcelain, eggshell, wood: every object's\n"
-    "                        material (default: the scene's; stone for --mesh)\n"
-    "  --pattern NAME        how every object breaks: planes, voronoi, clustered, radial, brick\n"
-    "                        or cutout (default: each object's own: the walls brick, the pillar\n"
-    "                        clustered, the bunny, torus, tower, bridge and balcony radial round\n"
-    "                        their aim points, the eggshell voronoi, the rest planes); the panel\n"
-    "                        changes it too\n"
-    "  --pieces N            fragments per object, 1..65536 (default: the scene's; cutout makes\n"
-    "                        as many as its fracture map has regions)\n"
-    "  --seed S              fracture seed, 0..18446744073709551615 (default: 3000)\n"
+    "options:\n";
+
+// The options only play takes (scene_args_help prints the shared ones first).
+static const char* const play_options =
     "  --frames N            run N frames, 1..10000000, then exit with a one-line summary\n"
     "  --autofire K          fire K projectiles, 0..10000, at the scene's target at regular\n"
     "                        intervals\n"
-    "  --volley V            fire them within the first V frames, 1..10000000 (default: all N)\n"
     "  --screenshot FILE.png save the last frame\n"
     "  --record DIR          save frames 0, K, 2K, ... as DIR/frame_00000.png, frame_00001.png, ...\n"
     "                        (needs --frames; DIR is made if missing and may hold only an earlier\n"
@@ -54,39 +50,7 @@ static const char* const play_usage =
     "                        (bonds by their stress over its limit), nodes, hulls or budget\n"
     "                        (bodies by their physics budget tier) (repeatable)\n"
     "  --benchmark           start the panel's runtime sweep (16..512 fragments, mesh tree against\n"
-    "                        plain BCRB); a scripted run waits for it before its last frame\n"
-    "  --no-stress           no structural stress: what is still bonded to an anchor stays up\n"
-    "                        however little holds it (the panel turns it back on)\n"
-    "  --stress-scale X      every material's stress limits times X, 1e-6..1e6 (default 1; at\n"
-    "                        0.15 the bridge and the balcony cannot carry their own weight)\n"
-    "  --drop KG             set a weight of KG, 1..1e6, down at rest on the top surface over the\n"
-    "                        first object's aim point (the bridge: the middle of its deck), for the\n"
-    "                        structure to carry (20000 breaks the bridge, 500 does not); also\n"
-    "                        the mass X sets down (default 20000)\n"
-    "  --drop-radius M       the weight's radius, 0.01..2 m (default 0.3)\n"
-    "  --drop-at FRAME       the frame it is set down, 0..10000000, before --frames (default 60:\n"
-    "                        the structure has settled)\n"
-    "  --max-memory MIB      memory each fracture may use, 1..1073741824 MiB (default: the\n"
-    "                        available memory); a tree estimated to need more is refused\n"
-    "  --budget-ms X         the physics budget per step, 0..1000 ms (default 8, half a 60 Hz\n"
-    "                        frame; 0 turns it off): over it,\n"
-    "                        the least important loose pieces (small, far from the camera, slow,\n"
-    "                        long at rest) get cheaper, down to being retired\n"
-    "  -h, --help            show this help\n"
-    "\n"
-    "controls: right mouse drag = look, W A S D Q E = move (Shift = fast), left click or\n"
-    "Space = fire, X = set a weight down on what you look at (its mass and radius in the\n"
-    "panel's Structural stress section), 1-9 and 0 = scenes, R = reset, P = pause,\n"
-    "N = single step, T = slow motion, B / V / G / H / L = bonds by hit points / bonds by stress /\n"
-    "mesh-tree nodes / collider hulls / physics budget tiers overlays, F1 = panel, Esc = quit.\n";
-
-bk_transform game_lerp_transform(bk_transform a, bk_transform b, double t) {
-  bk_quat qa = a.rotation, qb = b.rotation;
-  if (qa.x * qb.x + qa.y * qb.y + qa.z * qb.z + qa.w * qb.w < 0.0) qb = (bk_quat){-qb.x, -qb.y, -qb.z, -qb.w};
-  bk_quat q = bk_quat_normalize((bk_quat){qa.x + (qb.x - qa.x) * t, qa.y + (qb.y - qa.y) * t,
-                                          qa.z + (qb.z - qa.z) * t, qa.w + (qb.w - qa.w) * t});
-  return (bk_transform){bk_v3_lerp(a.position, b.position, t), q};
-}
+    "                        plain BCRB); a scripted run waits for it before its last frame\n";
 
 bk_vec3 game_forward(const app_game* g) {
   return bk_v3(cos(g->pitch) * sin(g->yaw), sin(g->pitch), -cos(g->pitch) * cos(g->yaw));
@@ -260,7 +224,7 @@ static void draw_world(app_game* g, double alpha) {
   for (uint32_t i = 0; i < bodies; ++i) {
     bk_body_view v = {0};
     if (!bk_world_body_view(w, i, &v)) continue;
-    bk_transform model = game_lerp_transform(v.tree_to_world_previous, v.tree_to_world, alpha);
+    bk_transform model = lerp_transform(v.tree_to_world_previous, v.tree_to_world, alpha);
     float colors[4 * 256];
     bool colored = (g->show_nodes || g->show_budget) && v.node_count <= 256;
     for (uint32_t k = 0; colored && k < v.node_count; ++k)
@@ -311,80 +275,50 @@ static void record_history(app_game* g, double frame_ms) {
 int cmd_play(int argc, char** argv) {
   window_options wo = {.width = 1280, .height = 720};
   app_game* g = bk_calloc(1, sizeof *g);
-  g->options = default_scene_options();
-  g->drop = default_drop();
+  scene_args args = default_scene_args("showcase");
+  // Chips under 20 cm^3 leave after 10 s: a long session stays bounded.
+  args.options.retire_volume = 2e-5;
   g->record = default_recorder();
-  g->options.retire_volume = 2e-5; // chips under 20 cm^3 leave after 10 s: a long session stays bounded
-  const char* scene_name = "showcase";
-  const char* mesh = NULL;
-  const char* material = NULL;
-  bool scene_given = false;
   bool hide_panel = false;
-  uint64_t volley = 0;
   for (int i = 1; i < argc; ++i) {
     const char* arg = argv[i];
-    int parsed = parse_window_option("play", argc, argv, &i, &wo);
+    int parsed = scene_args_parse("play", argc, argv, &i, &args);
     if (parsed == 0) continue;
-    if (parsed == 2) return free(g), 2;
-    parsed = parse_drop_option("play", argc, argv, &i, &g->drop);
+    if (parsed == 2) return bk_free(g), 2;
+    parsed = parse_window_option("play", argc, argv, &i, &wo);
     if (parsed == 0) continue;
-    if (parsed == 2) return free(g), 2;
+    if (parsed == 2) return bk_free(g), 2;
     parsed = parse_record_option("play", argc, argv, &i, &g->record);
     if (parsed == 0) continue;
-    if (parsed == 2) return free(g), 2;
-    parsed = parse_model_units_option("play", argc, argv, &i);
-    if (parsed == 0) continue;
-    if (parsed == 2) return free(g), 2;
-    uint64_t number = 0;
+    if (parsed == 2) return bk_free(g), 2;
     if (strcmp(arg, "-h") == 0 || strcmp(arg, "--help") == 0) {
       fputs(play_usage, stdout);
-      return free(g), 0;
+      scene_args_help("play", 24, 96, stdout);
+      fputs(play_options, stdout);
+      return bk_free(g), 0;
     } else if (strcmp(arg, "--hide-panel") == 0) {
       hide_panel = true;
     } else if (strcmp(arg, "--hide-hud") == 0) {
       g->hide_hud = true;
     } else if (strcmp(arg, "--benchmark") == 0) {
       g->start_benchmark = true;
-    } else if (strcmp(arg, "--no-stress") == 0) {
-      g->options.stress = false;
-    } else if (strcmp(arg, "--stress-scale") == 0 && i + 1 < argc) {
-      if (!option_double("play", arg, argv[++i], 1e-6, 1e6, &g->options.stress_scale)) return free(g), 2;
     } else if (strcmp(arg, "--overlay") == 0 && i + 1 < argc) {
-      if (!game_set_overlay(g, argv[++i])) return free(g), 2;
-    } else if (strcmp(arg, "--scene") == 0 && i + 1 < argc) {
-      scene_name = argv[++i];
-      scene_given = true;
-    } else if (strcmp(arg, "--mesh") == 0 && i + 1 < argc) {
-      mesh = argv[++i];
-    } else if (strcmp(arg, "--material") == 0 && i + 1 < argc) {
-      material = argv[++i];
-    } else if (strcmp(arg, "--pattern") == 0 && i + 1 < argc) {
-      bk_fracture_pattern pattern = BK_PATTERN_PLANES;
-      bk_error err = {0};
-      if (!scene_pattern_from_name(argv[++i], &pattern, &err)) {
-        fprintf(stderr, "breakables play: %s\n", err.message);
-        return free(g), 2;
-      }
-      g->options.pattern = (int)pattern;
-    } else if (strcmp(arg, "--max-memory") == 0 && i + 1 < argc) {
-      if (!app_parse_max_memory("play", argv[++i])) return free(g), 2;
-    } else if (strcmp(arg, "--budget-ms") == 0 && i + 1 < argc) {
-      if (!app_parse_budget_ms("play", argv[++i], &g->options)) return free(g), 2;
-    } else if (strcmp(arg, "--pieces") == 0 && i + 1 < argc) {
-      if (!option_u64("play", arg, argv[++i], 1, 65536, &number)) return free(g), 2;
-      g->options.pieces = (uint32_t)number;
-    } else if (strcmp(arg, "--volley") == 0 && i + 1 < argc) {
-      if (!option_u64("play", arg, argv[++i], 1, 10000000, &volley)) return free(g), 2;
-    } else if (strcmp(arg, "--seed") == 0 && i + 1 < argc) {
-      if (!option_u64("play", arg, argv[++i], 0, UINT64_MAX, &g->options.seed)) return free(g), 2;
+      if (!game_set_overlay(g, argv[++i])) return bk_free(g), 2;
     } else {
       fprintf(stderr,
               "breakables play: unknown option or missing value '%s' (see 'breakables play --help')\n", arg);
-      return free(g), 2;
+      return bk_free(g), 2;
     }
   }
-  if (!check_drop("play", &g->drop, wo.frames, "--frames")) return free(g), 2;
-  if (!recorder_prepare("play", &g->record, wo.frames)) return free(g), 2;
+  g->options = args.options;
+  g->drop = args.drop;
+  const char* scene_name = args.scene_name;
+  const char* mesh = args.mesh;
+  const char* material = args.material;
+  bool scene_given = args.scene_given;
+  uint64_t volley = args.volley;
+  if (!check_drop("play", &g->drop, wo.frames, "--frames")) return bk_free(g), 2;
+  if (!recorder_prepare("play", &g->record, wo.frames)) return bk_free(g), 2;
   // X sets down the scripted weight's mass, else one the bridge cannot carry.
   g->weight_kg = g->drop.kg > 0.0 ? g->drop.kg : 20000.0;
   g->weight_radius = g->drop.radius;
@@ -392,14 +326,14 @@ int cmd_play(int argc, char** argv) {
   uint32_t scene_index = scene_resolve(scene_name, scene_given, mesh, material, &err);
   if (scene_index == UINT32_MAX) {
     fprintf(stderr, "breakables play: %s\n", err.message);
-    return free(g), 2;
+    return bk_free(g), 2;
   }
   g->options.material = material;
 
   void* window = NULL;
   if (!window_open("Breakables", &wo, &window, &g->renderer, &err)) {
     fprintf(stderr, "breakables play: %s\n", err.message);
-    return free(g), 1;
+    return bk_free(g), 1;
   }
   g->window = window;
   g->time_scale = 1.0;
@@ -417,7 +351,7 @@ int cmd_play(int argc, char** argv) {
     particles_free(&g->particles);
     if (g->ui) ui_destroy();
     window_close(window, g->renderer);
-    return free(g), 1;
+    return bk_free(g), 1;
   }
   uint32_t bodies_start = bk_world_body_count(g->scene.world);
   // The world steps on a worker while the driver draws the frame just
@@ -446,15 +380,21 @@ int cmd_play(int argc, char** argv) {
     }
     glfwPollEvents();
     handle_input(g, dt);
-    if (g->reload) {
+    // A reload creates a Bullet world: not while the panel's sweep steps
+    // worlds on its thread (bullet.h: one thread at a time), so it waits.
+    if (g->reload && !game_panel_busy()) {
       g->reload = false;
       uint32_t next = g->next_scene >= 0 ? (uint32_t)g->next_scene : g->scene_index;
       g->next_scene = -1;
+      bk_vec3 eye = g->eye;
+      double yaw = g->yaw, pitch = g->pitch;
       if (!game_load_scene(g, next, &err)) {
         fprintf(stderr, "breakables play: %s\n", err.message);
         status = 1;
         break;
       }
+      if (g->reload_keeps_camera) g->eye = eye, g->yaw = yaw, g->pitch = pitch;
+      g->reload_keeps_camera = false;
     }
     uint64_t span = volley && volley < wo.frames ? volley : wo.frames;
     while (wo.autofire && fired < wo.autofire && wo.frames &&
@@ -497,6 +437,8 @@ int cmd_play(int argc, char** argv) {
       g->step_once = false;
     }
     g->pending_steps = 0;
+    // The panel's sweep steps worlds of its own: the game's waits meanwhile.
+    if (game_panel_busy()) g->accumulator = 0.0;
     while (g->accumulator >= fixed && g->pending_steps < 4) {
       g->accumulator -= fixed;
       g->pending_steps++;
@@ -553,6 +495,6 @@ int cmd_play(int argc, char** argv) {
   particles_free(&g->particles);
   if (g->ui) ui_destroy();
   window_close(window, g->renderer);
-  free(g);
+  bk_free(g);
   return status;
 }

@@ -4,7 +4,7 @@
 // path they were on. Also the overlay names --overlay takes.
 #include <string.h>
 
-#include "game_state.h"
+#include "game_budget.h"
 
 static const double fade_seconds = 1.0;
 

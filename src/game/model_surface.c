@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "app.h"
+#include "model_surface.h"
 
 /// Texture files larger than this are drawn without.
 #define SURFACE_MAX_TEXTURE_BYTES ((size_t)256 << 20)

@@ -6,7 +6,8 @@
 #include <stdatomic.h>
 #include <string.h>
 
-#include "game_state.h"
+#include "panel.h"
+#include "panel_budget.h"
 #include "ui.h"
 
 typedef struct refracture_job {
@@ -124,7 +125,9 @@ static bool report_progress(void* user, uint32_t leaves, uint32_t target) {
 
 static void* refracture(void* unused) {
   (void)unused;
-  job.ok = loaded_scene_create(job.scene, &job.options, &job.result, &job.err);
+  // Trees only: a Bullet world is created and stepped on the game's thread
+  // alone (bullet.h), so the world is made when the game takes the result.
+  job.ok = loaded_scene_load_trees(job.scene, &job.options, &job.result, &job.err);
   atomic_store(&job.done, true);
   return NULL;
 }
@@ -168,20 +171,16 @@ static void finish_refracture(app_game* g) {
   g->options.cluster_border = job.options.cluster_border;
   g->options.radial_falloff = job.options.radial_falloff;
   g->options.noise = job.options.noise;
-  bk_vec3 eye = g->eye;
-  double yaw = g->yaw, pitch = g->pitch;
-  game_unload_scene(g);
-  bk_error err = {0};
-  // The trees are cached now, so loading the scene again is instant.
+  // The trees are cached now, so the game's reload (next frame, on its own
+  // thread, where worlds are made) finds them at once and keeps the camera.
+  uint32_t leaves = job.result.trees[0].leaf_count;
   loaded_scene_destroy(&job.result);
-  if (!game_load_scene(g, index, &err))
-    snprintf(status_line, sizeof status_line, "%s", err.message);
-  else
-    snprintf(status_line, sizeof status_line, "re-fractured into %u pieces (%s)",
-             g->scene.trees[0].leaf_count,
-             pattern_setting > 0 ? bk_fracture_pattern_name((bk_fracture_pattern)(pattern_setting - 1))
-                                 : "each object's own pattern");
-  g->eye = eye, g->yaw = yaw, g->pitch = pitch;
+  g->next_scene = (int)index;
+  g->reload = true;
+  g->reload_keeps_camera = true;
+  snprintf(status_line, sizeof status_line, "re-fractured into %u pieces (%s)", leaves,
+           pattern_setting > 0 ? bk_fracture_pattern_name((bk_fracture_pattern)(pattern_setting - 1))
+                               : "each object's own pattern");
 }
 
 // The world's runtime owns the live values: the panel reads them back every

@@ -2,7 +2,7 @@
 // shows what bk_world_physics_budget says every frame and writes a change
 // straight back; the options only record it for the next reset, as the
 // panel's other live settings do.
-#include "game_state.h"
+#include "panel_budget.h"
 #include "ui.h"
 
 void game_budget_section(app_game* g) {

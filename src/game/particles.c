@@ -8,7 +8,7 @@
 // bounded; the oldest particle gives way to a new one.
 #include <string.h>
 
-#include "game.h"
+#include "particles.h"
 
 const char* const debris_materials[BK_DEBRIS_MATERIALS] = {"stone", "brick",    "concrete", "porcelain",
                                                            "glass", "eggshell", "wood"};
@@ -64,9 +64,9 @@ void particles_init(app_particles* p, uint32_t capacity, uint64_t seed) {
 }
 
 void particles_free(app_particles* p) {
-  free(p->items);
-  free(p->instances);
-  free(p->chips);
+  bk_free(p->items);
+  bk_free(p->instances);
+  bk_free(p->chips);
   memset(p, 0, sizeof *p);
 }
 

@@ -3,7 +3,8 @@
 // seen from where the command line puts the camera (--camera).
 #pragma once
 
-#include "game.h"
+#include "app.h"
+#include "render.h"
 
 /// At most this many pictures a recording (frame_00000.png .. frame_99999.png:
 /// names of one width sort in frame order, and 1280x720 frames take about

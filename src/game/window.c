@@ -8,7 +8,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "game.h"
+#include "window.h"
 
 const char* app_shader_dir(void) {
   // Beside the assets the executable found, else the source tree.

@@ -2,7 +2,11 @@
 // while the driver rasterizes the frame just submitted.
 #include <pthread.h>
 
-#include "game.h"
+#include <stdbool.h>
+
+#include <breakables/base.h>
+
+#include "worker.h"
 
 struct app_worker {
   pthread_t thread;
@@ -37,7 +41,7 @@ app_worker* worker_create(void) {
   if (pthread_create(&w->thread, NULL, worker_main, w) != 0) {
     pthread_cond_destroy(&w->changed);
     pthread_mutex_destroy(&w->lock);
-    free(w);
+    bk_free(w);
     return NULL;
   }
   return w;
@@ -53,7 +57,7 @@ void worker_destroy(app_worker* w) {
   pthread_join(w->thread, NULL);
   pthread_cond_destroy(&w->changed);
   pthread_mutex_destroy(&w->lock);
-  free(w);
+  bk_free(w);
 }
 
 void worker_start(app_worker* w, void (*job)(void*), void* argument) {

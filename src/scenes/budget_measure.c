@@ -6,6 +6,7 @@
 #include <stdlib.h>
 
 #include "app.h"
+#include "scene_run.h"
 
 // The debris now: all of it, or (near) what is within `radius` of `focus`
 // and looks at least `angle` large from there (size over distance, radians:

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "app.h"
+#include "scene_run.h"
 
 app_drop default_drop(void) { return (app_drop){.radius = BK_DROP_RADIUS_DEFAULT, .at = BK_DROP_AT_DEFAULT}; }
 

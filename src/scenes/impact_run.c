@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "app.h"
+#include "scene_run.h"
 
 bool app_load_scene_tree(uint64_t seed, const app_scene* scene, uint32_t pieces, bk_mesh_tree* tree,
                          bk_error* err) {

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "app.h"
+#include "scene_run.h"
 
 // Moller-Trumbore on every triangle.
 bool scene_first_hit(const bk_mesh* mesh, bk_vec3 origin, bk_vec3 direction, bk_vec3* hit) {

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "app.h"
+#include "scene_run.h"
 
 scene_options default_scene_options(void) {
   return (scene_options){.seed = 3000,
@@ -116,8 +117,8 @@ void loaded_scene_apply_material(loaded_scene* s, scene_options* options, const 
       bk_world_set_material(s->world, loaded_scene_id(s, c, i), material);
 }
 
-bool loaded_scene_create(const app_scene* scene, const scene_options* options, loaded_scene* out,
-                         bk_error* err) {
+bool loaded_scene_load_trees(const app_scene* scene, const scene_options* options, loaded_scene* out,
+                             bk_error* err) {
   memset(out, 0, sizeof *out);
   out->scene = scene;
   out->copies = options->copies > 1 ? options->copies : 1;
@@ -144,6 +145,12 @@ bool loaded_scene_create(const app_scene* scene, const scene_options* options, l
       out->scene = &out->fitted;
     }
   }
+  return true;
+}
+
+bool loaded_scene_create(const app_scene* scene, const scene_options* options, loaded_scene* out,
+                         bk_error* err) {
+  if (!loaded_scene_load_trees(scene, options, out, err)) return false;
   // The world once the trees are known: a user's model's shots are weighed
   // on its tree and material, and the world's damage thresholds follow them.
   bk_world_def wd = bk_default_world_def();

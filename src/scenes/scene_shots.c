@@ -13,6 +13,7 @@
 #include <math.h>
 
 #include "app.h"
+#include "scene_run.h"
 
 /// The shot carries this many times what they need: it may land beside the
 /// aim, at a slant, its impulse comes in two or three contacts (Bullet
@@ -74,7 +75,7 @@ void scene_fit_shots(app_scene* scene, const bk_mesh_tree* tree, const bk_materi
   bk_vec3 offset = scene->objects[0].position;
   bk_vec3 eye = bk_v3_sub(scene->eye, offset), target = bk_v3_sub(scene->target, offset), hit = target;
   scene_first_hit(&tree->nodes[0].mesh, eye, bk_v3_sub(target, eye), &hit);
-  double impulse = SHOT_MARGIN * breaking_impulse(tree, material, world->damage_min_distance, hit);
+  double impulse = SHOT_MARGIN * breaking_impulse(tree, material, world->runtime.damage_min_distance, hit);
   double speed = scene->projectile_speed;
   double ball = impulse > 0.0 ? impulse / speed : SHOT_MASS_MIN * 10.0 * mass;
   ball = fmin(fmax(ball, SHOT_MASS_MIN * mass), SHOT_MASS_MAX * mass);
@@ -84,6 +85,6 @@ void scene_fit_shots(app_scene* scene, const bk_mesh_tree* tree, const bk_materi
   // The thresholds are sized for objects a person's size: below them a
   // pebble's shots would do nothing at all. Resting contact still breaks
   // nothing (it closes far slower than any shot).
-  world->impulse_threshold = fmin(world->impulse_threshold, 0.25 * ball * speed);
-  world->impact_speed = fmin(world->impact_speed, 0.25 * speed);
+  world->runtime.impulse_threshold = fmin(world->runtime.impulse_threshold, 0.25 * ball * speed);
+  world->runtime.impact_speed = fmin(world->runtime.impact_speed, 0.25 * speed);
 }

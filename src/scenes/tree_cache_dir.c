@@ -9,6 +9,7 @@
 #include <sys/stat.h>
 
 #include "app.h"
+#include "scene_run.h"
 
 // Every message about a cache file names it, and a bk_error holds 512 bytes:
 // paths up to this length leave room for the words and the reason around

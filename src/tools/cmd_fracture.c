@@ -5,7 +5,9 @@
 #include <unistd.h>
 
 #include "app.h"
+#include "commands.h"
 #include "fracture_patterns.h"
+#include "scene_run.h"
 
 // The ranges of the general options, stated by --help and enforced by parsing.
 #define PIECES_MAX (1u << 20)
@@ -26,7 +28,8 @@ static void print_usage(void) {
       "usage: breakables fracture [--mesh NAME|PATH] [--node NAME] [--scale S] [--units U]\n"
       "                           [--pieces N] [--seed S]\n"
       "                           [--texture-scale X] [--out FILE.mtree] [--export-obj FILE.obj] [--json]\n"
-      "                           [--export-gltf FILE.glb|FILE.gltf] [--gltf-levels all|leaves]\n"
+      "                           [--export-gltf FILE.glb|FILE.gltf] [--gltf-levels hierarchy|leaves|all]\n"
+      "                           [--gltf-no-tree] [--gltf-meshopt]\n"
       "                           [--max-memory MIB] [--pattern NAME] [pattern options]\n"
       "                           [--threads N]\n"
       "\n"
@@ -67,8 +70,16 @@ static void print_usage(void) {
       "                        mass, two materials per source material (<name> and\n"
       "                        <name>_interior) with their textures inside the file,\n"
       "                        bonds and the tree in extras (docs/gltf.md); loads back exactly\n"
-      "  --gltf-levels all|leaves\n"
-      "                        export every node of the tree (default) or the fragments only\n"
+      "  --gltf-levels hierarchy|leaves|all\n"
+      "                        hierarchy (default): every node of the tree, meshes on the\n"
+      "                        fragments only, so engines draw the object once; leaves: the\n"
+      "                        fragments only, flat; all: every node with its own mesh (each\n"
+      "                        level draws the whole object: show one level at a time)\n"
+      "  --gltf-no-tree        leave the exact mesh tree out of the glTF (most of its size): for\n"
+      "                        a shipped game that reads the meshes and extras; it does not\n"
+      "                        load back\n"
+      "  --gltf-meshopt        compress the glTF's vertices (EXT_meshopt_compression, which\n"
+      "                        three.js decodes with its MeshoptDecoder; Blender 3.4 cannot)\n"
       "  --json                print one JSON object instead of the summary: mesh, pieces,\n"
       "                        nodes, max_depth, ms, leaf_triangles, bonds, watertight,\n"
       "                        volume_rel_error, child_volume_rel_error, seed, texture_scale,\n"
@@ -391,13 +402,21 @@ int cmd_fracture(int argc, char** argv) {
       r.obj_path = value;
     } else if (strcmp(arg, "--export-gltf") == 0) {
       r.gltf_path = value;
+    } else if (strcmp(arg, "--gltf-meshopt") == 0) {
+      r.gltf.meshopt_compression = true;
+      takes_value = false;
+    } else if (strcmp(arg, "--gltf-no-tree") == 0) {
+      r.gltf.embed_tree = false;
+      takes_value = false;
     } else if (strcmp(arg, "--gltf-levels") == 0) {
-      if (strcmp(value, "all") == 0)
+      if (strcmp(value, "hierarchy") == 0)
+        r.gltf.levels = BK_GLTF_LEVELS_HIERARCHY;
+      else if (strcmp(value, "all") == 0)
         r.gltf.levels = BK_GLTF_LEVELS_ALL;
       else if (strcmp(value, "leaves") == 0)
         r.gltf.levels = BK_GLTF_LEVELS_LEAVES;
       else
-        return usage_error(arg, "must be 'all' or 'leaves'");
+        return usage_error(arg, "must be 'hierarchy', 'leaves' or 'all'");
     } else if (strcmp(arg, "--max-memory") == 0) {
       if (!app_parse_max_memory("fracture", value)) return 2;
     } else if ((pattern_arg = app_pattern_option(arg, value, &r.desc, &r.patterns)) !=

@@ -4,7 +4,9 @@
 #include <string.h>
 
 #include "app.h"
+#include "commands.h"
 #include "fracture_patterns.h"
+#include "scene_args.h"
 
 static const char* const sim_usage =
     "usage: breakables sim [--scene NAME | --mesh PATH] [--material NAME] [--pattern NAME] [--pieces N]\n"
@@ -19,49 +21,18 @@ static const char* const sim_usage =
     "scene's mesh tree, fires K projectiles at the object at regular intervals\n"
     "during F steps, and reports what broke and what it cost.\n"
     "\n"
-    "options:\n"
-    "  --scene NAME     wall, eggshell, pillar, slab, bunny, torus, showcase, tower, bridge,\n"
-    "                   balcony (default: wall)\n"
-    "  --mesh PATH      your own model instead of a scene (what fracture --mesh reads, an\n"
-    "                   .mtree, or a .glb/.gltf exported by fracture): stood on the ground\n"
-    "                   and shot at from the front\n"
-    "  --scale S        multiply a model file's size by S, 1e-06..1e+06 (default: 1)\n"
-    "  --units U        mm, cm, m or in: the unit of a model file whose format gives none\n"
-    "                   (OBJ, STL, PLY, ...; FBX, glTF and Collada give theirs; default: m)\n"
-    "  --material NAME  stone, concrete, glass, porcelain, eggshell, wood: every object's\n"
-    "                   material (default: the scene's; stone for --mesh)\n"
-    "  --pattern NAME   how every object breaks: planes, voronoi, clustered, radial, brick\n"
-    "                   or cutout (default: each object's own: the walls brick, the pillar\n"
-    "                   clustered, the bunny, torus, tower, bridge and balcony radial round\n"
-    "                   their aim points, the eggshell voronoi, the rest planes); see\n"
-    "                   'breakables fracture --help'\n"
-    "  --pieces N       fragments per object, 1..65536 (default: the scene's; cutout\n"
-    "                   makes as many as its fracture map has regions)\n"
-    "  --seed S         fracture seed, 0..18446744073709551615 (default: 3000)\n"
+    "options:\n";
+
+// The options only sim takes (scene_args_help prints the shared ones first).
+static const char* const sim_options =
     "  --shots K        projectiles to fire, 0..1000 (default: 3, or 0 with --drop)\n"
     "  --steps F        60 Hz steps to run, 1..1000000 (default: 300)\n"
-    "  --volley V       fire the shots within the first V steps, 1..1000000 (default: all\n"
-    "                   F): the rest shows what the debris costs as it settles\n"
     "  --speed M/S      projectile speed, 0.1..2000 (default: the scene's)\n"
     "  --frailty X      damage multiplier, 1e-6..1e6 (default: the material's)\n"
     "  --density X      kg/m^3, 1..1e5 (default: the material's)\n"
     "  --discrete       a bond breaks only if one hit exceeds its hit points\n"
     "  --accumulate     bonds lose hit points over hits (default: the material's choice)\n"
     "  --naive          plain BCRB: one collider per fragment, for comparison\n"
-    "  --no-stress      no structural stress: what is still bonded to an anchor stays up\n"
-    "                   however little holds it (as before the stress solver)\n"
-    "  --stress-scale X every material's stress limits times X, 1e-6..1e6 (default 1)\n"
-    "  --drop KG        set a weight of KG, 1..1e6, down at rest on the top surface over the\n"
-    "                   first object's aim point (the bridge: the middle of its deck), for\n"
-    "                   the structure to carry (20000 breaks the bridge, 500 does not)\n"
-    "  --drop-radius M  the weight's radius, 0.01..2 m (default 0.3)\n"
-    "  --drop-at STEP   the step it is set down, 0..10000000, before --steps (default 60:\n"
-    "                   the structure has settled)\n"
-    "  --budget-ms X    the physics budget per step, 0..1000 ms (default 8, half a 60 Hz\n"
-    "                   frame; 0 turns it off): over it,\n"
-    "                   the least important loose pieces (small, far from the scene's eye,\n"
-    "                   slow, long at rest) get cheaper: no contacts among themselves, then\n"
-    "                   a fitted sphere or box, then frozen, then retired\n"
     "  --budget-fidelity S  for S seconds after it comes loose, 0..60 (default 1), a piece\n"
     "                   keeps what the player sees of it: no contacts dropped while it lies\n"
     "                   on others, its own shape, never retired; 0 makes every piece fair\n"
@@ -71,8 +42,6 @@ static const char* const sim_usage =
     "                   important of them give it up; 0 keeps it whatever it costs\n"
     "  --copies N       N copies of the scene side by side along x, 1..64 (default 1), a gap\n"
     "                   between them; each shot hits every copy in the same step\n"
-    "  --max-memory MIB memory each fracture may use, 1..1073741824 MiB (default: the\n"
-    "                   available memory); a tree estimated to need more is refused\n"
     "  --json           print one JSON object: scene, pieces, bodies_initial, bodies_final,\n"
     "                   break_events, bonds_broken, colliders_initial, colliders_final,\n"
     "                   colliders_naive_final, step_ms_median, step_ms_max, break_ms_median,\n"
@@ -111,11 +80,6 @@ static const char* const sim_usage =
     "\n"
     "Mesh trees are cached in $BREAKABLES_CACHE_DIR (else $XDG_CACHE_HOME/breakables,\n"
     "else ~/.cache/breakables).\n";
-
-static int usage_error(const char* option, const char* what) {
-  fprintf(stderr, "breakables sim: %s %s (see 'breakables sim --help')\n", option, what);
-  return 2;
-}
 
 // The patterns the objects' trees were made with (a tree loaded from a file
 // keeps its own): JSON members "pattern" (the one they share, else "mixed")
@@ -177,122 +141,86 @@ static uint32_t fragments_fallen(const loaded_scene* s, const double* rest_heigh
 }
 
 int cmd_sim(int argc, char** argv) {
-  const char* scene_name = "wall";
-  const char* mesh = NULL;
-  const char* material = NULL;
-  bool scene_given = false;
-  uint64_t shots = 3, steps = 300, volley = 0;
+  uint64_t shots = 3, steps = 300;
   double speed = 0.0;
   bool json = false, shots_given = false;
-  scene_options options = default_scene_options();
-  app_drop drop = default_drop();
+  scene_args args = default_scene_args("wall");
   for (int i = 1; i < argc; ++i) {
     const char* arg = argv[i];
-    const char* value = i + 1 < argc ? argv[i + 1] : NULL;
+    int shared = scene_args_parse("sim", argc, argv, &i, &args);
+    if (shared == 0) continue;
+    if (shared == 2) return 2;
     bool flag = true;
     uint64_t number = 0;
-    int dropped = parse_drop_option("sim", argc, argv, &i, &drop);
-    if (dropped == 0) continue;
-    if (dropped == 2) return 2;
-    int units = parse_model_units_option("sim", argc, argv, &i);
-    if (units == 0) continue;
-    if (units == 2) return 2;
     if (strcmp(arg, "-h") == 0 || strcmp(arg, "--help") == 0) {
       fputs(sim_usage, stdout);
+      scene_args_help("sim", 19, 88, stdout);
+      fputs(sim_options, stdout);
       return 0;
     } else if (strcmp(arg, "--json") == 0) {
       json = true;
     } else if (strcmp(arg, "--naive") == 0) {
-      options.naive = true;
+      args.options.naive = true;
     } else if (strcmp(arg, "--discrete") == 0) {
-      options.accumulate = 0;
+      args.options.accumulate = 0;
     } else if (strcmp(arg, "--accumulate") == 0) {
-      options.accumulate = 1;
-    } else if (strcmp(arg, "--no-stress") == 0) {
-      options.stress = false;
+      args.options.accumulate = 1;
     } else {
       flag = false;
     }
     if (flag) continue;
-    const char* known[] = {"--scene",      "--pieces",          "--seed",
-                           "--shots",      "--steps",           "--volley",
-                           "--speed",      "--frailty",         "--density",
-                           "--mesh",       "--material",        "--pattern",
-                           "--max-memory", "--stress-scale",    "--budget-ms",
-                           "--copies",     "--budget-fidelity", "--budget-fidelity-factor"};
-    bool is_known = false;
-    for (size_t k = 0; k < sizeof known / sizeof *known; ++k)
-      is_known = is_known || strcmp(arg, known[k]) == 0;
-    if (!is_known) {
+    static const char* const names[] = {"--shots",  "--frailty",        "--density",
+                                        "--steps",  "--speed",          "--budget-fidelity-factor",
+                                        "--copies", "--budget-fidelity"};
+    const char* value = NULL;
+    int which = take_option("sim", argc, argv, &i, names, (int)(sizeof names / sizeof *names), &value);
+    if (which == -2) return 2;
+    if (which == -1) {
       fprintf(stderr, "breakables sim: unknown option '%s' (see 'breakables sim --help')\n", arg);
       return 2;
     }
-    if (!value) return usage_error(arg, "needs a value");
-    ++i;
-    if (strcmp(arg, "--scene") == 0) {
-      scene_name = value;
-      scene_given = true;
-    } else if (strcmp(arg, "--mesh") == 0) {
-      mesh = value;
-    } else if (strcmp(arg, "--material") == 0) {
-      material = value;
-    } else if (strcmp(arg, "--pattern") == 0) {
-      bk_fracture_pattern pattern = BK_PATTERN_PLANES;
-      bk_error err = {0};
-      if (!scene_pattern_from_name(value, &pattern, &err)) {
-        fprintf(stderr, "breakables sim: %s\n", err.message);
-        return 2;
-      }
-      options.pattern = (int)pattern;
-    } else if (strcmp(arg, "--max-memory") == 0) {
-      if (!app_parse_max_memory("sim", value)) return 2;
-    } else if (strcmp(arg, "--pieces") == 0) {
-      if (!option_u64("sim", arg, value, 1, 65536, &number)) return 2;
-      options.pieces = (uint32_t)number;
-    } else if (strcmp(arg, "--seed") == 0) {
-      if (!option_u64("sim", arg, value, 0, UINT64_MAX, &options.seed)) return 2;
-    } else if (strcmp(arg, "--shots") == 0) {
+    scene_options* o = &args.options;
+    if (strcmp(arg, "--shots") == 0) {
       if (!option_u64("sim", arg, value, 0, 1000, &shots)) return 2;
       shots_given = true;
     } else if (strcmp(arg, "--steps") == 0) {
       // A million steps is 4.6 simulated hours, two timings of 8 bytes each.
       if (!option_u64("sim", arg, value, 1, 1000000, &steps)) return 2;
-    } else if (strcmp(arg, "--volley") == 0) {
-      if (!option_u64("sim", arg, value, 1, 1000000, &volley)) return 2;
     } else if (strcmp(arg, "--speed") == 0) {
       // From a lob to twice a rifle bullet; continuous collision detection
       // keeps even the fastest from passing through a thin wall.
       if (!option_double("sim", arg, value, 0.1, 2000.0, &speed)) return 2;
-    } else if (strcmp(arg, "--stress-scale") == 0) {
-      if (!option_double("sim", arg, value, 1e-6, 1e6, &options.stress_scale)) return 2;
-    } else if (strcmp(arg, "--budget-ms") == 0) {
-      if (!app_parse_budget_ms("sim", value, &options)) return 2;
     } else if (strcmp(arg, "--budget-fidelity-factor") == 0) {
-      if (!option_double("sim", arg, value, 0.0, BK_BUDGET_FIDELITY_FACTOR_MAX,
-                         &options.budget_fidelity_factor))
+      if (!option_double("sim", arg, value, 0.0, BK_BUDGET_FIDELITY_FACTOR_MAX, &o->budget_fidelity_factor))
         return 2;
-      if (options.budget_fidelity_factor > 0.0 && options.budget_fidelity_factor < 1.0) {
+      if (o->budget_fidelity_factor > 0.0 && o->budget_fidelity_factor < 1.0) {
         fprintf(stderr, "breakables sim: %s '%s' is out of range (0, or 1..%g)\n", arg, value,
                 BK_BUDGET_FIDELITY_FACTOR_MAX);
         return 2;
       }
     } else if (strcmp(arg, "--budget-fidelity") == 0) {
-      if (!option_double("sim", arg, value, 0.0, BK_BUDGET_FIDELITY_MAX, &options.budget_fidelity_time))
-        return 2;
+      if (!option_double("sim", arg, value, 0.0, BK_BUDGET_FIDELITY_MAX, &o->budget_fidelity_time)) return 2;
     } else if (strcmp(arg, "--copies") == 0) {
       if (!option_u64("sim", arg, value, 1, BK_COPIES_MAX, &number)) return 2;
-      options.copies = (uint32_t)number;
+      o->copies = (uint32_t)number;
     } else if (strcmp(arg, "--frailty") == 0) {
       // Materials use 0.5..8. At 1e-6 no shot breaks a bond and at 1e6 every
       // bond breaks at the first touch: beyond these nothing changes.
-      if (!option_double("sim", arg, value, 1e-6, 1e6, &options.frailty)) return 2;
+      if (!option_double("sim", arg, value, 1e-6, 1e6, &o->frailty)) return 2;
     } else if (strcmp(arg, "--density") == 0) {
       // Aerogel to four times osmium covers any real solid. Far outside it,
       // Bullet's float masses stop meaning anything: 1e-300 rounds to a mass
       // of 0, which Bullet treats as static.
-      if (!option_double("sim", arg, value, 1.0, 1e5, &options.density)) return 2;
+      if (!option_double("sim", arg, value, 1.0, 1e5, &o->density)) return 2;
     }
   }
+  const char* scene_name = args.scene_name;
+  const char* mesh = args.mesh;
+  const char* material = args.material;
+  bool scene_given = args.scene_given;
+  uint64_t volley = args.volley;
+  scene_options options = args.options;
+  app_drop drop = args.drop;
   if (!check_drop("sim", &drop, steps, "--steps")) return 2;
   // A weight is the load under test: shots on top of it would break the
   // structure themselves and hide what the weight alone does.

@@ -15,6 +15,7 @@
 
 #include "app.h"
 #include "fracture_patterns.h"
+#include "scene_run.h"
 #include "seed_points.h"
 
 // Fracture maps larger than this are refused before they are decoded (a

@@ -7,7 +7,6 @@
 #include <string.h>
 
 #include "app.h"
-#include "bk_geom.h"
 #include "seed_points.h"
 
 // Longer tokens are not numbers anyone writes; they are refused, not cut.

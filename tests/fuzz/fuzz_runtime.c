@@ -7,11 +7,15 @@
 // op is one byte (op % 10) followed by its arguments, read on demand (an
 // input that runs out reads zeros and stops at the next op):
 //   0 add a breakable (tree, anchored, transform, material: NaN, huge and
-//     non-unit values included)    1 contacts    2 damage at a point
-//   3 split    4 remove a cluster    5 material setters    6 stress solves
-//   (1..32 calls, random gravity, supports and loads)    7 move a body
-//   (the caller's physics; NaN and huge states included)    8 pull the
-//   results into small buffers    9 queries with stale and forged ids.
+//     non-unit values included; its user data)    1 contacts    2 damage
+//   at a point    3 split    4 remove a cluster or a whole breakable
+//   5 setters (material, frailty, density, bond strength, a cluster's user
+//   data, gravity)    6 stress solves (1..32 calls, random gravity,
+//   supports and loads; or its two halves: fracture commands, forged
+//   ones, applied)    7 move a body (the caller's physics; NaN and
+//   huge states included)    8 pull the events into small buffers, then
+//   take them or leave them to accumulate    9 queries with stale and
+//   forged ids.
 // Numbers come from a table of the usual suspects (0, -0, NaN, +-inf,
 // +-1e300, denormals) and of plausible values. Ids come live, stale
 // (removed), forged (wrong generation, index out of range) or null.
@@ -21,10 +25,17 @@
 // removed), and bk_runtime_leaf_cluster agrees; each cluster's nodes cover exactly its
 // leaves; cluster volumes (with those removed) add up to the tree's and
 // masses to density x volume, within 1e-9 relative; no mass or inertia is
-// negative or not finite; the live count moves by the created and removed
-// results of the call; every broken bond is reported dead, and none broke
-// on a body whose transform is not finite; calls that fail, setters and
-// queries keep the previous results.
+// negative or not finite. Events accumulate until taken: the live count
+// moved by the created and removed events since the last take, the broken
+// bonds reported are those counted since (events taken = events that
+// happened), every broken bond is dead, and none broke on a body whose
+// transform is not finite; a removed cluster is one the caller was given,
+// a created one is not; the runtime asks where a body is only for one the
+// caller was given. A take checks the user data (the breakable's on every
+// event and its first cluster, a part's its parent's) and that the
+// caller's clusters are then exactly the live ones. Calls that fail,
+// setters and queries leave the events as they were; setters and removals
+// return BK_OK or the code that says why not.
 #include <float.h>
 #include <math.h>
 #include <stdio.h>
@@ -102,9 +113,13 @@ static bk_quat pick_quat(reader* r) {
 
 // ---------------------------------------------------------------- the caller's side
 
+// The runtime asks only about clusters the caller was given (took the
+// created event of): it answers for the others itself.
 static bk_body_state body_state(bk_cluster_id cluster, void* context) {
   const session* s = context;
   if (cluster.index >= MAX_CLUSTERS) bk_fuzz_fail("body_state asked for cluster index %u", cluster.index);
+  if (!bk_cluster_equal(s->known[cluster.index], cluster))
+    bk_fuzz_fail("body_state asked for cluster %u, not given to the caller", cluster.index);
   return s->bodies[cluster.index];
 }
 
@@ -209,25 +224,32 @@ static void op_add(session* s, reader* r) {
   if (flags & 8) def.material = pick_material(r);
   if (flags & 16) def.anchor_height = pick_double(r, 0.1);
   if (flags & 32) def.tree = NULL;
-  if (s->breakable_count == MAX_BREAKABLES) return;
+  if (s->breakable_count == MAX_BREAKABLES || bk_runtime_get_stats(s->rt).breakables == MAX_LIVE_BREAKABLES)
+    return;
+  tracked* tb = &s->breakables[s->breakable_count];
+  memset(tb, 0, sizeof *tb);
+  def.user_data = &tb->tag;
   bk_error err = {{0}};
   uint32_t live_before = s->live_count, bonds_before = s->bonds_broken;
+  uint32_t created_before = s->created, removed_before = s->removed;
   bk_breakable_id id = bk_runtime_add_breakable(s->rt, &def, &err);
   if (bk_breakable_is_null(id)) {
     if (!err.message[0] || strchr(err.message, '\n'))
       bk_fuzz_fail("add_breakable: refused without a one-line message: '%s'", err.message);
+    if (err.code != BK_ERROR_INVALID_ARGUMENT && err.code != BK_ERROR_BAD_TREE)
+      bk_fuzz_fail("add_breakable: refused with code %d: '%s'", (int)err.code, err.message);
     bk_fuzz_check_state(s, "add_breakable (refused)");
     bk_fuzz_check_results_kept(s, "add_breakable (refused)");
     return;
   }
-  tracked* tb = &s->breakables[s->breakable_count++];
-  memset(tb, 0, sizeof *tb);
+  s->breakable_count++;
   tb->id = id;
   tb->tree = tree;
   bk_fuzz_check_state(s, "add_breakable");
   bk_fuzz_check_results(s, "add_breakable", live_before, bonds_before, false);
-  if (s->created != 1 || s->removed != 0)
-    bk_fuzz_fail("add_breakable: %u created, %u removed", s->created, s->removed);
+  if (s->created != created_before + 1 || s->removed != removed_before)
+    bk_fuzz_fail("add_breakable: %u created, %u removed", s->created - created_before,
+                 s->removed - removed_before);
 }
 
 static void op_contacts(session* s, reader* r) {
@@ -256,13 +278,55 @@ static void op_damage(session* s, reader* r) {
 
 static void op_split(session* s) {
   uint32_t live_before = s->live_count, bonds_before = s->bonds_broken;
+  uint32_t splits_before = bk_runtime_get_stats(s->rt).splits;
   uint32_t made = bk_runtime_split(s->rt);
   bk_fuzz_check_state(s, "split");
   bk_fuzz_check_results(s, "split", live_before, bonds_before, false);
-  if (made != s->created) bk_fuzz_fail("split: returned %u, reported %u created", made, s->created);
+  // Each split takes one cluster out and puts its parts in.
+  uint32_t splits = bk_runtime_get_stats(s->rt).splits - splits_before;
+  if (s->live_count + splits != live_before + made)
+    bk_fuzz_fail("split: returned %u made by %u splits, the live count went from %u to %u", made, splits,
+                 live_before, s->live_count);
+}
+
+// Removes a whole breakable: its clusters go (those the caller was given
+// reported removed), its id is stale everywhere.
+static void op_remove_breakable(session* s, reader* r) {
+  bk_breakable_id id = pick_breakable(s, r);
+  tracked* tb = bk_fuzz_find_tracked(s, id);
+  uint32_t live_before = s->live_count, bonds_before = s->bonds_broken;
+  uint32_t mine = 0, given = 0;
+  for (uint32_t i = 0; i < s->live_count; ++i) {
+    bk_cluster_info info = {0};
+    if (!bk_runtime_cluster(s->rt, s->live[i], &info) || info.breakable.index != id.index ||
+        info.breakable.generation != id.generation)
+      continue;
+    mine++;
+    given += bk_cluster_equal(s->known[s->live[i].index], s->live[i]);
+  }
+  uint32_t removed_before = s->removed;
+  bk_result result = bk_runtime_remove_breakable(s->rt, id);
+  if ((result == BK_OK) != (tb != NULL) || (result != BK_OK && result != BK_ERROR_STALE_ID))
+    bk_fuzz_fail("remove_breakable: returned %d for a breakable that is %slive", (int)result,
+                 tb ? "" : "not ");
+  if (!tb) {
+    bk_fuzz_check_state(s, "remove_breakable (stale)");
+    bk_fuzz_check_results_kept(s, "remove_breakable (stale)");
+    return;
+  }
+  tb->removed = true;
+  bk_fuzz_check_state(s, "remove_breakable");
+  bk_fuzz_check_results(s, "remove_breakable", live_before, bonds_before, false);
+  if (s->live_count + mine != live_before || s->removed != removed_before + given)
+    bk_fuzz_fail("remove_breakable: %u of its %u clusters were given, %u reported removed", given, mine,
+                 s->removed - removed_before);
 }
 
 static void op_remove(session* s, reader* r) {
+  if (u8(r) & 1) {
+    op_remove_breakable(s, r);
+    return;
+  }
   bk_cluster_id id = pick_cluster(s, r);
   bk_cluster_info info = {0};
   bool live = bk_runtime_cluster(s->rt, id, &info);
@@ -275,9 +339,12 @@ static void op_remove(session* s, reader* r) {
     memcpy(leaves, info.leaves, sizeof(uint32_t) * leaf_count);
   }
   uint32_t live_before = s->live_count, bonds_before = s->bonds_broken;
-  bool removed = bk_runtime_remove_cluster(s->rt, id);
-  if (removed != live)
-    bk_fuzz_fail("remove_cluster: returned %d for a cluster that is %slive", removed, live ? "" : "not ");
+  uint32_t created_before = s->created, removed_before = s->removed;
+  bool given = live && bk_cluster_equal(s->known[id.index], id);
+  bk_result result = bk_runtime_remove_cluster(s->rt, id);
+  bool removed = result == BK_OK;
+  if (removed != live || (!removed && result != BK_ERROR_STALE_ID))
+    bk_fuzz_fail("remove_cluster: returned %d for a cluster that is %slive", (int)result, live ? "" : "not ");
   if (!removed) {
     bk_fuzz_check_state(s, "remove_cluster (stale)");
     bk_fuzz_check_results_kept(s, "remove_cluster (stale)");
@@ -288,8 +355,13 @@ static void op_remove(session* s, reader* r) {
   tb->removed_volume += info.volume;
   bk_fuzz_check_state(s, "remove_cluster");
   bk_fuzz_check_results(s, "remove_cluster", live_before, bonds_before, false);
-  if (s->removed != 1 || s->created != 0)
-    bk_fuzz_fail("remove_cluster: %u removed, %u created", s->removed, s->created);
+  // One the caller was given is reported removed; one it was not is taken
+  // out of the created events instead.
+  bool reported = s->removed == removed_before + 1 && s->created == created_before;
+  bool withdrawn = s->removed == removed_before && s->created + 1 == created_before;
+  if (given ? !reported : !withdrawn)
+    bk_fuzz_fail("remove_cluster: %u removed, %u created, were %u, %u (given: %d)", s->removed, s->created,
+                 removed_before, created_before, given);
 }
 
 static void op_setters(session* s, reader* r) {
@@ -297,34 +369,62 @@ static void op_setters(session* s, reader* r) {
   uint8_t which = u8(r);
   bool live = bk_fuzz_find_tracked(s, id) != NULL;
   bk_material before = bk_runtime_material(s->rt, id);
-  bool ok = false;
+  bk_result result = BK_OK;
   double value = 0.0;
-  switch (which % 4) {
+  switch (which % 6) {
   case 0: {
     bk_material m = pick_material(r);
-    ok = bk_runtime_set_material(s->rt, id, &m);
-    if (ok != (live && bk_material_validate(&m, NULL))) bk_fuzz_fail("set_material: returned %d", ok);
+    result = bk_runtime_set_material(s->rt, id, &m);
+    if ((result == BK_OK) != (live && bk_material_validate(&m, NULL)))
+      bk_fuzz_fail("set_material: returned %d", (int)result);
     break;
   }
   case 1:
     value = pick_double(r, 1.0);
-    ok = bk_runtime_set_frailty(s->rt, id, value);
-    if (ok && bk_runtime_frailty(s->rt, id) != value) bk_fuzz_fail("set_frailty: %g did not stick", value);
+    result = bk_runtime_set_frailty(s->rt, id, value);
+    if (result == BK_OK && bk_runtime_frailty(s->rt, id) != value)
+      bk_fuzz_fail("set_frailty: %g did not stick", value);
     break;
   case 2:
     value = pick_double(r, 2400.0);
-    ok = bk_runtime_set_density(s->rt, id, value);
-    if (ok && bk_runtime_density(s->rt, id) != value) bk_fuzz_fail("set_density: %g did not stick", value);
+    result = bk_runtime_set_density(s->rt, id, value);
+    if (result == BK_OK && bk_runtime_density(s->rt, id) != value)
+      bk_fuzz_fail("set_density: %g did not stick", value);
     break;
-  default:
+  case 3:
     value = pick_double(r, 2e5);
-    ok = bk_runtime_set_bond_strength(s->rt, id, value);
-    if (ok && bk_runtime_bond_strength(s->rt, id) != value)
+    result = bk_runtime_set_bond_strength(s->rt, id, value);
+    if (result == BK_OK && bk_runtime_bond_strength(s->rt, id) != value)
       bk_fuzz_fail("set_bond_strength: %g did not stick", value);
     break;
+  case 4: { // a cluster's user data: only on one the caller was given (it knows no other)
+    bk_cluster_id c = pick_cluster(s, r);
+    void* data = (void*)&s->bodies[u8(r) % MAX_CLUSTERS];
+    // Given, and not removed since (its removal not taken yet leaves it in the mirror).
+    bool alive = bk_runtime_cluster(s->rt, c, &(bk_cluster_info){0});
+    bool known = alive && c.index < MAX_CLUSTERS && bk_cluster_equal(s->known[c.index], c);
+    if (!known && alive) break;
+    bk_result set = bk_runtime_set_cluster_user_data(s->rt, c, data);
+    if (set != (known ? BK_OK : BK_ERROR_STALE_ID))
+      bk_fuzz_fail("set_cluster_user_data: returned %d", (int)set);
+    if (known) s->user_data[c.index] = data;
+    if (bk_runtime_cluster_user_data(s->rt, c) != (known ? data : NULL))
+      bk_fuzz_fail("cluster_user_data: not what was set");
+    break;
   }
-  if (ok && !live) bk_fuzz_fail("a setter accepted a stale breakable id {%u, %u}", id.index, id.generation);
-  if (ok && (which % 4) && !isfinite(value)) bk_fuzz_fail("a setter accepted %g", value);
+  default: { // gravity: up for the next anchors
+    bk_vec3 gravity = pick_vec3(r, 9.81);
+    bk_result set = bk_runtime_set_gravity(s->rt, gravity);
+    if ((set == BK_OK) != bk_v3_is_finite(gravity)) bk_fuzz_fail("set_gravity: returned %d", (int)set);
+    break;
+  }
+  }
+  bool ok = result == BK_OK;
+  if (!ok && result != (live ? BK_ERROR_INVALID_ARGUMENT : BK_ERROR_STALE_ID))
+    bk_fuzz_fail("a setter returned %d for a %s id", (int)result, live ? "live" : "stale");
+  if (ok && !live && which % 6 < 4)
+    bk_fuzz_fail("a setter accepted a stale breakable id {%u, %u}", id.index, id.generation);
+  if (ok && (which % 6) && !isfinite(value)) bk_fuzz_fail("a setter accepted %g", value);
   if (!ok && memcmp(&before, &(bk_material){0}, sizeof before) != 0) {
     bk_material after = bk_runtime_material(s->rt, id);
     if (after.density != before.density || after.frailty != before.frailty ||
@@ -335,10 +435,43 @@ static void op_setters(session* s, reader* r) {
   bk_fuzz_check_results_kept(s, "material setter");
 }
 
+// The stress solve's two halves: its fracture commands into a small array
+// (a full one defers a cluster), the commands applied as reported (each
+// breaks its bond) and forged ones (a stale cluster, a bond out of range, a
+// cause that is none) refused.
+static void stress_halves(session* s, bk_vec3 gravity, const bk_stress_support* supports,
+                          uint32_t support_count, const bk_stress_load* loads, uint32_t load_count,
+                          uint32_t capacity) {
+  bk_fracture_command commands[12];
+  uint32_t n = bk_runtime_stress_commands(s->rt, gravity, supports, support_count, loads, load_count,
+                                          capacity ? commands : NULL, capacity);
+  if (n > capacity) bk_fuzz_fail("stress_commands: %u commands in an array of %u", n, capacity);
+  bk_fuzz_check_state(s, "stress_commands");
+  bk_fuzz_check_results_kept(s, "stress_commands");
+  for (uint32_t i = 0; i < n; ++i) {
+    bk_fracture_command forged[3] = {commands[i], commands[i], commands[i]};
+    forged[0].cluster.generation++;
+    forged[1].bond += 1u << 20;
+    forged[2].cause = (bk_break_cause)(BK_BREAK_STRESS + 1);
+    if (bk_runtime_apply_fracture_commands(s->rt, forged, 3) != 0)
+      bk_fuzz_fail("apply_fracture_commands: a forged command broke a bond");
+  }
+  bk_fuzz_check_results_kept(s, "forged fracture commands");
+  uint32_t live_before = s->live_count, bonds_before = s->bonds_broken;
+  uint32_t broken = bk_runtime_apply_fracture_commands(s->rt, commands, n);
+  if (broken != n) bk_fuzz_fail("apply_fracture_commands: %u of %u commands broke their bond", broken, n);
+  bk_fuzz_check_state(s, "apply_fracture_commands");
+  bk_fuzz_check_results(s, "apply_fracture_commands", live_before, bonds_before, true);
+}
+
 static void op_stress(session* s, reader* r) {
   bk_stress_support supports[4];
   bk_stress_load loads[4];
-  uint32_t calls = 1 + u8(r) % 32;
+  uint8_t a = u8(r);
+  uint32_t calls = 1 + a % 32;
+  // 32: the two halves instead, into an array of 0, 4, 8 or 12 commands.
+  bool halves = a & 32;
+  uint32_t capacity = 4u * (a >> 6);
   uint8_t b = u8(r);
   bk_vec3 gravity = b & 1 ? pick_vec3(r, 9.81) : bk_v3(0, -9.81, 0);
   uint32_t support_count = ((b >> 1) & 7u) % 5, load_count = (b >> 4) % 5;
@@ -352,6 +485,11 @@ static void op_stress(session* s, reader* r) {
     loads[i].force = pick_vec3(r, 500.0);
   }
   for (uint32_t i = 0; i < calls; ++i) {
+    if (halves) {
+      stress_halves(s, gravity, support_count ? supports : NULL, support_count, load_count ? loads : NULL,
+                    load_count, capacity);
+      continue;
+    }
     uint32_t live_before = s->live_count, bonds_before = s->bonds_broken;
     bk_runtime_solve_stress(s->rt, gravity, support_count ? supports : NULL, support_count,
                             load_count ? loads : NULL, load_count);
@@ -385,38 +523,11 @@ static void op_move(session* s, reader* r) {
   body->angular_velocity = b & 16 ? pick_vec3(r, 1.0) : bk_v3(0, 0, 0);
 }
 
-// Results into buffers smaller than them: the total comes back, at most
-// capacity entries are written, the same as a full pull's first ones.
+// Events into buffers smaller than them (fuzz_runtime_check.c), then taken
+// or left to accumulate.
 static void op_pull(session* s, reader* r) {
-  enum { GUARD = 4 };
-  uint32_t capacity = u8(r) % 4;
-  bk_cluster_created created[3 + GUARD], created_all[64];
-  bk_cluster_id removed[3 + GUARD], removed_all[64];
-  bk_bond_break broken[3 + GUARD];
-  memset(created, 0xA5, sizeof created);
-  memset(removed, 0xA5, sizeof removed);
-  memset(broken, 0xA5, sizeof broken);
-  uint8_t canary[sizeof created + sizeof removed + sizeof broken]; // longer than each guard
-  memset(canary, 0xA5, sizeof canary);
-  if (bk_runtime_created_clusters(s->rt, created, capacity) != s->created ||
-      bk_runtime_removed_clusters(s->rt, removed, capacity) != s->removed ||
-      bk_runtime_broken_bonds(s->rt, broken, capacity) != s->broken)
-    bk_fuzz_fail("a pull into %u entries returned another total", capacity);
-  if (memcmp(&created[capacity], canary, sizeof(bk_cluster_created) * GUARD) ||
-      memcmp(&removed[capacity], canary, sizeof(bk_cluster_id) * GUARD) ||
-      memcmp(&broken[capacity], canary, sizeof(bk_bond_break) * GUARD))
-    bk_fuzz_fail("a pull into %u entries wrote past them", capacity);
-  uint32_t n = s->created < 64 ? s->created : 64;
-  bk_runtime_created_clusters(s->rt, created_all, n);
-  for (uint32_t i = 0; i < capacity && i < n; ++i)
-    if (memcmp(&created[i], &created_all[i], sizeof *created))
-      bk_fuzz_fail("a short pull gave another created cluster %u", i);
-  n = s->removed < 64 ? s->removed : 64;
-  bk_runtime_removed_clusters(s->rt, removed_all, n);
-  for (uint32_t i = 0; i < capacity && i < n; ++i)
-    if (!bk_cluster_equal(removed[i], removed_all[i]))
-      bk_fuzz_fail("a short pull gave another removed cluster %u", i);
-  bk_fuzz_check_results_kept(s, "pull");
+  bk_fuzz_check_short_pulls(s, u8(r) % 4);
+  if (u8(r) & 1) bk_fuzz_take(s);
 }
 
 static void op_query(session* s, reader* r) {
@@ -498,6 +609,8 @@ int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       break;
     }
   }
+  bk_fuzz_check_state(s, "the end");
+  bk_fuzz_take(s);
   bk_runtime_destroy(s->rt);
   free(s);
   return 0;

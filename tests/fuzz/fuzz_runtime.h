@@ -11,7 +11,8 @@
 
 enum {
   TREE_COUNT = 4,
-  MAX_BREAKABLES = 8,
+  MAX_BREAKABLES = 16, // added over a program (at most 8 live)
+  MAX_LIVE_BREAKABLES = 8,
   MAX_OPS = 400,
   STALE_IDS = 16,
   MAX_CLUSTERS = 4096, // more than 8 breakables of 27 leaves can make
@@ -30,6 +31,8 @@ void bk_fuzz_build_trees(void);
 typedef struct tracked {
   bk_breakable_id id;
   uint32_t tree;
+  char tag;                    // its user data is &tag
+  bool removed;                // by bk_runtime_remove_breakable: its id is stale
   uint8_t retired[MAX_LEAVES]; // leaves whose cluster was removed
   double removed_volume;
 } tracked;
@@ -38,13 +41,18 @@ typedef struct session {
   bk_runtime* rt;
   bk_body_state bodies[MAX_CLUSTERS]; // by cluster index, as the caller's physics has them
   tracked breakables[MAX_BREAKABLES];
-  uint32_t breakable_count;
+  uint32_t breakable_count;       // added, the removed included
   bk_cluster_id stale[STALE_IDS]; // removed clusters, for stale ids
   uint32_t stale_count;
   bk_cluster_id live[MAX_CLUSTERS]; // after the last check
   uint32_t live_count;
-  // The results and totals after the last call.
+  // The caller's mirror: the clusters whose created events it took (and
+  // not their removal yet), each with the user data it gave it.
+  bk_cluster_id known[MAX_CLUSTERS];
+  void* user_data[MAX_CLUSTERS];
+  // The events since the last take (they accumulate), the totals then.
   uint32_t created, removed, broken, bonds_broken;
+  uint32_t live_at_take, bonds_at_take;
 } session;
 
 /// BK_FUZZ_TRACE=1 in the environment: each call and its results are
@@ -56,10 +64,21 @@ tracked* bk_fuzz_find_tracked(session* s, bk_breakable_id id);
 /// Checks every invariant of the runtime's state (see fuzz_runtime.c) and
 /// refreshes the list of live clusters; `call` names the call for messages.
 void bk_fuzz_check_state(session* s, const char* call);
-/// Pulls the results of the last call and checks them against what it may
-/// have done: the live count moved by created - removed (their bodies are
-/// made), broken bonds are dead and were counted (none unless may_break).
+/// Reads the events after a call and checks them against what happened since
+/// the last take: the live count moved by created - removed, the bonds broken
+/// are those counted (none from this call unless may_break), the call's new
+/// broken bonds are dead; created clusters are live and unknown to the
+/// caller, removed ones known.
 void bk_fuzz_check_results(session* s, const char* call, uint32_t live_before, uint32_t bonds_before,
                            bool may_break);
-/// A call that failed, a setter or a query: the results are the last call's.
+/// A call that failed, a setter or a query: the events are unchanged.
 void bk_fuzz_check_results_kept(session* s, const char* call);
+/// Reads the events into buffers of `capacity` (< 4) entries: the totals come
+/// back, nothing is written past them, and what is written is what a full
+/// read gives first; the events are unchanged.
+void bk_fuzz_check_short_pulls(session* s, uint32_t capacity);
+/// Takes the events as a caller does (bodies made and dropped, user data
+/// checked: inherited from the parent the caller knew, the breakable's on
+/// its first cluster and on every event), clears them, and checks the
+/// caller's mirror is the live set.
+void bk_fuzz_take(session* s);

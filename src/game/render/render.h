@@ -10,7 +10,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
-#include "bk_fracture.h"
+#include <breakables/authoring.h>
 
 #ifdef __cplusplus
 extern "C" {

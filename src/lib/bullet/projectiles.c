@@ -12,19 +12,23 @@ bk_projectile_def bk_default_projectile_def(void) {
 
 bk_body_id bk_world_fire(bk_world* w, const bk_projectile_def* def, bk_error* err) {
   bk_body_id null_id = {0, 0};
-  if (!def) return bk_error_set(err, "projectile: def is NULL"), null_id;
+  if (!def) return bk_error_set_code(err, BK_ERROR_INVALID_ARGUMENT, "projectile: def is NULL"), null_id;
   if (!bk_v3_is_finite(def->position))
-    return bk_error_set(err, "projectile: position must be finite"), null_id;
+    return bk_error_set_code(err, BK_ERROR_INVALID_ARGUMENT, "projectile: position must be finite"), null_id;
   if (!bk_v3_is_finite(def->velocity))
-    return bk_error_set(err, "projectile: velocity must be finite"), null_id;
+    return bk_error_set_code(err, BK_ERROR_INVALID_ARGUMENT, "projectile: velocity must be finite"), null_id;
   if (!(def->radius > 0.0) || !isfinite(def->radius))
-    return bk_error_set(err, "projectile: radius must be a positive finite number (got %g)", def->radius),
+    return bk_error_set_code(err, BK_ERROR_INVALID_ARGUMENT,
+                             "projectile: radius must be a positive finite number (got %g)", def->radius),
            null_id;
   if (!(def->mass > 0.0) || !isfinite(def->mass))
-    return bk_error_set(err, "projectile: mass must be a positive finite number (got %g)", def->mass),
+    return bk_error_set_code(err, BK_ERROR_INVALID_ARGUMENT,
+                             "projectile: mass must be a positive finite number (got %g)", def->mass),
            null_id;
   if (!(def->lifetime >= 0.0))
-    return bk_error_set(err, "projectile: lifetime must be >= 0 (got %g)", def->lifetime), null_id;
+    return bk_error_set_code(err, BK_ERROR_INVALID_ARGUMENT, "projectile: lifetime must be >= 0 (got %g)",
+                             def->lifetime),
+           null_id;
   double radius = def->radius, mass = def->mass;
   bk_shape_id sphere = bk_physics_create_sphere(w->physics, radius);
   bk_body_def bd = bk_default_body_def();

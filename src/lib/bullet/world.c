@@ -25,16 +25,12 @@ bk_world_def bk_default_world_def(void) {
   return (bk_world_def){.gravity = {0.0, -9.81, 0.0},
                         .fixed_dt = 1.0 / 60.0,
                         .ground = true,
-                        .impact_speed = 1.0,
-                        .impulse_threshold = 0.5,
-                        .damage_min_distance = 0.05,
-                        .max_new_bodies_per_step = 48,
+                        .runtime = bk_default_runtime_def(),
                         .max_hit_fragments_per_step = 1024,
                         .projectile_lifetime = 8.0,
                         .retire_volume = 2e-5,
                         .retire_after = 10.0,
                         .stress = true,
-                        .stress_budget = 16000,
                         .physics_budget_ms = 8.0,
                         .physics_budget_measured = false,
                         .budget_large_volume = 0.008,
@@ -57,75 +53,86 @@ static bk_body_state body_state(bk_cluster_id cluster, void* context) {
 }
 
 bk_world* bk_world_create(const bk_world_def* def, bk_error* err) {
-  if (!def) return bk_error_set(err, "world: def is NULL"), NULL;
+  if (!def) return bk_error_set_code(err, BK_ERROR_INVALID_ARGUMENT, "world: def is NULL"), NULL;
   bk_world_def d = *def;
   if (!(d.retire_volume >= 0.0) || !isfinite(d.retire_volume))
-    return bk_error_set(err, "world: retire_volume must be finite and >= 0 (got %g)", d.retire_volume), NULL;
-  if (!(d.retire_after > 0.0) || !isfinite(d.retire_after))
-    return bk_error_set(err, "world: retire_after must be positive (got %g)", d.retire_after), NULL;
-  if (!(d.projectile_lifetime > 0.0) || !isfinite(d.projectile_lifetime))
-    return bk_error_set(err, "world: projectile_lifetime must be positive (got %g)", d.projectile_lifetime),
+    return bk_error_set_code(err, BK_ERROR_INVALID_ARGUMENT,
+                             "world: retire_volume must be finite and >= 0 (got %g)", d.retire_volume),
            NULL;
-  if (!bk_v3_is_finite(d.gravity)) return bk_error_set(err, "world: gravity must be finite"), NULL;
+  if (!(d.retire_after > 0.0) || !isfinite(d.retire_after))
+    return bk_error_set_code(err, BK_ERROR_INVALID_ARGUMENT, "world: retire_after must be positive (got %g)",
+                             d.retire_after),
+           NULL;
+  if (!(d.projectile_lifetime > 0.0) || !isfinite(d.projectile_lifetime))
+    return bk_error_set_code(err, BK_ERROR_INVALID_ARGUMENT,
+                             "world: projectile_lifetime must be positive (got %g)", d.projectile_lifetime),
+           NULL;
+  if (!bk_v3_is_finite(d.gravity))
+    return bk_error_set_code(err, BK_ERROR_INVALID_ARGUMENT, "world: gravity must be finite"), NULL;
   if (!(d.fixed_dt > 0.0 && d.fixed_dt <= 0.1))
-    return bk_error_set(err, "world: fixed_dt must be in (0, 0.1] s (got %g)", d.fixed_dt), NULL;
+    return bk_error_set_code(err, BK_ERROR_INVALID_ARGUMENT, "world: fixed_dt must be in (0, 0.1] s (got %g)",
+                             d.fixed_dt),
+           NULL;
   if (!(d.physics_budget_ms >= 0.0) || !isfinite(d.physics_budget_ms))
-    return bk_error_set(err, "world: physics_budget_ms must be finite and >= 0 (got %g)",
-                        d.physics_budget_ms),
+    return bk_error_set_code(err, BK_ERROR_INVALID_ARGUMENT,
+                             "world: physics_budget_ms must be finite and >= 0 (got %g)",
+                             d.physics_budget_ms),
            NULL;
   if (!(d.budget_large_volume > 0.0) || !isfinite(d.budget_large_volume))
-    return bk_error_set(err, "world: budget_large_volume must be a positive finite number (got %g)",
-                        d.budget_large_volume),
+    return bk_error_set_code(err, BK_ERROR_INVALID_ARGUMENT,
+                             "world: budget_large_volume must be a positive finite number (got %g)",
+                             d.budget_large_volume),
            NULL;
   if (!(d.budget_focus_radius >= 0.0) || !isfinite(d.budget_focus_radius))
-    return bk_error_set(err, "world: budget_focus_radius must be finite and >= 0 (got %g)",
-                        d.budget_focus_radius),
+    return bk_error_set_code(err, BK_ERROR_INVALID_ARGUMENT,
+                             "world: budget_focus_radius must be finite and >= 0 (got %g)",
+                             d.budget_focus_radius),
            NULL;
   if (!(d.budget_fidelity_time >= 0.0) || !isfinite(d.budget_fidelity_time))
-    return bk_error_set(err, "world: budget_fidelity_time must be finite and >= 0 (got %g)",
-                        d.budget_fidelity_time),
+    return bk_error_set_code(err, BK_ERROR_INVALID_ARGUMENT,
+                             "world: budget_fidelity_time must be finite and >= 0 (got %g)",
+                             d.budget_fidelity_time),
            NULL;
   if (!(d.budget_fidelity_factor == 0.0 ||
         (d.budget_fidelity_factor >= 1.0 && isfinite(d.budget_fidelity_factor))))
-    return bk_error_set(err, "world: budget_fidelity_factor must be 0 (no bound) or finite and >= 1 (got %g)",
-                        d.budget_fidelity_factor),
+    return bk_error_set_code(err, BK_ERROR_INVALID_ARGUMENT,
+                             "world: budget_fidelity_factor must be 0 (no bound) or finite and >= 1 (got %g)",
+                             d.budget_fidelity_factor),
            NULL;
   if (!(d.budget_visible_angle >= 0.0 && d.budget_visible_angle <= 1.0))
-    return bk_error_set(err, "world: budget_visible_angle must be within 0..1 radians (got %g)",
-                        d.budget_visible_angle),
+    return bk_error_set_code(err, BK_ERROR_INVALID_ARGUMENT,
+                             "world: budget_visible_angle must be within 0..1 radians (got %g)",
+                             d.budget_visible_angle),
            NULL;
   if (!(d.budget_fidelity_radius >= 0.0) || !isfinite(d.budget_fidelity_radius))
-    return bk_error_set(err, "world: budget_fidelity_radius must be finite and >= 0 (got %g)",
-                        d.budget_fidelity_radius),
+    return bk_error_set_code(err, BK_ERROR_INVALID_ARGUMENT,
+                             "world: budget_fidelity_radius must be finite and >= 0 (got %g)",
+                             d.budget_fidelity_radius),
            NULL;
 
   if (!(d.settle_cell >= 0.0) || !isfinite(d.settle_cell))
-    return bk_error_set(err, "world: settle_cell must be finite and >= 0 (got %g)", d.settle_cell), NULL;
+    return bk_error_set_code(err, BK_ERROR_INVALID_ARGUMENT,
+                             "world: settle_cell must be finite and >= 0 (got %g)", d.settle_cell),
+           NULL;
   if (!(d.settle_wake_speed > 0.0) || !isfinite(d.settle_wake_speed))
-    return bk_error_set(err, "world: settle_wake_speed must be a positive finite number (got %g)",
-                        d.settle_wake_speed),
+    return bk_error_set_code(err, BK_ERROR_INVALID_ARGUMENT,
+                             "world: settle_wake_speed must be a positive finite number (got %g)",
+                             d.settle_wake_speed),
            NULL;
 
-  bk_world* w = bk_calloc(1, sizeof *w);
-  bk_runtime_def rd = bk_default_runtime_def();
-  rd.impact_speed = d.impact_speed;
-  rd.impulse_threshold = d.impulse_threshold;
-  rd.damage_min_distance = d.damage_min_distance;
-  rd.max_new_clusters_per_split = d.max_new_bodies_per_step;
-  rd.stress_budget = d.stress_budget;
-  rd.body_state = body_state;
-  rd.context = w;
-  bk_error runtime_err = {0};
-  w->runtime = bk_runtime_create(&rd, &runtime_err);
+  // The runtime's fields as the world sets them, checked as its own.
+  d.runtime.gravity = d.gravity; // up, for anchoring, is its opposite
+  d.runtime.body_state = body_state;
+  d.runtime.context = NULL;
+  if (!bk_runtime_def_validate(&d.runtime, "world: runtime.", err)) return NULL;
+
+  // An allocator that runs out makes creation fail with an error, not abort.
+  bk_world* w = bk_try_calloc(1, sizeof *w);
+  if (!w) return bk_error_set_code(err, BK_ERROR_OUT_OF_MEMORY, "world: out of memory"), NULL;
+  d.runtime.context = w;
+  w->runtime = bk_runtime_create(&d.runtime, err);
   if (!w->runtime) {
-    // Name the world's own fields, not the runtime's.
-    const char* message = runtime_err.message;
-    if (strstr(message, "max_new_clusters_per_split"))
-      bk_error_set(err, "world: max_new_bodies_per_step must be at least 2 (got %u)",
-                   d.max_new_bodies_per_step);
-    else
-      bk_error_set(err, "world: %s", strncmp(message, "runtime: ", 9) == 0 ? message + 9 : message);
-    free(w);
+    bk_free(w);
     return NULL;
   }
   bk_physics_def pd = bk_default_physics_def();
@@ -134,7 +141,7 @@ bk_world* bk_world_create(const bk_world_def* def, bk_error* err) {
   w->physics = bk_physics_create(&pd, err);
   if (!w->physics) {
     bk_runtime_destroy(w->runtime);
-    free(w);
+    bk_free(w);
     return NULL;
   }
   w->def = d;
@@ -156,32 +163,32 @@ void bk_world_destroy(bk_world* w) {
   bk_physics_destroy(w->physics);
   bk_runtime_destroy(w->runtime);
   for (uint32_t i = 0; i < w->body_capacity; ++i)
-    free(w->bodies[i].colliders);
+    bk_free(w->bodies[i].colliders);
   for (uint32_t i = 0; i < w->breakable_count; ++i) {
-    free(w->breakables[i].node_hull);
-    free(w->breakables[i].node_body_hull);
-    free(w->breakables[i].hull_fits);
+    bk_free(w->breakables[i].node_hull);
+    bk_free(w->breakables[i].node_body_hull);
+    bk_free(w->breakables[i].hull_fits);
   }
-  free(w->breakables);
-  free(w->bodies);
-  free(w->live);
-  free(w->projectiles);
-  free(w->projectile_radius);
-  free(w->projectile_shape);
-  free(w->projectile_expires);
-  free(w->contacts);
-  free(w->damage);
-  free(w->hits);
-  free(w->hit_batch);
-  free(w->created);
-  free(w->removed);
-  free(w->broken);
-  free(w->events);
-  free(w->supports);
-  free(w->stress_loads);
+  bk_free(w->breakables);
+  bk_free(w->bodies);
+  bk_free(w->live);
+  bk_free(w->projectiles);
+  bk_free(w->projectile_radius);
+  bk_free(w->projectile_shape);
+  bk_free(w->projectile_expires);
+  bk_free(w->contacts);
+  bk_free(w->damage);
+  bk_free(w->hits);
+  bk_free(w->hit_batch);
+  bk_free(w->created);
+  bk_free(w->removed);
+  bk_free(w->broken);
+  bk_free(w->events);
+  bk_free(w->supports);
+  bk_free(w->stress_loads);
   bk_world_budget_free(w);
   bk_world_settle_free(w);
-  free(w);
+  bk_free(w);
 }
 
 bk_physics* bk_world_physics(bk_world* w) { return w->physics; }
@@ -196,19 +203,25 @@ bk_world_breakable_def bk_default_world_breakable_def(void) {
 
 bk_breakable_id bk_world_add_breakable(bk_world* w, const bk_world_breakable_def* def, bk_error* err) {
   bk_breakable_id null_id = {0, 0};
-  if (!def) return bk_error_set(err, "breakable: def is NULL"), null_id;
+  if (!def) return bk_error_set_code(err, BK_ERROR_INVALID_ARGUMENT, "breakable: def is NULL"), null_id;
   if (!(def->convexity_tolerance > 0.0) || !isfinite(def->convexity_tolerance))
-    return bk_error_set(err, "breakable: convexity_tolerance must be a positive finite number (got %g)",
-                        def->convexity_tolerance),
+    return bk_error_set_code(err, BK_ERROR_INVALID_ARGUMENT,
+                             "breakable: convexity_tolerance must be a positive finite number (got %g)",
+                             def->convexity_tolerance),
            null_id;
   // Validate everything before the runtime records anything.
   bk_breakable_id id = bk_runtime_add_breakable(w->runtime, &def->breakable, err);
   if (bk_breakable_is_null(id)) return null_id;
-  if (w->breakable_count == w->breakable_capacity) {
-    w->breakable_capacity = bk_grow_capacity(w->breakable_capacity, w->breakable_count + 1);
-    w->breakables = bk_realloc(w->breakables, sizeof(world_breakable) * w->breakable_capacity);
+  // The world's breakables are indexed like the runtime's (which reuses a
+  // removed one's slot).
+  uint32_t index = id.index;
+  if (index >= w->breakable_count) {
+    if (index >= w->breakable_capacity) {
+      w->breakable_capacity = bk_grow_capacity(w->breakable_capacity, index + 1);
+      w->breakables = bk_realloc(w->breakables, sizeof(world_breakable) * w->breakable_capacity);
+    }
+    w->breakable_count = index + 1;
   }
-  uint32_t index = w->breakable_count++;
   const bk_mesh_tree* tree = def->breakable.tree;
   w->breakables[index] = (world_breakable){.id = id,
                                            .convex_colliders = def->convex_colliders,
@@ -221,6 +234,25 @@ bk_breakable_id bk_world_add_breakable(bk_world* w, const bk_world_breakable_def
   bool made = bk_world_apply_results(w, err);
   bk_world_refresh_live(w);
   return made ? id : null_id;
+}
+
+bk_result bk_world_remove_breakable(bk_world* w, bk_breakable_id id) {
+  const bk_mesh_tree* tree = bk_runtime_breakable_tree(w->runtime, id);
+  bk_result result = bk_runtime_remove_breakable(w->runtime, id);
+  if (result != BK_OK) return result;
+  bk_world_apply_results(w, NULL); // releases its bodies (nothing is created)
+  bk_world_refresh_live(w);
+  // Its hulls go once no body uses them (a shape in use is left alone).
+  world_breakable* wb = &w->breakables[id.index];
+  for (uint32_t i = 0; i < tree->node_count; ++i) {
+    if (!bk_shape_is_null(wb->node_hull[i])) bk_physics_destroy_shape(w->physics, wb->node_hull[i]);
+    if (!bk_shape_is_null(wb->node_body_hull[i])) bk_physics_destroy_shape(w->physics, wb->node_body_hull[i]);
+  }
+  bk_free(wb->node_hull);
+  bk_free(wb->node_body_hull);
+  bk_free(wb->hull_fits);
+  *wb = (world_breakable){.id = {0, 0}};
+  return BK_OK;
 }
 
 uint32_t bk_world_breakable_count(const bk_world* w) { return w->breakable_count; }
@@ -239,28 +271,30 @@ static void refresh_masses(bk_world* w, bk_breakable_id id) {
   }
 }
 
-bool bk_world_set_material(bk_world* w, bk_breakable_id id, const bk_material* material) {
-  if (!bk_runtime_set_material(w->runtime, id, material)) return false;
+bk_result bk_world_set_material(bk_world* w, bk_breakable_id id, const bk_material* material) {
+  bk_result result = bk_runtime_set_material(w->runtime, id, material);
+  if (result != BK_OK) return result;
   refresh_masses(w, id);
   for (uint32_t i = 0; i < w->live_count; ++i) {
     world_body* wbody = &w->bodies[w->live[i]];
     if (w->breakables[wbody->breakable].id.index == id.index)
       bk_physics_body_set_surface(w->physics, wbody->body, material->friction, material->restitution);
   }
-  return true;
+  return BK_OK;
 }
 
-bool bk_world_set_frailty(bk_world* w, bk_breakable_id id, double frailty) {
+bk_result bk_world_set_frailty(bk_world* w, bk_breakable_id id, double frailty) {
   return bk_runtime_set_frailty(w->runtime, id, frailty);
 }
 
-bool bk_world_set_density(bk_world* w, bk_breakable_id id, double density) {
-  if (!bk_runtime_set_density(w->runtime, id, density)) return false;
+bk_result bk_world_set_density(bk_world* w, bk_breakable_id id, double density) {
+  bk_result result = bk_runtime_set_density(w->runtime, id, density);
+  if (result != BK_OK) return result;
   refresh_masses(w, id);
-  return true;
+  return BK_OK;
 }
 
-bool bk_world_set_bond_strength(bk_world* w, bk_breakable_id id, double bond_strength) {
+bk_result bk_world_set_bond_strength(bk_world* w, bk_breakable_id id, double bond_strength) {
   return bk_runtime_set_bond_strength(w->runtime, id, bond_strength);
 }
 
@@ -349,7 +383,7 @@ static void solve_stress(bk_world* w, uint32_t contact_count) {
       w->supports[count++] = (bk_stress_support){cluster, ct->point};
     if (cluster_of(w, ct->b, &cluster) && a_static && !b_static)
       w->supports[count++] = (bk_stress_support){cluster, ct->point};
-    if (ct->approach_speed >= w->def.impact_speed) continue;
+    if (ct->approach_speed >= w->def.runtime.impact_speed) continue;
     // The normal points from b to a: the contact pushes a along it.
     bk_vec3 force = bk_v3_scale(ct->normal, ct->impulse / w->def.fixed_dt);
     if (!b_static && cluster_of(w, ct->a, &cluster))
@@ -386,6 +420,7 @@ static void retire_fragments(bk_world* w) {
     }
     w->aged[w->aged_count++] = bk_world_retired_record(w, index, &info);
     bk_runtime_remove_cluster(w->runtime, wbody->cluster);
+    bk_runtime_clear_events(w->runtime); // the world removes the body itself
     bk_world_release_body(w, index);
   }
 }

@@ -18,7 +18,7 @@ static bk_shape_id make_body_hull(bk_world* w, const bk_mesh_tree* tree, uint32_
   for (uint32_t i = 0; i < mesh->position_count; ++i)
     local[i] = bk_transform_point(to_body, mesh->positions[i]);
   bk_shape_id hull = bk_physics_create_hull(w->physics, local, mesh->position_count, 64);
-  free(local);
+  bk_free(local);
   return hull;
 }
 
@@ -177,10 +177,14 @@ static void reserve(void** array, uint32_t* capacity, uint32_t need, size_t size
 bool bk_world_apply_results(bk_world* w, bk_error* err) {
   uint32_t removed = bk_runtime_removed_clusters(w->runtime, NULL, 0);
   uint32_t created = bk_runtime_created_clusters(w->runtime, NULL, 0);
-  reserve((void**)&w->removed, &w->removed_capacity, removed, sizeof(bk_cluster_id));
+  reserve((void**)&w->removed, &w->removed_capacity, removed, sizeof(bk_cluster_removed));
   reserve((void**)&w->created, &w->created_capacity, created, sizeof(bk_cluster_created));
   bk_runtime_removed_clusters(w->runtime, w->removed, w->removed_capacity);
   bk_runtime_created_clusters(w->runtime, w->created, w->created_capacity);
+  // The world takes the runtime's events after each of its calls: the
+  // bodies below are made from these copies (their info's pointers stay
+  // valid until the runtime's next change of clusters).
+  bk_runtime_clear_events(w->runtime);
   // Same order as the runtime made them: Bullet's results depend on the order
   // bodies enter and leave its world.
   bool ok = true;
@@ -189,17 +193,19 @@ bool bk_world_apply_results(bk_world* w, bk_error* err) {
   for (uint32_t r = 0; r <= removed; ++r) {
     uint64_t loose_since = w->step_count;
     if (r < removed) {
-      const world_body* parent = &w->bodies[w->removed[r].index];
+      const world_body* parent = &w->bodies[w->removed[r].cluster.index];
       if (parent->alive && parent->split_waiting && parent->split_since < loose_since)
         loose_since = parent->split_since;
-      bk_world_release_body(w, w->removed[r].index);
+      bk_world_release_body(w, w->removed[r].cluster.index);
     }
-    while (next < created && (r == removed || bk_cluster_equal(w->created[next].parent, w->removed[r]))) {
+    while (next < created &&
+           (r == removed || bk_cluster_equal(w->created[next].parent, w->removed[r].cluster))) {
       w->live_dirty = true;
       if (!build_body(w, &w->created[next], loose_since, err)) {
         ok = false;
         if (!failed_ids) failed_ids = bk_alloc(sizeof(bk_cluster_id) * created);
         failed_ids[failed++] = w->created[next].cluster.id;
+        if (err) err->code = BK_ERROR_PHYSICS;
       }
       next++;
     }
@@ -210,7 +216,8 @@ bool bk_world_apply_results(bk_world* w, bk_error* err) {
     bk_world_release_body(w, failed_ids[i].index);
     bk_runtime_remove_cluster(w->runtime, failed_ids[i]);
   }
-  free(failed_ids);
+  bk_runtime_clear_events(w->runtime); // their removals: the world made them
+  bk_free(failed_ids);
   return ok;
 }
 
@@ -218,11 +225,17 @@ void bk_world_collect_breaks(bk_world* w) {
   uint32_t count = bk_runtime_broken_bonds(w->runtime, NULL, 0);
   reserve((void**)&w->broken, &w->broken_capacity, count, sizeof(bk_bond_break));
   bk_runtime_broken_bonds(w->runtime, w->broken, w->broken_capacity);
+  bk_runtime_clear_events(w->runtime); // hits and loads only break bonds: nothing else is waiting
   reserve((void**)&w->events, &w->event_capacity, w->event_count + count, sizeof(bk_break_event));
   for (uint32_t i = 0; i < count; ++i) {
     const bk_bond_break* b = &w->broken[i];
-    w->events[w->event_count++] =
-        (bk_break_event){b->breakable, b->bond, b->position, b->velocity, b->area, b->cause};
+    w->events[w->event_count++] = (bk_break_event){.breakable = b->breakable,
+                                                   .bond = b->bond,
+                                                   .position = b->position,
+                                                   .velocity = b->velocity,
+                                                   .area = b->area,
+                                                   .cause = b->cause,
+                                                   .user_data = b->breakable_user_data};
   }
 }
 

@@ -185,9 +185,9 @@ void bk_world_budget_settle(bk_world* w, uint32_t index) {
 }
 
 void bk_world_budget_free(bk_world* w) {
-  free(w->budget.candidates);
-  free(w->budget.retired_bodies);
-  free(w->budget.retired_index);
+  bk_free(w->budget.candidates);
+  bk_free(w->budget.retired_bodies);
+  bk_free(w->budget.retired_index);
 }
 
 // A stand-in fitted to the piece along its principal axes (the body frame):
@@ -287,6 +287,7 @@ static void retire(bk_world* w, uint32_t index, const bk_cluster_info* info) {
   b->retired++;
   b->demotions++;
   bk_runtime_remove_cluster(w->runtime, wb->cluster);
+  bk_runtime_clear_events(w->runtime); // the world removes the body itself
   // Its body leaves Bullet's world with the step's others (release_retired).
 }
 
@@ -303,7 +304,7 @@ static void release_retired(bk_world* w) {
     wb->body = (bk_body_id){0, 0};
   }
   bk_physics_destroy_bodies(w->physics, gone, b->retired_count);
-  free(gone);
+  bk_free(gone);
   for (uint32_t i = 0; i < b->retired_count; ++i)
     bk_world_release_body(w, b->retired_index[i]);
 }

@@ -42,7 +42,8 @@ uint32_t bk_world_apply_hits(bk_world* w, uint32_t count) {
   // thresholds) on clusters with bonds to break (a single fragment has none).
   for (uint32_t i = 0; i < count; ++i) {
     const bk_damage_contact* ct = &w->damage[i];
-    if (!(ct->impulse >= w->def.impulse_threshold) || !(ct->closing_speed >= w->def.impact_speed) ||
+    const bk_runtime_def* rd = &w->def.runtime;
+    if (!(ct->impulse >= rd->impulse_threshold) || !(ct->closing_speed >= rd->impact_speed) ||
         !isfinite(ct->impulse) || !bk_v3_is_finite(ct->point))
       continue;
     bk_cluster_info info = {0};

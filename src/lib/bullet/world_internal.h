@@ -5,7 +5,7 @@
 
 #include <breakables/bullet.h>
 
-#include "bk_geom.h"
+#include "bk_base.h"
 
 /// Bullet's view of one breakable: collision proxies, made once per node at
 /// load time and shared by every body of it.
@@ -128,7 +128,7 @@ struct bk_world {
   bool hits_held_last;   // the last step that applied hits held the splits
   bk_cluster_created* created;
   uint32_t created_capacity;
-  bk_cluster_id* removed;
+  bk_cluster_removed* removed;
   uint32_t removed_capacity;
   bk_bond_break* broken;
   uint32_t broken_capacity;

@@ -323,18 +323,18 @@ void bk_world_settle_step(bk_world* w) {
     const settle_candidate* run = c + runs[2 * i];
     extend_area(w, w->bodies[run->index].area - 1, run, runs[2 * i + 1] - runs[2 * i]);
   }
-  free(runs);
+  bk_free(runs);
   s->batch_ms = cpu_ms() - start;
 }
 
 void bk_world_settle_free(bk_world* w) {
   for (uint32_t a = 0; a < w->settle.area_count; ++a) {
-    free(w->settle.areas[a].members);
-    free(w->settle.areas[a].child_member);
+    bk_free(w->settle.areas[a].members);
+    bk_free(w->settle.areas[a].child_member);
   }
-  free(w->settle.areas);
-  free(w->settle.candidates);
-  free(w->settle.ids);
-  free(w->settle.wake);
-  free(w->aged);
+  bk_free(w->settle.areas);
+  bk_free(w->settle.candidates);
+  bk_free(w->settle.ids);
+  bk_free(w->settle.wake);
+  bk_free(w->aged);
 }

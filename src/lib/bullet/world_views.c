@@ -95,7 +95,8 @@ bool bk_world_body_view(const bk_world* w, uint32_t index, bk_body_view* out) {
                         .leaf_count = info.leaf_count,
                         .body = wbody->body,
                         .is_static = info.is_static,
-                        .tier = wbody->tier};
+                        .tier = wbody->tier,
+                        .user_data = info.breakable_user_data};
   return true;
 }
 

@@ -9,7 +9,7 @@
 #include "bk_geom.h"
 
 /// The .mtree file's bytes in memory (what bk_mesh_tree_save writes): *data
-/// is allocated (free() it). `name` prefixes error messages.
+/// is allocated (bk_free it). `name` prefixes error messages.
 bool bk_mesh_tree_save_memory(const bk_mesh_tree* tree, const char* name, uint8_t** data, size_t* size,
                               bk_error* err);
 /// Loads a tree from .mtree bytes in memory, with every check of
@@ -37,13 +37,6 @@ bool bk_mesh_is_connected_with(const bk_mesh* mesh, bk_topology_scratch* scratch
 /// coordinates.
 uint32_t bk_mesh_split_overlapping_shells(const bk_mesh* mesh, bk_mesh** parts, bk_fracture_overlap* overlap);
 
-/// The cut-out's jittered grid on a w x h map: *columns x *rows samples,
-/// returned; about 3,000 (2,600 to 3,000) whatever the map's shape, fewer
-/// only on a map of fewer pixels.
-uint32_t bk_cutout_grid(uint32_t w, uint32_t h, uint32_t* columns, uint32_t* rows);
-/// The regions of a w x h fracture map (4-connected pixels below 128), as
-/// the cut-out labels them (8 bytes a pixel while counting).
-uint32_t bk_cutout_regions(const uint8_t* pixels, uint32_t w, uint32_t h);
 /// Face-level repairs (repair_faces.c). Removes every triangle listed again
 /// with the same positions in the same turn (from any corner); returns how
 /// many were removed.
@@ -108,9 +101,6 @@ bool bk_cell_tree_build(const bk_mesh* source, const bk_fracture_def* def, bk_me
 /// `def` is validated and the source checked.
 bool bk_plane_tree_build(const bk_mesh* source, const bk_fracture_def* def, bk_mesh_tree* tree,
                          bk_error* err);
-/// Numbers the leaves depth first (each subtree covers a contiguous range)
-/// and fills leaf_nodes, leaf_count and every node's leaf range.
-void bk_mesh_tree_number_leaves(bk_mesh_tree* tree);
 /// Bonds of a cell-pattern tree: leaves that share cut-face triangles of one
 /// face (tagged with the face) are bonded with the area, centroid and
 /// area-weighted normal of what they share.

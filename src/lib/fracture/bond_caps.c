@@ -126,9 +126,9 @@ uint32_t bk_gather_cap_entries(const bk_mesh_tree* tree, const bk_cut_frame* fra
   }
   bk_fracture_run_jobs(gather_work, jobs, sizeof(gather_job), threads);
   for (uint32_t j = 0; j < threads; ++j) {
-    free(jobs[j].keys);
-    free(jobs[j].key_next);
+    bk_free(jobs[j].keys);
+    bk_free(jobs[j].key_next);
   }
-  free(jobs);
+  bk_free(jobs);
   return total;
 }

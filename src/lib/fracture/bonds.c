@@ -310,9 +310,9 @@ static uint32_t merge_contacts(const bond_list* lists, uint32_t list_count, uint
     }
     first = end;
   }
-  free(start);
+  bk_free(start);
   if (kept == 0) {
-    free(sorted);
+    bk_free(sorted);
     sorted = NULL;
   }
   *out = sorted;
@@ -437,15 +437,15 @@ static void bond_cuts(const bk_mesh_tree* tree, const bk_cut_frame* frames, cons
     }
     begin = end;
   }
-  free(s.points);
-  free(s.pieces);
-  free(s.edges);
-  free(s.clip[0]);
-  free(s.clip[1]);
-  free(s.side);
-  free(groups);
-  free(active[0]);
-  free(active[1]);
+  bk_free(s.points);
+  bk_free(s.pieces);
+  bk_free(s.edges);
+  bk_free(s.clip[0]);
+  bk_free(s.clip[1]);
+  bk_free(s.side);
+  bk_free(groups);
+  bk_free(active[0]);
+  bk_free(active[1]);
 }
 
 // A run of whole cuts and the contacts found on it.
@@ -497,17 +497,17 @@ static bond_list* bond_all_cuts(const bk_mesh_tree* tree, const bk_cut_frame* fr
   for (uint32_t t = 0; t < threads; ++t)
     pullers[t] = &r;
   bk_fracture_run_jobs(bond_work, pullers, sizeof(bond_runs*), threads);
-  free(pullers);
+  bk_free(pullers);
   bond_list* lists = bk_alloc(sizeof(bond_list) * r.count);
   for (uint32_t i = 0; i < r.count; ++i)
     lists[i] = r.runs[i].list;
-  free(r.runs);
+  bk_free(r.runs);
   *list_count = r.count;
   return lists;
 }
 
 void bk_mesh_tree_compute_bonds(bk_mesh_tree* tree) {
-  free(tree->bonds);
+  bk_free(tree->bonds);
   tree->bonds = NULL;
   tree->bond_count = 0;
   if (tree->leaf_count < 2) return;
@@ -532,10 +532,10 @@ void bk_mesh_tree_compute_bonds(bk_mesh_tree* tree) {
   uint32_t entry_count = bk_gather_cap_entries(tree, frames, flat, &entries);
   uint32_t list_count = 0;
   bond_list* lists = bond_all_cuts(tree, frames, entries, entry_count, &list_count);
-  free(entries);
-  free(frames);
+  bk_free(entries);
+  bk_free(frames);
   tree->bond_count = merge_contacts(lists, list_count, tree->leaf_count, &tree->bonds);
   for (uint32_t k = 0; k < list_count; ++k)
-    free(lists[k].items);
-  free(lists);
+    bk_free(lists[k].items);
+  bk_free(lists);
 }

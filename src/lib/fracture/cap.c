@@ -89,7 +89,7 @@ bk_cap* bk_cap_create(void) {
   bk_cap* cap = bk_calloc(1, sizeof *cap);
   cap->tess = gluNewTess();
   if (!cap->tess) {
-    free(cap);
+    bk_free(cap);
     return NULL;
   }
   gluTessProperty(cap->tess, GLU_TESS_WINDING_RULE, GLU_TESS_WINDING_ODD);
@@ -107,20 +107,20 @@ bk_cap* bk_cap_create(void) {
 void bk_cap_destroy(bk_cap* cap) {
   if (!cap) return;
   gluDeleteTess(cap->tess);
-  free(cap->out_start);
-  free(cap->out_edges);
-  free(cap->edge_used);
-  free(cap->coords);
-  free(cap->loop_vertices);
-  free(cap->loop_start);
-  free(cap->tris);
-  free(cap->ring);
-  free(cap->tri_start);
-  free(cap->mark);
-  free(cap->slot);
-  free(cap->tri_around);
-  free(cap->outer);
-  free(cap);
+  bk_free(cap->out_start);
+  bk_free(cap->out_edges);
+  bk_free(cap->edge_used);
+  bk_free(cap->coords);
+  bk_free(cap->loop_vertices);
+  bk_free(cap->loop_start);
+  bk_free(cap->tris);
+  bk_free(cap->ring);
+  bk_free(cap->tri_start);
+  bk_free(cap->mark);
+  bk_free(cap->slot);
+  bk_free(cap->tri_around);
+  bk_free(cap->outer);
+  bk_free(cap);
 }
 
 static void reserve(bk_cap* cap, uint32_t vertices, uint32_t edges) {

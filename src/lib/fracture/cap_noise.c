@@ -146,7 +146,7 @@ static void make_delaunay(cap_mesher* m, double tiny_area, double tiny_circle) {
     stack[top++] = 3 * t1, stack[top++] = 3 * t1 + 2;
     stack[top++] = 3 * (uint32_t)t2, stack[top++] = 3 * (uint32_t)t2 + 1;
   }
-  free(stack);
+  bk_free(stack);
 }
 
 static double distance_to_segment(const double p[2], const double a[2], const double b[2]) {
@@ -186,8 +186,8 @@ void bk_cap_noise_make(const bk_cap_noise_def* def, const uint32_t* triangles, u
   }
   m.turn = signed_area < 0.0 ? -1.0 : 1.0;
   if (!(def->amplitude > 0.0) || !(def->frequency > 0.0) || !(area > 0.0)) {
-    free(m.xy);
-    free(m.nbr);
+    bk_free(m.xy);
+    bk_free(m.nbr);
     return;
   }
 
@@ -245,7 +245,7 @@ void bk_cap_noise_make(const bk_cap_noise_def* def, const uint32_t* triangles, u
         split(&m, inside, add_point(&m, q, x, y), &children, &child_count, &child_capacity);
       }
   }
-  free(children);
+  bk_free(children);
   make_delaunay(&m, tiny_area, 1e-12 * h * h * h * h);
 
   // Push: never more than a quarter of the distance to the border (no fold
@@ -261,14 +261,14 @@ void bk_cap_noise_make(const bk_cap_noise_def* def, const uint32_t* triangles, u
                          noise_seed);
     out->points[p] = bk_v3_add(q, bk_v3_scale(def->normal, n * fmin(most, 0.25 * to_border)));
   }
-  free(border);
-  free(m.xy);
-  free(m.nbr);
+  bk_free(border);
+  bk_free(m.xy);
+  bk_free(m.nbr);
 }
 
 void bk_cap_noise_free(bk_cap_noise* noise) {
-  free(noise->points);
-  free(noise->triangles);
-  free(noise->parents);
+  bk_free(noise->points);
+  bk_free(noise->triangles);
+  bk_free(noise->parents);
   memset(noise, 0, sizeof *noise);
 }

@@ -10,15 +10,16 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "cell_tree.h"
+#include "cell_stages.h"
+#include "tree_data.h"
 
 typedef struct csr {
   uint32_t *start, *items;
 } csr;
 
 static void csr_free(csr* c) {
-  free(c->start);
-  free(c->items);
+  bk_free(c->start);
+  bk_free(c->items);
 }
 
 // Groups `count` items by key (< keys), keeping their order within a key.
@@ -32,7 +33,7 @@ static csr csr_build(const uint32_t* key_of, uint32_t count, uint32_t keys) {
   memcpy(fill, c.start, sizeof(uint32_t) * keys);
   for (uint32_t i = 0; i < count; ++i)
     c.items[fill[key_of[i]]++] = i;
-  free(fill);
+  bk_free(fill);
   return c;
 }
 
@@ -152,18 +153,18 @@ static void split(hierarchy* h, uint32_t at, const leaf_info* leaves, const csr*
   }
   h->first_child[at] = first_child;
   h->child_count[at] = children;
-  free(own);
-  free(keys);
-  free(part_of);
+  bk_free(own);
+  bk_free(keys);
+  bk_free(part_of);
 }
 
 static void free_hierarchy(hierarchy* h) {
-  free(h->parent);
-  free(h->first_child);
-  free(h->child_count);
-  free(h->leaf_first);
-  free(h->leaf_count);
-  free(h->pool);
+  bk_free(h->parent);
+  bk_free(h->first_child);
+  bk_free(h->child_count);
+  bk_free(h->leaf_first);
+  bk_free(h->leaf_count);
+  bk_free(h->pool);
 }
 
 // What every thread reads while making the nodes' meshes.
@@ -399,7 +400,7 @@ bool bk_cell_tree_assemble(const bk_mesh* root, const bk_fracture_def* d, bk_tre
       l->cluster = b->cluster_of ? b->cluster_of[parts->atoms[a].cell] : 0;
     }
   }
-  free(largest);
+  bk_free(largest);
   // Leaf adjacency (both directions).
   uint32_t* pair_leaf = bk_alloc(sizeof(uint32_t) * (2 * parts->contact_count + 1));
   uint32_t* pair_other = bk_alloc(sizeof(uint32_t) * (2 * parts->contact_count + 1));
@@ -413,21 +414,21 @@ bool bk_cell_tree_assemble(const bk_mesh* root, const bk_fracture_def* d, bk_tre
   csr adjacent = csr_build(pair_leaf, pairs, leaf_count);
   for (uint32_t k = 0; k < pairs; ++k)
     adjacent.items[k] = pair_other[adjacent.items[k]];
-  free(pair_leaf);
-  free(pair_other);
+  bk_free(pair_leaf);
+  bk_free(pair_other);
   // The hierarchy, breadth first so siblings are contiguous.
   hierarchy h = {0};
   uint32_t* all = bk_alloc(sizeof(uint32_t) * leaf_count);
   for (uint32_t i = 0; i < leaf_count; ++i)
     all[i] = i;
   add_node(&h, BK_NULL_INDEX, all, leaf_count);
-  free(all);
+  bk_free(all);
   uint32_t* mark = bk_calloc(leaf_count, sizeof(uint32_t));
   uint32_t* scratch = bk_alloc(sizeof(uint32_t) * leaf_count);
   for (uint32_t i = 0; i < h.count; ++i)
     if (h.leaf_count[i] > 1) split(&h, i, leaves, &adjacent, mark, scratch, i == 0 && b->cluster_of);
-  free(mark);
-  free(scratch);
+  bk_free(mark);
+  bk_free(scratch);
   csr_free(&adjacent);
   // Meshes, on every core: each node's mesh is a function of the node.
   // Each leaf's triangles in the order the nodes list them (its atoms in
@@ -495,20 +496,20 @@ bool bk_cell_tree_assemble(const bk_mesh* root, const bk_fracture_def* d, bk_tre
     bk_fracture_run_jobs(node_work, workers, sizeof *workers, threads);
   }
   for (uint32_t t = 0; t < threads; ++t) {
-    free(workers[t].stamp);
-    free(workers[t].local);
-    free(workers[t].in_node);
-    free(workers[t].kept);
-    free(workers[t].kept_leaf);
-    free(workers[t].order);
-    free(workers[t].edge_start);
-    free(workers[t].edge_fill);
-    free(workers[t].edge_to);
+    bk_free(workers[t].stamp);
+    bk_free(workers[t].local);
+    bk_free(workers[t].in_node);
+    bk_free(workers[t].kept);
+    bk_free(workers[t].kept_leaf);
+    bk_free(workers[t].order);
+    bk_free(workers[t].edge_start);
+    bk_free(workers[t].edge_fill);
+    bk_free(workers[t].edge_to);
   }
-  free(workers);
-  free(leaf_start);
-  free(leaf_tris);
-  free(node_of_leaf);
+  bk_free(workers);
+  bk_free(leaf_start);
+  bk_free(leaf_tris);
+  bk_free(node_of_leaf);
   // The root is the source itself, as in every tree (still local here; the
   // caller restores its coordinates).
   bk_mesh_copy(&tree->nodes[0].mesh, root);
@@ -529,9 +530,9 @@ bool bk_cell_tree_assemble(const bk_mesh* root, const bk_fracture_def* d, bk_tre
   if (ok && !(fabs(leaf_volume - source_volume) <= 1e-9 * source_volume))
     ok = bk_error_set(err, "fracture: the cells' volumes add up to %.17g, not the source's %.17g",
                       leaf_volume, source_volume);
-  free(job.open);
+  bk_free(job.open);
   free_hierarchy(&h);
-  free(leaves);
+  bk_free(leaves);
   if (!ok) return false;
   bk_mesh_tree_number_leaves(tree);
   bk_fracture_def desc = *d;

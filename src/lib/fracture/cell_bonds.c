@@ -101,7 +101,7 @@ static uint32_t* triangle_partners(const bk_mesh_tree* tree, uint32_t* first) {
     }
     i = end;
   }
-  free(list);
+  bk_free(list);
   return partners;
 }
 
@@ -112,7 +112,7 @@ static int compare_bonds(const void* pa, const void* pb) {
 }
 
 void bk_cell_tree_compute_bonds(bk_mesh_tree* tree) {
-  free(tree->bonds);
+  bk_free(tree->bonds);
   tree->bonds = NULL;
   tree->bond_count = 0;
   uint32_t* first = bk_alloc(sizeof(uint32_t) * (tree->leaf_count + 1u));
@@ -146,8 +146,8 @@ void bk_cell_tree_compute_bonds(bk_mesh_tree* tree) {
       last->normal_area = bk_v3_add(last->normal_area, bk_v3_scale(cross, 0.5));
     }
   }
-  free(partners);
-  free(first);
+  bk_free(partners);
+  bk_free(first);
   if (count) qsort(parts, count, sizeof(face_part), compare_parts);
   // Merge runs of one (tag, leaf, partner); the lower leaf's side of each
   // pair makes the bond.
@@ -180,7 +180,7 @@ void bk_cell_tree_compute_bonds(bk_mesh_tree* tree) {
                                     .centroid = a->centroid_area,
                                     .normal = a->normal_area};
   }
-  free(parts);
+  bk_free(parts);
   // One bond per leaf pair: several faces between two leaves add up.
   if (bond_count) qsort(bonds, bond_count, sizeof(bk_bond), compare_bonds);
   uint32_t unique = 0;

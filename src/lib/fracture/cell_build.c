@@ -7,7 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "cell_tree.h"
+#include "cell_stages.h"
 
 // Source triangles binned by their bounds, to find those near a cell.
 typedef struct tri_grid {
@@ -73,7 +73,7 @@ static void tri_grid_build(tri_grid* g, const bk_mesh* m) {
               g->items[fill[b]++] = t;
           }
     }
-    free(fill);
+    bk_free(fill);
   }
 }
 
@@ -186,8 +186,8 @@ static void* cell_work(void* arg) {
       atomic_store(w->cancelled, true);
   }
   bk_seed_near_free(&near);
-  free(tris);
-  free(stamp);
+  bk_free(tris);
+  bk_free(stamp);
   bk_cell_builder_destroy(builder);
   return NULL;
 }
@@ -252,14 +252,14 @@ static bool run_cells(const bk_mesh* m, const bk_fracture_def* d, bk_cell_build*
       s->vertices[i] = merged(&b->cx, w, remap[owner[c]], s->vertices[i]);
   }
   for (uint32_t t = 0; t < threads; ++t) {
-    free(remap[t]);
+    bk_free(remap[t]);
     bk_cell_complex_free(&workers[t].cx);
   }
-  free(remap);
-  free(workers);
-  free(owner);
-  free(tg.start);
-  free(tg.items);
+  bk_free(remap);
+  bk_free(workers);
+  bk_free(owner);
+  bk_free(tg.start);
+  bk_free(tg.items);
   bk_seed_grid_destroy(grid);
   return ok;
 }
@@ -269,8 +269,8 @@ static void free_cells(bk_cell_build* b) {
     bk_cell_polytope_free(&b->polytopes[c]);
   for (uint32_t c = 0; b->surfaces && c < b->cells; ++c)
     bk_cell_surface_free(&b->surfaces[c]);
-  free(b->polytopes);
-  free(b->surfaces);
+  bk_free(b->polytopes);
+  bk_free(b->surfaces);
   b->polytopes = NULL;
   b->surfaces = NULL;
 }
@@ -324,18 +324,18 @@ void bk_cell_build_free(bk_cell_build* b) {
   free_cells(b);
   bk_cell_faces_free(&b->faces);
   bk_cell_parts* p = &b->parts;
-  free(p->tris);
-  free(p->cell_start);
-  free(p->tri_atom);
-  free(p->twin);
-  free(p->atoms);
-  free(p->contacts_a);
-  free(p->contacts_b);
-  free(p->contact_area);
-  free(p->atom_leaf);
+  bk_free(p->tris);
+  bk_free(p->cell_start);
+  bk_free(p->tri_atom);
+  bk_free(p->twin);
+  bk_free(p->atoms);
+  bk_free(p->contacts_a);
+  bk_free(p->contacts_b);
+  bk_free(p->contact_area);
+  bk_free(p->atom_leaf);
   bk_cell_complex_free(&b->cx);
-  free(b->seeds);
-  free(b->cluster_of);
-  free(b->cell_label);
+  bk_free(b->seeds);
+  bk_free(b->cluster_of);
+  bk_free(b->cell_label);
   memset(b, 0, sizeof *b);
 }

@@ -7,7 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "cell_tree.h"
+#include "cell_stages.h"
 
 /// About this many seeds sample the map (the pieces' outlines follow the
 /// map to about one sample spacing), whatever its shape.
@@ -75,14 +75,14 @@ static uint32_t label_regions(const uint8_t* px, uint32_t w, uint32_t h, uint32_
   for (size_t i = 0; i < n; ++i)
     if (label[i] != UINT32_MAX) queue[tail++] = (uint32_t)i;
   grow(px, w, h, false, label, queue, tail);
-  free(queue);
+  bk_free(queue);
   return regions;
 }
 
 uint32_t bk_cutout_regions(const uint8_t* pixels, uint32_t w, uint32_t h) {
   uint32_t* label = bk_alloc(sizeof(uint32_t) * (size_t)w * h);
   uint32_t regions = label_regions(pixels, w, h, label);
-  free(label);
+  bk_free(label);
   return regions;
 }
 
@@ -94,7 +94,7 @@ uint32_t bk_cutout_seeds(const bk_mesh* m, const bk_fracture_def* d, bk_vec3** s
   uint32_t* label = bk_alloc(sizeof(uint32_t) * (size_t)w * h);
   uint32_t regions = label_regions(d->cutout_pixels, w, h, label);
   if (regions == 0) {
-    free(label);
+    bk_free(label);
     return bk_error_set(err, "fracture: the cutout map (%u x %u) is all lines: it encloses no region", w, h),
            0;
   }
@@ -126,7 +126,7 @@ uint32_t bk_cutout_seeds(const bk_mesh* m, const bk_fracture_def* d, bk_vec3** s
       out[count] = bk_v3(p[0], p[1], p[2]);
       out_label[count++] = label[(size_t)py * w + px];
     }
-  free(label);
+  bk_free(label);
   *seeds = out;
   *labels = out_label;
   return count;

@@ -69,8 +69,8 @@ static void sort_keys(uint64_t* keys, uint32_t count) {
     to = t;
   }
   if (from != keys) memcpy(keys, from, sizeof(uint64_t) * count);
-  free(tmp);
-  free(histogram);
+  bk_free(tmp);
+  bk_free(histogram);
 }
 
 typedef struct graph {
@@ -155,8 +155,8 @@ static bool classify(const bk_cell_complex* cx, const bk_cell_polytope* polys,
     adjacent[fill[a]++] = b;
     adjacent[fill[b]++] = a;
   }
-  free(fill);
-  free(pairs);
+  bk_free(fill);
+  bk_free(pairs);
   g->status = bk_alloc(n ? n : 1);
   memset(g->status, -1, n);
   uint32_t* queue = bk_alloc(sizeof(uint32_t) * (n ? n : 1));
@@ -183,9 +183,9 @@ static bool classify(const bk_cell_complex* cx, const bk_cell_polytope* polys,
       }
     }
   }
-  free(queue);
-  free(start);
-  free(adjacent);
+  bk_free(queue);
+  bk_free(start);
+  bk_free(adjacent);
   if (!ok)
     return bk_error_set(err, "fracture: the cells' edges cross the surface inconsistently (rounding in a "
                              "near-degenerate seed layout); try another seed");
@@ -392,10 +392,10 @@ static void* face_work(void* arg) {
   }
   bk_cap_destroy(cap);
   bk_index_map_free(&s.local);
-  free(s.edges);
-  free(s.global);
-  free(s.xy);
-  free(s.params);
+  bk_free(s.edges);
+  bk_free(s.global);
+  bk_free(s.xy);
+  bk_free(s.params);
   return NULL;
 }
 
@@ -422,7 +422,7 @@ static void collect_joined(const face_worker* workers, uint32_t threads, bk_cell
     out->joined[2 * i + 1] = (uint32_t)keys[i];
   }
   out->joined_count = total;
-  free(keys);
+  bk_free(keys);
 }
 
 bool bk_cell_build_faces(bk_cell_complex* cx, const bk_cell_polytope* polys, const bk_cell_surface* surfaces,
@@ -430,8 +430,8 @@ bool bk_cell_build_faces(bk_cell_complex* cx, const bk_cell_polytope* polys, con
   memset(out, 0, sizeof *out);
   graph g = {0};
   if (!classify(cx, polys, surfaces, cells, &g, err)) {
-    free(g.piercings);
-    free(g.status);
+    bk_free(g.piercings);
+    bk_free(g.status);
     return false;
   }
   threads = threads ? threads : 1;
@@ -486,19 +486,19 @@ bool bk_cell_build_faces(bk_cell_complex* cx, const bk_cell_polytope* polys, con
   if (ok) collect_joined(workers, threads, out);
   for (uint32_t t = 0; t < threads; ++t)
     bk_cell_faces_free(&workers[t].out);
-  free(workers);
-  free(cell_worker);
-  free(cell_first);
-  free(cell_count);
-  free(g.piercings);
-  free(g.status);
+  bk_free(workers);
+  bk_free(cell_worker);
+  bk_free(cell_first);
+  bk_free(cell_count);
+  bk_free(g.piercings);
+  bk_free(g.status);
   if (!ok) bk_cell_faces_free(out);
   return ok;
 }
 
 void bk_cell_faces_free(bk_cell_faces* f) {
-  free(f->faces);
-  free(f->triangles);
-  free(f->joined);
+  bk_free(f->faces);
+  bk_free(f->triangles);
+  bk_free(f->joined);
   memset(f, 0, sizeof *f);
 }

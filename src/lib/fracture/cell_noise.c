@@ -197,11 +197,11 @@ void bk_cell_faces_add_noise(bk_cell_complex* cx, bk_cell_faces* faces, double a
     bk_index_map_free(&nf.border);
     bk_index_map_free(&nf.midpoint);
   }
-  free(faces->triangles);
+  bk_free(faces->triangles);
   faces->triangles = all.v;
   faces->triangle_count = all.count;
   faces->triangle_capacity = all.capacity;
-  free(a.v);
-  free(b.v);
-  free(border_edges);
+  bk_free(a.v);
+  bk_free(b.v);
+  bk_free(border_edges);
 }

@@ -47,16 +47,16 @@ bk_seed_grid* bk_seed_grid_create(const bk_vec3* seeds, uint32_t count, bk_aabb 
   memcpy(fill, g->start, sizeof(uint32_t) * bins);
   for (uint32_t i = 0; i < count; ++i)
     g->order[fill[bin_of[i]]++] = i;
-  free(fill);
-  free(bin_of);
+  bk_free(fill);
+  bk_free(bin_of);
   return g;
 }
 
 void bk_seed_grid_destroy(bk_seed_grid* g) {
   if (!g) return;
-  free(g->start);
-  free(g->order);
-  free(g);
+  bk_free(g->start);
+  bk_free(g->order);
+  bk_free(g);
 }
 
 double bk_seed_grid_spacing(const bk_seed_grid* g, uint32_t cell) {
@@ -198,7 +198,7 @@ uint32_t bk_seed_grid_near(const bk_seed_grid* g, uint32_t cell, double inner, d
 }
 
 void bk_seed_near_free(bk_seed_near* n) {
-  free(n->entries);
-  free(n->seeds);
+  bk_free(n->entries);
+  bk_free(n->seeds);
   memset(n, 0, sizeof *n);
 }

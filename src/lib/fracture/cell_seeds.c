@@ -160,9 +160,9 @@ static bool draw_inside(const bk_mesh* m, const bk_inside_test* test, bk_rng* rn
     }
   }
   bk_index_map_free(&grid.heads);
-  free(grid.next);
-  free(pts);
-  free(inside);
+  bk_free(grid.next);
+  bk_free(pts);
+  bk_free(inside);
   return out->count == target;
 }
 
@@ -196,8 +196,8 @@ static bool user_seeds(const bk_mesh* m, const bk_fracture_def* d, bk_vec3 origi
   bk_points_inside(m, local, d->seed_point_count, inside);
   for (uint32_t i = 0; i < d->seed_point_count; ++i)
     if (inside[i]) push(out, local[i]);
-  free(local);
-  free(inside);
+  bk_free(local);
+  bk_free(inside);
   if (out->count == 0)
     return bk_error_set(err, "fracture: none of the %u seed points lies inside the source",
                         d->seed_point_count);
@@ -250,7 +250,7 @@ uint32_t bk_cell_seeds(const bk_mesh* m, const bk_fracture_def* d, bk_vec3 origi
       }
       if (ok) push(&centres, candidates.points[best]);
     }
-    free(candidates.points);
+    bk_free(candidates.points);
     double band = d->cluster_border * largest;
     uint32_t cores = 0;
     if (ok && chunks > 1) {
@@ -282,7 +282,7 @@ uint32_t bk_cell_seeds(const bk_mesh* m, const bk_fracture_def* d, bk_vec3 origi
         (*labels)[i] = i < cores ? best : chunks + i;
       }
     }
-    free(centres.points);
+    bk_free(centres.points);
     break;
   }
   case BK_PATTERN_RADIAL: {
@@ -306,7 +306,7 @@ uint32_t bk_cell_seeds(const bk_mesh* m, const bk_fracture_def* d, bk_vec3 origi
   default:
     if (d->seed_points) {
       if (!user_seeds(m, d, origin, exponent, &list, err)) {
-        free(list.points);
+        bk_free(list.points);
         bk_inside_test_destroy(test);
         return 0;
       }
@@ -318,9 +318,9 @@ uint32_t bk_cell_seeds(const bk_mesh* m, const bk_fracture_def* d, bk_vec3 origi
   }
   bk_inside_test_destroy(test);
   if (!ok) {
-    free(list.points);
-    free(*cluster_of);
-    free(*labels);
+    bk_free(list.points);
+    bk_free(*cluster_of);
+    bk_free(*labels);
     *cluster_of = NULL;
     *labels = NULL;
     return bk_error_set(

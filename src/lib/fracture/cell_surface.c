@@ -132,18 +132,18 @@ void bk_cell_clip_surface(bk_cell_complex* cx, uint32_t cell, const bk_cell_poly
     memcpy(out->supports + out->vertex_count, a.sup, sizeof(int32_t) * a.count);
     out->vertex_count += a.count;
   }
-  free(sides);
-  free(a.v);
-  free(a.sup);
-  free(b.v);
-  free(b.sup);
-  free(inside);
+  bk_free(sides);
+  bk_free(a.v);
+  bk_free(a.sup);
+  bk_free(b.v);
+  bk_free(b.sup);
+  bk_free(inside);
 }
 
 void bk_cell_surface_free(bk_cell_surface* s) {
-  free(s->polygons);
-  free(s->vertices);
-  free(s->supports);
+  bk_free(s->polygons);
+  bk_free(s->vertices);
+  bk_free(s->supports);
   memset(s, 0, sizeof *s);
 }
 
@@ -226,17 +226,17 @@ bk_inside_test* bk_inside_test_create(const bk_mesh* m) {
             t->items[fill[y * t->n + x]++] = i;
         }
     }
-    free(fill);
+    bk_free(fill);
   }
   return t;
 }
 
 void bk_inside_test_destroy(bk_inside_test* t) {
   if (!t) return;
-  free(t->triangles);
-  free(t->start);
-  free(t->items);
-  free(t);
+  bk_free(t->triangles);
+  bk_free(t->start);
+  bk_free(t->items);
+  bk_free(t);
 }
 
 void bk_inside_test_run(const bk_inside_test* t, const bk_vec3* pts, uint32_t count, uint8_t* inside) {

@@ -44,8 +44,8 @@ int bk_mesh_fill_holes(bk_mesh* m, bk_error* err) {
   }
   bk_index_map_free(&edges);
   if (branching) {
-    free(next_of);
-    free(material_of);
+    bk_free(next_of);
+    bk_free(material_of);
     return bk_error_set(err, "holes touch each other at a vertex (not simple loops)"), -1;
   }
 
@@ -105,11 +105,11 @@ int bk_mesh_fill_holes(bk_mesh* m, bk_error* err) {
                            bk_material_id(bk_material_source(material_of[start]), false), 0);
     filled++;
   }
-  free(loop);
-  free(material_of);
-  free(local_edges);
-  free(xy);
-  free(next_of);
+  bk_free(loop);
+  bk_free(material_of);
+  bk_free(local_edges);
+  bk_free(xy);
+  bk_free(next_of);
   bk_cap_destroy(cap);
   if (!ok) return -1;
   if (!bk_mesh_is_closed(m))

@@ -2,7 +2,7 @@
 #pragma once
 
 /// Version of the asset.extras.breakables schema.
-#define BK_GLTF_EXTRAS_VERSION 1
+#define BK_GLTF_EXTRAS_VERSION 2
 
 /// GLB container: "glTF", version 2, then chunks of (length, type, data).
 #define BK_GLB_MAGIC 0x46546C67u
@@ -81,3 +81,57 @@ void bk_gltf_write_materials_json(text_buffer* t, const gltf_materials* m);
 void bk_gltf_write_image_views_json(text_buffer* t, const gltf_materials* m);
 /// Frees what the plan allocated.
 void bk_gltf_materials_free(gltf_materials* m);
+
+// ---------------------------------------------------------------- vertices (gltf_vertices.c)
+
+/// Floats per exported vertex: POSITION (3), NORMAL (3), TEXCOORD_0 (2), TANGENT (4).
+#define BK_GLTF_VERTEX_FLOATS 12
+
+/// A node's mesh as the export's vertices: corners whose exported attributes
+/// are bit-identical share one vertex.
+typedef struct gltf_vertices {
+  float* data;         ///< BK_GLTF_VERTEX_FLOATS per vertex
+  uint32_t count;      ///< vertices
+  uint32_t* of_corner; ///< the vertex of each corner of the mesh
+} gltf_vertices;
+
+/// Welds a mesh's corners into vertices: the position relative to `centroid`
+/// (as floats), the unit normal, the UV and the unit tangent with w = +1 or -1.
+void bk_gltf_weld(const bk_mesh* m, bk_vec3 centroid, gltf_vertices* out);
+/// Frees what bk_gltf_weld allocated.
+void bk_gltf_vertices_free(gltf_vertices* v);
+
+// ---------------------------------------------------------------- extras (gltf_extras.c)
+
+/// Bytes of one node record of the `nodes` buffer view: f64 moments[10],
+/// f64 bounds[6], u32 parent, leaf_begin, leaf_end, depth.
+#define BK_GLTF_NODE_RECORD_BYTES 144u
+/// Bytes of one bond record of the `bonds` buffer view: u32 leaf_a, leaf_b,
+/// f64 area, f64 centroid[3], f64 normal[3].
+#define BK_GLTF_BOND_RECORD_BYTES 64u
+
+/// Writes every tree node's record (in tree-node order).
+void bk_gltf_write_node_records(const bk_mesh_tree* tree, uint8_t* out);
+/// Writes every bond's record.
+void bk_gltf_write_bond_records(const bk_mesh_tree* tree, uint8_t* out);
+
+/// Where the records and the tree went (buffer view indices; -1 for none).
+typedef struct gltf_extras_views {
+  int32_t nodes, bonds, mtree;
+} gltf_extras_views;
+
+/// Writes `"extras":{"breakables":{...}}` of the asset. `material_name` is
+/// the first source material's.
+void bk_gltf_write_asset_extras(text_buffer* t, const bk_mesh_tree* tree, const bk_gltf_def* def,
+                                const char* material_name, const gltf_extras_views* views);
+/// The `levels` name of asset.extras.breakables ("hierarchy", "leaves", "all").
+const char* bk_gltf_levels_name(bk_gltf_levels levels);
+
+// ---------------------------------------------------------------- compression (gltf_meshopt.c)
+
+/// Most bytes meshoptimizer's vertex codec writes for count vertices of `stride` bytes.
+size_t bk_gltf_meshopt_bound(size_t count, size_t stride);
+/// Encodes count vertices of `stride` bytes (a multiple of 4, at most 256)
+/// into out; returns the bytes written (0 when capacity is too small).
+size_t bk_gltf_meshopt_encode(const uint8_t* vertices, size_t count, size_t stride, uint8_t* out,
+                              size_t capacity);

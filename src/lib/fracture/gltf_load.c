@@ -7,8 +7,8 @@
 #include <string.h>
 
 #include "bk_fracture.h"
+#include "bk_json.h"
 #include "gltf_internal.h"
-#include "gltf_json.h"
 
 // Files of our own exports stay far below this (a .glb is at most 4 GiB).
 #define GLTF_MAX_FILE_BYTES ((uint64_t)4 << 30)
@@ -82,7 +82,7 @@ static bool decode_base64(const char* text, size_t length, uint8_t** out, size_t
       bool pad_slot = i + 4 == length && k >= 4 - (int)padding;
       if (pad_slot) d = 0;
       if (d < 0) {
-        free(bytes);
+        bk_free(bytes);
         return false;
       }
       v = v << 6 | (uint32_t)d;
@@ -118,9 +118,15 @@ static bool load_from_json(const bk_json_doc* doc, const uint8_t* bin, size_t bi
   if (!get_index(doc, ours, "version", UINT32_MAX, &version))
     return bk_error_set(err, "%s: corrupt: asset.extras.breakables.version is missing or not a whole number",
                         name);
-  if (version != BK_GLTF_EXTRAS_VERSION)
-    return bk_error_set(err, "%s: Breakables glTF extras version %llu is not supported (expected %d)", name,
-                        (unsigned long long)version, BK_GLTF_EXTRAS_VERSION);
+  // Version 1 kept the bonds and moments as JSON numbers; its tree is found the same way.
+  if (version < 1 || version > BK_GLTF_EXTRAS_VERSION)
+    return bk_error_set(err, "%s: Breakables glTF extras version %llu is not supported (expected 1 to %d)",
+                        name, (unsigned long long)version, BK_GLTF_EXTRAS_VERSION);
+  if (bk_json_get(doc, ours, "mtree") == BK_JSON_NONE)
+    return bk_error_set(err,
+                        "%s: exported without its mesh tree (--gltf-no-tree): it does not load back; export "
+                        "it again with the tree",
+                        name);
   uint64_t view_index = 0, buffer_index = 0, offset = 0, length = 0;
   if (!get_index(doc, bk_json_get(doc, ours, "mtree"), "bufferView", UINT32_MAX, &view_index))
     return bk_error_set(
@@ -181,7 +187,7 @@ static bool load_from_json(const bk_json_doc* doc, const uint8_t* bin, size_t bi
     snprintf(inner, sizeof inner, "%s: embedded mesh tree", name);
     ok = bk_mesh_tree_load_memory(bytes + offset, (size_t)length, inner, out, err);
   }
-  free(decoded);
+  bk_free(decoded);
   if (!ok) return false;
   // The JSON's own counts must describe the tree it carries.
   uint64_t nodes = 0, leaves = 0;
@@ -233,6 +239,6 @@ bool bk_mesh_tree_load_gltf(const char* path, bk_mesh_tree* out, bk_error* err) 
   size_t size = 0;
   if (!bk_file_read(path, GLTF_MAX_FILE_BYTES, "4 GiB", &contents, &size, err)) return false;
   bool ok = bk_mesh_tree_load_gltf_memory(contents, size, path, out, err);
-  free(contents);
+  bk_free(contents);
   return ok;
 }

@@ -166,7 +166,7 @@ void bk_gltf_write_image_views_json(text_buffer* t, const gltf_materials* m) {
 }
 
 void bk_gltf_materials_free(gltf_materials* m) {
-  free(m->texture_of);
-  free(m->images);
+  bk_free(m->texture_of);
+  bk_free(m->images);
   memset(m, 0, sizeof *m);
 }

@@ -90,11 +90,11 @@ uint32_t bk_mesh_split_hulls(bk_mesh* m, bk_mesh** out) {
   }
   if (solids <= 1) {
     // One solid (with or without cavities): nothing to separate.
-    free(parent);
-    free(component_of_root);
-    free(tri_component);
-    free(volume);
-    free(first_position);
+    bk_free(parent);
+    bk_free(component_of_root);
+    bk_free(tri_component);
+    bk_free(volume);
+    bk_free(first_position);
     *out = bk_alloc(sizeof(bk_mesh));
     (*out)[0] = *m;
     memset(m, 0, sizeof *m);
@@ -138,13 +138,13 @@ uint32_t bk_mesh_split_hulls(bk_mesh* m, bk_mesh** out) {
     }
     bk_mesh_add_triangle(dst, c[0], c[1], c[2], m->materials[t], m->tags[t]);
   }
-  free(parent);
-  free(corner_map);
-  free(component_of_root);
-  free(tri_component);
-  free(volume);
-  free(first_position);
-  free(output_of);
+  bk_free(parent);
+  bk_free(corner_map);
+  bk_free(component_of_root);
+  bk_free(tri_component);
+  bk_free(volume);
+  bk_free(first_position);
+  bk_free(output_of);
   bk_mesh_free(m);
   return solids;
 }

@@ -178,8 +178,8 @@ uint32_t bk_mesh_split_nonmanifold(bk_mesh* m) {
     }
     i = j;
   }
-  free(edges);
-  free(scratch);
+  bk_free(edges);
+  bk_free(scratch);
 
   // The first fan at a position keeps it; later fans get copies. A corner
   // shared by triangles of different fans is copied too.
@@ -216,8 +216,8 @@ uint32_t bk_mesh_split_nonmanifold(bk_mesh* m) {
   }
   (void)original_positions;
   bk_index_map_free(&corner_copies);
-  free(position_taken);
-  free(fan_position);
-  free(parent);
+  bk_free(position_taken);
+  bk_free(fan_position);
+  bk_free(parent);
   return added;
 }

@@ -18,6 +18,6 @@ void bk_fracture_run_jobs(void* (*work)(void*), void* jobs, size_t job_size, uin
       pthread_join(ids[j], NULL);
     else
       work((char*)jobs + j * job_size); // no thread: done here
-  free(ids);
-  free(started);
+  bk_free(ids);
+  bk_free(started);
 }

@@ -86,7 +86,7 @@ uint32_t bk_merge_pieces(bk_mesh* pieces, bk_moments* moments, uint32_t count, u
     memmove(&caps[smallest], &caps[smallest + 1], sizeof(bk_aabb) * after);
     count--;
   }
-  free(above);
-  free(caps);
+  bk_free(above);
+  bk_free(caps);
   return count;
 }

@@ -31,18 +31,18 @@ void bk_plane_splitter_destroy(bk_plane_splitter* s) {
   bk_topology_scratch_free(&s->topology);
   bk_mesh_free(&s->sides[0]);
   bk_mesh_free(&s->sides[1]);
-  free(s);
+  bk_free(s);
 }
 
 static void free_pieces(bk_mesh* pieces, uint32_t count) {
   for (uint32_t i = 0; i < count; ++i)
     bk_mesh_free(&pieces[i]);
-  free(pieces);
+  bk_free(pieces);
 }
 
 void bk_plane_split_free(bk_plane_split* split) {
   free_pieces(split->pieces, split->count);
-  free(split->moments);
+  bk_free(split->moments);
   split->pieces = NULL;
   split->moments = NULL;
   split->count = 0;
@@ -111,7 +111,7 @@ static void add_side(bk_plane_splitter* s, const bk_mesh* side, bk_mesh** pieces
     bk_face_simplifier_run(s->simplifier, hull_count ? &hulls[i] : side, &(*pieces)[(*count)++]);
   for (uint32_t i = 0; i < hull_count; ++i)
     bk_mesh_free(&hulls[i]);
-  free(hulls);
+  bk_free(hulls);
 }
 
 // Pieces that enclose no volume (a sheet of the source cut with the rest)
@@ -150,8 +150,8 @@ static uint32_t merge_sheets(bk_mesh* pieces, uint32_t* count, uint32_t* below_c
     pieces[kept++] = pieces[i];
   }
   if (merged) *count = kept, *below_count = kept_below;
-  free(sheet);
-  free(centre);
+  bk_free(sheet);
+  bk_free(centre);
   return merged;
 }
 
@@ -256,7 +256,7 @@ static void split_random(bk_plane_splitter* s, const bk_plane_split_context* ctx
     uint32_t count =
         cut_node(s, ctx, node, node_index, plane, &pieces, &moments, &below_count, &out->why, &sheets);
     if (count == 0) {
-      free(moments);
+      bk_free(moments);
       continue;
     }
     if (count <= allowed) {
@@ -270,7 +270,7 @@ static void split_random(bk_plane_splitter* s, const bk_plane_split_context* ctx
       fewest_below = below_count;
     } else {
       free_pieces(pieces, count);
-      free(moments);
+      bk_free(moments);
     }
   }
   if (fewest.count == 0) return;
@@ -303,7 +303,7 @@ void bk_plane_split_node(bk_plane_splitter* s, const bk_plane_split_context* ctx
                                                       node_index + 1, allowed);
       return;
     }
-    free(out->moments);
+    bk_free(out->moments);
     out->moments = NULL;
     out->bond_fallbacks = 1;
   }

@@ -122,12 +122,12 @@ typedef struct tree_builder {
   uint32_t pending; // splits made or being made ahead, not yet taken
   bool done;
   const bk_plane_split_context* ctx;
-  garbage* garbage; // per thread: its blocks to free (lock held to add or take)
+  garbage* garbage; // per thread: its blocks to bk_free(lock held to add or take)
 } tree_builder;
 
 static void discard(tree_builder* b, uint32_t owner, void* block) {
   if (owner == 0) {
-    free(block);
+    bk_free(block);
     return;
   }
   garbage* g = &b->garbage[owner];
@@ -155,7 +155,7 @@ static void discard_split(tree_builder* b, uint32_t owner, bk_plane_split* split
 static void free_garbage(tree_builder* b, uint32_t t) {
   garbage* g = &b->garbage[t];
   for (uint32_t i = 0; i < g->count; ++i)
-    free(g->blocks[i]);
+    bk_free(g->blocks[i]);
   g->count = 0;
 }
 
@@ -308,11 +308,11 @@ static bool grow_tree(tree_builder* b, bk_plane_splitter* splitter, uint32_t thr
     bk_plane_split_free(&b->slots[i].split);
   for (uint32_t t = 0; t < threads; ++t) {
     free_garbage(b, t);
-    free(b->garbage[t].blocks);
+    bk_free(b->garbage[t].blocks);
   }
-  free(b->garbage);
-  free(workers);
-  free(ids);
+  bk_free(b->garbage);
+  bk_free(workers);
+  bk_free(ids);
   return !cancelled;
 }
 
@@ -359,7 +359,7 @@ static void tree_to_world(bk_mesh_tree* tree, const bk_mesh* source, bk_tree_fra
     jobs[t] = (world_job){tree, source, frame, (uint32_t)((uint64_t)tree->node_count * t / threads),
                           (uint32_t)((uint64_t)tree->node_count * (t + 1) / threads)};
   bk_fracture_run_jobs(world_work, jobs, sizeof(world_job), threads);
-  free(jobs);
+  bk_free(jobs);
   if (tree->overlap.pairs) { // named in the source's coordinates
     bk_fracture_overlap* o = &tree->overlap;
     o->volume_a = ldexp(o->volume_a, 3 * frame.exponent);
@@ -443,7 +443,7 @@ bool bk_plane_tree_build(const bk_mesh* source, const bk_fracture_def* d, bk_mes
   bool finished = grow_tree(&b, splitter, threads);
   queue_free(&b.taken);
   queue_free(&b.ahead);
-  free(b.slots);
+  bk_free(b.slots);
   pthread_mutex_destroy(&b.lock);
   pthread_cond_destroy(&b.changed);
   bk_plane_splitter_destroy(splitter);

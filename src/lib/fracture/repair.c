@@ -32,8 +32,8 @@ static uint32_t count_shells(const bk_mesh* m) {
     uint32_t r = find_root(parent, bk_mesh_tri_position(m, t, 0));
     if (!used[r]) used[r] = 1, shells++;
   }
-  free(used);
-  free(parent);
+  bk_free(used);
+  bk_free(parent);
   return shells;
 }
 
@@ -99,7 +99,7 @@ static uint32_t turn_flipped_faces(bk_mesh* m) {
     m->indices[3 * t + 1] = m->indices[3 * t + 2];
     m->indices[3 * t + 2] = swap;
   }
-  free(turn);
+  bk_free(turn);
   bk_index_map_free(&edges);
   return turned;
 }

@@ -42,8 +42,8 @@ static void keep_triangles(bk_mesh* m, const uint8_t* keep) {
     bk_mesh_add_triangle(&out, c[0], c[1], c[2], m->materials ? m->materials[t] : 0,
                          m->tags ? m->tags[t] : 0);
   }
-  free(corner_map);
-  free(position_map);
+  bk_free(corner_map);
+  bk_free(position_map);
   bk_mesh_free(m);
   *m = out;
 }
@@ -82,9 +82,9 @@ uint32_t bk_mesh_remove_duplicate_triangles(bk_mesh* m) {
   for (uint32_t i = 1; i < n; ++i)
     if (memcmp(rows + 4 * i, rows + 4 * (i - 1), 3 * sizeof(uint32_t)) == 0)
       keep[rows[4 * i + 3]] = 0, removed++;
-  free(rows);
+  bk_free(rows);
   if (removed) keep_triangles(m, keep);
-  free(keep);
+  bk_free(keep);
   return removed;
 }
 
@@ -155,7 +155,7 @@ uint32_t bk_mesh_turn_flipped_patches(bk_mesh* m) {
       next[fill[r0]++] = r1;
       next[fill[r1]++] = r0;
     }
-    free(fill);
+    bk_free(fill);
     double* area = bk_calloc(n + 1u, sizeof(double));
     for (uint32_t t = 0; t < n; ++t) {
       bk_vec3 a = m->positions[bk_mesh_tri_position(m, t, 0)],
@@ -199,16 +199,16 @@ uint32_t bk_mesh_turn_flipped_patches(bk_mesh* m) {
       m->indices[3 * t + 2] = swap;
       turned++;
     }
-    free(queue);
-    free(turn_root);
-    free(area);
-    free(start);
-    free(next);
-    free(colour);
+    bk_free(queue);
+    bk_free(turn_root);
+    bk_free(area);
+    bk_free(start);
+    bk_free(next);
+    bk_free(colour);
   }
-  free(patch);
-  free(uses);
-  free(side);
+  bk_free(patch);
+  bk_free(uses);
+  bk_free(side);
   return turned;
 }
 
@@ -270,12 +270,12 @@ uint32_t bk_mesh_remove_sheets(bk_mesh* m, bk_vec3* where) {
     for (uint32_t t = 0; t < n; ++t)
       keep[t] = !sheet[find_root(parent, bk_mesh_tri_position(m, t, 0))];
     keep_triangles(m, keep);
-    free(keep);
+    bk_free(keep);
   }
-  free(parent);
-  free(volume);
-  free(area);
-  free(box);
-  free(sheet);
+  bk_free(parent);
+  bk_free(volume);
+  bk_free(area);
+  bk_free(box);
+  bk_free(sheet);
   return solid ? sheets : 0;
 }

@@ -238,7 +238,7 @@ static contact_kind sweep_pairs(const bk_mesh* const shell[2], const bk_aabb box
       *at = where;
       if (found == CONTACT_OVERLAP) break;
     }
-  free(items);
+  bk_free(items);
   return found;
 }
 
@@ -370,10 +370,10 @@ uint32_t bk_mesh_split_overlapping_shells(const bk_mesh* mesh, bk_mesh** parts,
   }
   for (uint32_t s = 0; s < count; ++s)
     bk_mesh_free(&shells[s]);
-  free(shells);
-  free(box);
-  free(reach);
-  free(order);
-  free(overlapping);
+  bk_free(shells);
+  bk_free(box);
+  bk_free(reach);
+  bk_free(order);
+  bk_free(overlapping);
   return part_count;
 }

@@ -80,38 +80,38 @@ bk_face_simplifier* bk_face_simplifier_create(void) {
 
 void bk_face_simplifier_destroy(bk_face_simplifier* fs) {
   if (!fs) return;
-  free(fs->group);
-  free(fs->normal);
-  free(fs->face_redo);
-  free(fs->face_first_tri);
-  free(fs->face_normal);
-  free(fs->face_outline_start);
-  free(fs->from);
-  free(fs->to);
-  free(fs->face);
-  free(fs->twin);
-  free(fs->around);
-  free(fs->outline);
-  free(fs->outline_sorted);
-  free(fs->around_start);
-  free(fs->face_a);
-  free(fs->face_b);
-  free(fs->position_face);
-  free(fs->position_corner);
-  free(fs->more_faces);
-  free(fs->removable);
-  free(fs->new_index);
-  free(fs->local_of);
-  free(fs->stamp);
-  free(fs->slot);
-  free(fs->corner_new);
-  free(fs->face_edges);
-  free(fs->face_global);
-  free(fs->face_corner);
-  free(fs->xy);
+  bk_free(fs->group);
+  bk_free(fs->normal);
+  bk_free(fs->face_redo);
+  bk_free(fs->face_first_tri);
+  bk_free(fs->face_normal);
+  bk_free(fs->face_outline_start);
+  bk_free(fs->from);
+  bk_free(fs->to);
+  bk_free(fs->face);
+  bk_free(fs->twin);
+  bk_free(fs->around);
+  bk_free(fs->outline);
+  bk_free(fs->outline_sorted);
+  bk_free(fs->around_start);
+  bk_free(fs->face_a);
+  bk_free(fs->face_b);
+  bk_free(fs->position_face);
+  bk_free(fs->position_corner);
+  bk_free(fs->more_faces);
+  bk_free(fs->removable);
+  bk_free(fs->new_index);
+  bk_free(fs->local_of);
+  bk_free(fs->stamp);
+  bk_free(fs->slot);
+  bk_free(fs->corner_new);
+  bk_free(fs->face_edges);
+  bk_free(fs->face_global);
+  bk_free(fs->face_corner);
+  bk_free(fs->xy);
   bk_mesh_free(&fs->out);
   bk_cap_destroy(fs->cap);
-  free(fs);
+  bk_free(fs);
 }
 
 static void reserve(bk_face_simplifier* fs, const bk_mesh* m) {
@@ -527,6 +527,6 @@ void bk_label_planar_faces(bk_mesh* m) {
     m->tags[t] = r == t ? BK_SOURCE_FACE_TAG + labels++ : m->tags[r];
   }
   bk_index_map_free(&tri_of_edge);
-  free(parent);
-  free(normal);
+  bk_free(parent);
+  bk_free(normal);
 }

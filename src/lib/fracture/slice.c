@@ -13,7 +13,7 @@ bk_slicer* bk_slicer_create(void) {
   bk_slicer* s = bk_calloc(1, sizeof *s);
   s->cap = bk_cap_create();
   if (!s->cap) {
-    free(s);
+    bk_free(s);
     return NULL;
   }
   return s;
@@ -23,34 +23,34 @@ void bk_slicer_destroy(bk_slicer* s) {
   if (!s) return;
   bk_cap_destroy(s->cap);
   bk_cap_noise_free(&s->noise);
-  free(s->noise_normals);
-  free(s->dist);
-  free(s->cls);
+  bk_free(s->noise_normals);
+  bk_free(s->dist);
+  bk_free(s->cls);
   for (int k = 0; k < 2; ++k) {
-    free(s->pos_map[k]);
-    free(s->corner_map[k]);
-    free(s->cut_pos_map[k]);
-    free(s->cut_corner_map[k]);
-    free(s->plane_edges[k]);
-    free(s->plane_edge_source[k]);
-    free(s->cap_edges[k]);
-    free(s->cap_edge_source[k]);
+    bk_free(s->pos_map[k]);
+    bk_free(s->corner_map[k]);
+    bk_free(s->cut_pos_map[k]);
+    bk_free(s->cut_corner_map[k]);
+    bk_free(s->plane_edges[k]);
+    bk_free(s->plane_edge_source[k]);
+    bk_free(s->cap_edges[k]);
+    bk_free(s->cap_edge_source[k]);
   }
-  free(s->cut_position_head);
-  free(s->cut_corner_head);
-  free(s->cut_positions);
-  free(s->cut_position_end);
-  free(s->cut_position_next);
-  free(s->cut_corners);
-  free(s->cut_corner_end);
-  free(s->cut_corner_next);
-  free(s->edge_head);
-  free(s->edge_next);
-  free(s->local_of_global);
-  free(s->global_of_local);
-  free(s->source_of_local);
-  free(s->xy);
-  free(s);
+  bk_free(s->cut_position_head);
+  bk_free(s->cut_corner_head);
+  bk_free(s->cut_positions);
+  bk_free(s->cut_position_end);
+  bk_free(s->cut_position_next);
+  bk_free(s->cut_corners);
+  bk_free(s->cut_corner_end);
+  bk_free(s->cut_corner_next);
+  bk_free(s->edge_head);
+  bk_free(s->edge_next);
+  bk_free(s->local_of_global);
+  bk_free(s->global_of_local);
+  bk_free(s->source_of_local);
+  bk_free(s->xy);
+  bk_free(s);
 }
 
 static void reserve_source(bk_slicer* s, const bk_mesh* m) {

@@ -202,7 +202,7 @@ static void make_noisy_cap(bk_slicer* s, const bk_mesh* m, const uint32_t* tris,
                           .limit = limit,
                           .seed = desc->noise_seed};
   bk_cap_noise_make(&def, tris, tri_count, points, local_count, &s->noise);
-  free(points);
+  bk_free(points);
   const bk_cap_noise* cap = &s->noise;
   if (cap->point_count > s->noise_normal_capacity) {
     s->noise_normal_capacity = bk_grow_capacity(s->noise_normal_capacity, cap->point_count);

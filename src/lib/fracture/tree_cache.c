@@ -201,7 +201,7 @@ bool bk_mesh_tree_save(const bk_mesh_tree* tree, const char* path, bk_error* err
   size_t size = 0;
   if (!bk_mesh_tree_save_memory(tree, path, &data, &size, err)) return false;
   bool ok = write_file(path, data, size, err);
-  free(data);
+  bk_free(data);
   return ok;
 }
 
@@ -220,7 +220,7 @@ bool bk_mesh_tree_save_memory(const bk_mesh_tree* tree, const char* name, uint8_
   put_payload(&w, tree);
   uint64_t payload_size = (uint64_t)(w.size - MTREE_HEADER_BYTES);
   if ((uint64_t)w.size > MTREE_MAX_FILE_BYTES) {
-    free(w.data);
+    bk_free(w.data);
     return bk_error_set(err, "%s: mesh tree is too large to cache (%" PRIu64 " bytes, limit %" PRIu64 ")",
                         path, (uint64_t)w.size, MTREE_MAX_FILE_BYTES);
   }
@@ -488,7 +488,7 @@ bool bk_mesh_tree_load(const char* path, bk_mesh_tree* out, bk_error* err) {
   size_t size = 0;
   if (!bk_file_read(path, MTREE_MAX_FILE_BYTES, "4 GiB", &contents, &size, err)) return false;
   bool ok = bk_mesh_tree_load_memory(contents, size, path, out, err);
-  free(contents);
+  bk_free(contents);
   return ok;
 }
 

@@ -73,7 +73,7 @@ bk_mesh_tree_quality bk_mesh_tree_measure_quality(const bk_mesh_tree* tree) {
   q.volume_ratio_p95_p5 = q.volume_p5 > 0.0 ? q.volume_p95 / q.volume_p5 : INFINITY;
   q.min_aspect = aspects[0];
   q.median_aspect = count % 2 ? aspects[count / 2] : 0.5 * (aspects[count / 2 - 1] + aspects[count / 2]);
-  free(volumes);
-  free(aspects);
+  bk_free(volumes);
+  bk_free(aspects);
   return q;
 }

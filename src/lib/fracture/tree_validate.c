@@ -290,7 +290,7 @@ bool bk_mesh_tree_validate(const bk_mesh_tree* tree, bk_error* err) {
     ok = check_volume(tree, i, origin, leaf_area, err) && check_mass(tree, i, err);
   for (uint32_t b = 0; ok && b < tree->bond_count; ++b)
     ok = check_bond(tree, b, leaf_area, err);
-  free(leaf_area);
+  bk_free(leaf_area);
   return ok;
 }
 

@@ -52,10 +52,10 @@ void bk_cell_complex_init(bk_cell_complex* cx, const bk_mesh* source, const bk_v
 }
 
 void bk_cell_complex_free(bk_cell_complex* cx) {
-  free(cx->keys);
-  free(cx->points);
-  free(cx->slots);
-  free(cx->source_vertex);
+  bk_free(cx->keys);
+  bk_free(cx->points);
+  bk_free(cx->slots);
+  bk_free(cx->source_vertex);
   memset(cx, 0, sizeof *cx);
 }
 
@@ -152,7 +152,7 @@ static bk_vec3 compute_point(const bk_cell_complex* cx, const bk_cell_key* k) {
 
 static void grow_slots(bk_cell_complex* cx) {
   uint32_t size = (cx->slot_mask + 1) * 2;
-  free(cx->slots);
+  bk_free(cx->slots);
   cx->slots = bk_calloc(size, sizeof(uint32_t));
   cx->slot_mask = size - 1;
   for (uint32_t i = 0; i < cx->count; ++i) {
@@ -253,10 +253,10 @@ struct bk_cell_builder {
 bk_cell_builder* bk_cell_builder_create(void) { return bk_calloc(1, sizeof(bk_cell_builder)); }
 
 void bk_cell_polytope_free(bk_cell_polytope* p) {
-  free(p->planes);
-  free(p->face_first);
-  free(p->face_count);
-  free(p->loop);
+  bk_free(p->planes);
+  bk_free(p->face_first);
+  bk_free(p->face_count);
+  bk_free(p->loop);
   memset(p, 0, sizeof *p);
 }
 
@@ -264,16 +264,16 @@ void bk_cell_builder_destroy(bk_cell_builder* b) {
   if (!b) return;
   bk_cell_polytope_free(&b->work);
   bk_cell_polytope_free(&b->next);
-  free(b->segments);
-  free(b->keep);
-  free(b->scratch);
-  free(b->corner_points);
-  free(b->seen);
-  free(b->local.keys);
-  free(b->local.points);
-  free(b->local.slots);
-  free(b->remap);
-  free(b);
+  bk_free(b->segments);
+  bk_free(b->keep);
+  bk_free(b->scratch);
+  bk_free(b->corner_points);
+  bk_free(b->seen);
+  bk_free(b->local.keys);
+  bk_free(b->local.points);
+  bk_free(b->local.slots);
+  bk_free(b->remap);
+  bk_free(b);
 }
 
 static void sort_ids(int32_t* s, int n) {

@@ -33,10 +33,10 @@ bk_closure bk_mesh_check_closure(const bk_mesh* m) {
 }
 
 void bk_topology_scratch_free(bk_topology_scratch* s) {
-  free(s->start);
-  free(s->mark);
-  free(s->from);
-  free(s->around);
+  bk_free(s->start);
+  bk_free(s->mark);
+  bk_free(s->from);
+  bk_free(s->around);
   memset(s, 0, sizeof *s);
 }
 

@@ -6,11 +6,11 @@
 #include "bk_geom.h"
 
 void bk_mesh_free(bk_mesh* mesh) {
-  free(mesh->positions);
-  free(mesh->corners);
-  free(mesh->indices);
-  free(mesh->materials);
-  free(mesh->tags);
+  bk_free(mesh->positions);
+  bk_free(mesh->corners);
+  bk_free(mesh->indices);
+  bk_free(mesh->materials);
+  bk_free(mesh->tags);
   memset(mesh, 0, sizeof *mesh);
 }
 
@@ -182,8 +182,8 @@ uint32_t bk_mesh_weld(bk_mesh* m) {
     m->corners[i].position = remap[m->corners[i].position];
   uint32_t merged = m->position_count - kept;
   m->position_count = kept;
-  free(remap);
-  free(first);
+  bk_free(remap);
+  bk_free(first);
   bk_index_map_free(&map);
   return merged;
 }
@@ -203,7 +203,7 @@ void bk_mesh_compute_normals(bk_mesh* m) {
     m->corners[i].normal[1] = (float)n.y;
     m->corners[i].normal[2] = (float)n.z;
   }
-  free(acc);
+  bk_free(acc);
 }
 
 void bk_mesh_compute_tangents(bk_mesh* m) {
@@ -246,8 +246,8 @@ void bk_mesh_compute_tangents(bk_mesh* m) {
     c->tangent[2] = (float)t.z;
     c->tangent[3] = (float)w;
   }
-  free(tan);
-  free(bit);
+  bk_free(tan);
+  bk_free(bit);
 }
 
 uint64_t bk_mesh_hash(const bk_mesh* m) {

@@ -222,20 +222,20 @@ static void collapse(decimator* d, uint32_t keep, uint32_t drop, bk_vec3 target)
 
 static void decimator_free(decimator* d) {
   for (uint32_t p = 0; p < d->in->position_count; ++p) {
-    free(d->incident[p].items);
-    free(d->position_planes[p].items);
+    bk_free(d->incident[p].items);
+    bk_free(d->position_planes[p].items);
   }
-  free(d->position);
-  free(d->planes);
-  free(d->position_planes);
-  free(d->plane_mark);
-  free(d->version);
-  free(d->state);
-  free(d->tri);
-  free(d->tri_alive);
-  free(d->incident);
-  free(d->mark);
-  free(d->candidates);
+  bk_free(d->position);
+  bk_free(d->planes);
+  bk_free(d->position_planes);
+  bk_free(d->plane_mark);
+  bk_free(d->version);
+  bk_free(d->state);
+  bk_free(d->tri);
+  bk_free(d->tri_alive);
+  bk_free(d->incident);
+  bk_free(d->mark);
+  bk_free(d->candidates);
   bk_heap_free(&d->heap);
 }
 
@@ -366,10 +366,10 @@ uint32_t bk_mesh_decimate(const bk_mesh* mesh, double tolerance, bk_mesh* out) {
     }
     bk_mesh_add_triangle(out, made[0], made[1], made[2], mesh->materials[t], mesh->tags ? mesh->tags[t] : 0);
   }
-  free(first_corner);
-  free(next_corner);
-  free(corner_material);
-  free(new_position);
+  bk_free(first_corner);
+  bk_free(next_corner);
+  bk_free(corner_material);
+  bk_free(new_position);
   decimator_free(&d);
   return out->triangle_count;
 }

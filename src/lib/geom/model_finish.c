@@ -66,12 +66,12 @@ bool bk_import_finish_mesh(import_state* s) {
   }
   m->corner_count = corners;
   m->position_count = positions;
-  free(old_positions);
-  free(old_corners);
-  free(old_normal);
-  free(old_uv);
-  free(corner_map);
-  free(position_map);
+  bk_free(old_positions);
+  bk_free(old_corners);
+  bk_free(old_normal);
+  bk_free(old_uv);
+  bk_free(corner_map);
+  bk_free(position_map);
 
   // Inside out as a whole (every triangle wound clockwise seen from outside): turn it.
   if (bk_mesh_volume(m) < 0.0) {
@@ -98,7 +98,7 @@ bool bk_import_finish_mesh(import_state* s) {
     if (s->corner_has_normal[i])
       for (int k = 0; k < 3; ++k)
         m->corners[i].normal[k] = sign * given[3 * i + k];
-  free(given);
+  bk_free(given);
   // Box projection where there are no UVs: drop the normal's dominant axis.
   for (uint32_t i = 0; i < m->corner_count; ++i) {
     if (s->corner_has_uv[i]) continue;

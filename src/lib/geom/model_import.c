@@ -273,7 +273,7 @@ static bool place_nodes(import_state* s, const struct aiNode* root, const mat4d*
       stack[count++] = (frame){child, mat4d_mul(&f.world, &local)};
     }
   }
-  free(stack);
+  bk_free(stack);
   return ok;
 }
 
@@ -318,7 +318,7 @@ static const struct aiNode* find_node(const struct aiNode* root, const char* nam
       stack[count++] = (frame){f.node->mChildren[i], world_here};
     }
   }
-  free(stack);
+  bk_free(stack);
   return found;
 }
 
@@ -431,9 +431,9 @@ static bool convert_scene(const struct aiScene* scene, const char* name, const c
   else
     ok = place_nodes(&s, start ? start : scene->mRootNode, &parent) && bk_import_finish_mesh(&s);
   if (ok) bk_import_read_materials(&s);
-  free(s.corner_has_normal);
-  free(s.corner_has_uv);
-  free(s.source_of_material);
+  bk_free(s.corner_has_normal);
+  bk_free(s.corner_has_uv);
+  bk_free(s.source_of_material);
   if (ok) {
     *out = s.mesh;
   } else {
@@ -494,7 +494,7 @@ static bool import_memory(const void* data, size_t size, const char* format, con
     bk_obj_materials* materials = bk_calloc(1, sizeof *materials);
     bool ok = bk_obj_parse_materials(data, size, name, out, materials, err);
     if (ok) ok = bk_import_obj_materials(info, out, materials, NULL, err);
-    free(materials);
+    bk_free(materials);
     return ok;
   }
   size_t head = size < BK_IMPORT_PRECHECK_BYTES ? size : BK_IMPORT_PRECHECK_BYTES;
@@ -531,7 +531,7 @@ static bool precheck_content(const char* path, const char* ext, uint64_t bytes, 
   fclose(f);
   bool ok = got == bytes ? bk_import_precheck_content(path, ext, data, got, file_size, err)
                          : bk_error_set(err, "%s: cannot read: the file changed while it was read", path);
-  free(data);
+  bk_free(data);
   return ok;
 }
 
@@ -554,7 +554,7 @@ static bool import_file(const char* path, const bk_import_def* def_in, bk_mesh* 
   fclose(f);
   bool plausible = bk_import_precheck(path, ext, head, head_size, file_size, err);
   uint64_t content = plausible ? bk_import_precheck_content_bytes(ext, head, head_size, file_size) : 0;
-  free(head);
+  bk_free(head);
   if (!plausible) return false;
   char limit[32];
   if (file_size > def.max_file_bytes)
@@ -576,8 +576,8 @@ static bool import_file(const char* path, const bk_import_def* def_in, bk_mesh* 
       bk_mesh_free(out); // on failure *out is zeroed
       ok = false;
     }
-    free(materials);
-    free(data);
+    bk_free(materials);
+    bk_free(data);
     return ok;
   }
   char base_dir[BK_IMPORT_TEXT_MAX];

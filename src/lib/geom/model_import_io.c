@@ -77,7 +77,7 @@ static void close_proc(struct aiFileIO* io, struct aiFile* file) {
   (void)io;
   if (!file) return;
   fclose(stream_of(file));
-  free(file);
+  bk_free(file);
 }
 
 struct aiFileIO* bk_import_file_io(void) {

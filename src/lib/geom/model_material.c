@@ -117,7 +117,7 @@ static void keep_image(bk_import_material* out, const struct aiTexture* t) {
   uint8_t* png = NULL;
   size_t png_size = 0;
   bool ok = bk_png_encode_rgba(rgba, t->mWidth, t->mHeight, &png, &png_size);
-  free(rgba);
+  bk_free(rgba);
   if (!ok) {
     out->image_unsupported = true;
     return;
@@ -133,7 +133,7 @@ bool bk_png_encode_rgba(const uint8_t* rgba, uint32_t width, uint32_t height, ui
   byte_buffer png = {0};
   int ok = stbi_write_png_to_func(append_bytes, &png, (int)width, (int)height, 4, rgba, (int)width * 4);
   if (!ok || !png.size) {
-    free(png.data);
+    bk_free(png.data);
     return false;
   }
   *out = png.data, *size = png.size;
@@ -241,8 +241,8 @@ void bk_import_single_material(bk_import_info* info, const bk_mesh* mesh) {
 bool bk_import_settle_info(bool ok, bk_import_info* info, bool keep) {
   if (!ok || !keep) {
     for (uint32_t i = 0; i < info->materials && info->material_list; ++i)
-      free(info->material_list[i].image);
-    free(info->material_list);
+      bk_free(info->material_list[i].image);
+    bk_free(info->material_list);
     info->material_list = NULL;
     info->materials = 0;
   }

@@ -13,7 +13,7 @@
 #include <string.h>
 
 #include "bk_geom.h"
-#include "gltf_json.h"
+#include "bk_json.h"
 #include "model_import.h"
 
 // Counts beyond this are refused (no byte range in a 4 GiB file needs more).
@@ -516,8 +516,8 @@ static bool check_nodes(const gltf_check* c) {
     if (at != BK_JSON_NONE && walk[at] == n)
       ok = fail(c, "nodes[%u] is its own ancestor (the children form a cycle)", at);
   }
-  free(walk);
-  free(parent);
+  bk_free(walk);
+  bk_free(parent);
   return ok;
 }
 
@@ -642,10 +642,10 @@ bool bk_import_precheck_gltf(const char* name, const char* ext, const void* data
   ok = ok && check_buffers(&c, &sizes, binary, bin_bytes, has_bin) && check_buffer_views(&c, &sizes) &&
        check_accessors(&c, &sizes, components) && check_images_textures(&c) && check_materials(&c) &&
        check_meshes(&c, components) && check_nodes(&c) && check_scenes_skins_animations(&c);
-  free(sizes.buffer_bytes);
-  free(sizes.view_bytes);
-  free(sizes.view_stride);
-  free(components);
+  bk_free(sizes.buffer_bytes);
+  bk_free(sizes.view_bytes);
+  bk_free(sizes.view_stride);
+  bk_free(components);
   bk_json_free(&doc);
   return ok;
 }

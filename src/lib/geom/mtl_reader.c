@@ -157,7 +157,7 @@ bool bk_import_obj_materials(bk_import_info* info, const bk_mesh* mesh, const bk
     return stat(path, &st) != 0 || S_ISREG(st.st_mode) ||
            bk_error_set(err, "%s (mtllib of %s)", why.message, obj_path);
   bk_mtl_parse(text, length, materials, info->material_list);
-  free(text);
+  bk_free(text);
   // Texture names are relative to the OBJ file's directory.
   for (uint32_t i = 0; i < count; ++i) {
     bk_import_material* m = &info->material_list[i];

@@ -50,12 +50,12 @@ typedef struct obj_parser {
 
 static void parser_free(obj_parser* p) {
   bk_mesh_free(&p->mesh);
-  free(p->uvs);
-  free(p->normals);
-  free(p->refs);
-  free(p->face);
-  free(p->text);
-  free(p->triangle_source);
+  bk_free(p->uvs);
+  bk_free(p->normals);
+  bk_free(p->refs);
+  bk_free(p->face);
+  bk_free(p->text);
+  bk_free(p->triangle_source);
   memset(p, 0, sizeof *p);
 }
 
@@ -451,11 +451,11 @@ static bool build_mesh(obj_parser* p) {
     bk_mesh_add_triangle(m, corner[0], corner[1], corner[2], bk_material_id(p->triangle_source[t], false), 0);
   }
   bk_index_map_free(&map);
-  free(welded);
-  free(final_index);
+  bk_free(welded);
+  bk_free(final_index);
 
   if (m->triangle_count == 0) {
-    free(sources);
+    bk_free(sources);
     return bk_error_set(p->err, "%s: no triangles (%u degenerate dropped)", p->name, degenerate);
   }
 
@@ -485,7 +485,7 @@ static bool build_mesh(obj_parser* p) {
       }
     }
   }
-  free(sources);
+  bk_free(sources);
   bk_mesh_compute_tangents(m);
   return true;
 }
@@ -493,7 +493,7 @@ static bool build_mesh(obj_parser* p) {
 bool bk_obj_parse(const char* text, size_t length, const char* name, bk_mesh* out, bk_error* err) {
   bk_obj_materials* scratch = bk_calloc(1, sizeof *scratch);
   bool ok = bk_obj_parse_materials(text, length, name, out, scratch, err);
-  free(scratch);
+  bk_free(scratch);
   return ok;
 }
 
@@ -522,6 +522,6 @@ bool bk_obj_load(const char* path, bk_mesh* out, bk_error* err) {
   size_t length = 0;
   if (!bk_file_read(path, OBJ_MAX_FILE_BYTES, "1 GiB", &data, &length, err)) return false;
   bool ok = bk_obj_parse(data, length, path, out, err);
-  free(data);
+  bk_free(data);
   return ok;
 }

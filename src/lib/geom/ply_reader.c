@@ -307,7 +307,7 @@ bool bk_ply_parse(const void* data, size_t size, const char* name, bk_mesh* out,
   if (ok && faces == 0)
     ok = bk_error_set(err, "%s: no triangles (the PLY file has no faces of 3 or more vertices)", name);
   if (ok) ok = bk_obj_parse(obj.data, obj.length, name, out, err);
-  free(obj.data);
+  bk_free(obj.data);
   return ok;
 }
 

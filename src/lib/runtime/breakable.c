@@ -19,7 +19,8 @@ bk_breakable_def bk_default_breakable_def(void) {
                                          .tension_limit = 1.0e6,
                                          .shear_limit = 2.0e6},
                             .anchored = false,
-                            .anchor_height = 0.0};
+                            .anchor_height = 0.0,
+                            .user_data = NULL};
 }
 
 static void set_material(rt_breakable* b, const bk_material* m) {
@@ -37,41 +38,58 @@ static bool quat_is_finite(bk_quat q) {
 
 bk_breakable_id bk_runtime_add_breakable(bk_runtime* rt, const bk_breakable_def* def, bk_error* err) {
   bk_breakable_id null_id = {0, 0};
-  if (!def) return bk_error_set(err, "breakable: def is NULL"), null_id;
+  const bk_result invalid = BK_ERROR_INVALID_ARGUMENT;
+  if (!def) return bk_error_set_code(err, invalid, "breakable: def is NULL"), null_id;
   const bk_mesh_tree* tree = def->tree;
   if (!tree || tree->node_count == 0 || tree->leaf_count == 0)
-    return bk_error_set(err, "breakable: tree is missing or empty"), null_id;
+    return bk_error_set_code(err, tree ? BK_ERROR_BAD_TREE : invalid, "breakable: tree is missing or empty"),
+           null_id;
   bk_error material_err = {0};
   if (!bk_material_validate(&def->material, &material_err))
-    return bk_error_set(err, "breakable: %s", material_err.message), null_id;
+    return bk_error_set_code(err, invalid, "breakable: %s", material_err.message), null_id;
   bk_quat q = def->transform.rotation;
   if (!bk_v3_is_finite(def->transform.position) || !quat_is_finite(q))
-    return bk_error_set(err, "breakable: transform must be finite"), null_id;
+    return bk_error_set_code(err, invalid, "breakable: transform must be finite"), null_id;
   double q_length = sqrt(q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w);
   if (!(q_length > 0.5 && q_length < 2.0))
-    return bk_error_set(err, "breakable: transform.rotation must be a unit quaternion (length %g)", q_length),
+    return bk_error_set_code(err, invalid,
+                             "breakable: transform.rotation must be a unit quaternion (length %g)", q_length),
            null_id;
   if (!isfinite(def->anchor_height))
-    return bk_error_set(err, "breakable: anchor_height must be finite (got %g)", def->anchor_height), null_id;
+    return bk_error_set_code(err, invalid, "breakable: anchor_height must be finite (got %g)",
+                             def->anchor_height),
+           null_id;
   // The tree is the caller's and may have been made or changed by hand: every
   // index below (bonds into leaves, leaves into nodes) and every mass must
   // hold before anything is allocated from it. Checked on every add, not
   // once per tree pointer: the caller may change its tree between adds.
   bk_error tree_err = {{0}};
   if (!bk_mesh_tree_validate(tree, &tree_err))
-    return bk_error_set(err, "breakable: tree: %s", tree_err.message), null_id;
+    return bk_error_set_code(err, BK_ERROR_BAD_TREE, "breakable: tree: %s", tree_err.message), null_id;
   bk_transform transform = {def->transform.position, bk_quat_normalize(q)};
 
-  rt_begin_call(rt);
-  if (rt->breakable_count == rt->breakable_capacity) {
-    rt->breakable_capacity = bk_grow_capacity(rt->breakable_capacity, rt->breakable_count + 1);
-    rt->breakables = bk_realloc(rt->breakables, sizeof(rt_breakable) * rt->breakable_capacity);
+  // A removed breakable's slot first (the lowest), with a new generation.
+  uint32_t index = 0;
+  while (index < rt->breakable_count && rt->breakables[index].alive)
+    index++;
+  uint32_t generation = 1;
+  if (index == rt->breakable_count) {
+    if (rt->breakable_count == rt->breakable_capacity) {
+      rt->breakable_capacity = bk_grow_capacity(rt->breakable_capacity, rt->breakable_count + 1);
+      rt->breakables = bk_realloc(rt->breakables, sizeof(rt_breakable) * rt->breakable_capacity);
+    }
+    rt->breakable_count++;
+  } else {
+    generation = rt->breakables[index].generation + 1;
+    if (generation == 0) generation = 1; // after 2^32 reuses; 0 stays the null id
   }
-  uint32_t index = rt->breakable_count++;
   rt_breakable* b = &rt->breakables[index];
   memset(b, 0, sizeof *b);
   b->tree = tree;
-  b->generation = 1;
+  b->generation = generation;
+  b->alive = true;
+  b->user_data = def->user_data;
+  rt->live_breakables++;
   set_material(b, &def->material);
 
   // The BCRB graph: bonds incident to each leaf (CSR), hit points by area.
@@ -90,7 +108,7 @@ bk_breakable_id bk_runtime_add_breakable(bk_runtime* rt, const bk_breakable_def*
     b->adjacency[fill[tree->bonds[i].leaf_a]++] = i;
     b->adjacency[fill[tree->bonds[i].leaf_b]++] = i;
   }
-  free(fill);
+  bk_free(fill);
   b->bond_hp = bk_alloc(sizeof(double) * (bonds + 1u));
   b->bond_hp_initial = bk_alloc(sizeof(double) * (bonds + 1u));
   b->bond_broken = bk_calloc(bonds + 1u, 1);
@@ -99,14 +117,16 @@ bk_breakable_id bk_runtime_add_breakable(bk_runtime* rt, const bk_breakable_def*
   b->leaf_cluster = bk_alloc(sizeof(uint32_t) * leaves);
   b->leaf_anchored = bk_calloc(leaves, 1);
   if (def->anchored) {
-    // Fragments with a vertex on the support plane are bonded to the world.
+    // Fragments with a vertex on the support plane are bonded to the world;
+    // "up" is the opposite of gravity (exactly +Y for gravity along -Y).
     double tolerance =
         1e-6 + 1e-6 * bk_v3_length(bk_v3_sub(tree->nodes[0].bounds.max, tree->nodes[0].bounds.min));
+    bk_vec3 up = rt->up;
     for (uint32_t l = 0; l < leaves; ++l) {
       const bk_mesh* mesh = &bk_mesh_tree_leaf(tree, l)->mesh;
       for (uint32_t p = 0; p < mesh->position_count && !b->leaf_anchored[l]; ++p)
-        b->leaf_anchored[l] =
-            bk_transform_point(transform, mesh->positions[p]).y <= def->anchor_height + tolerance;
+        b->leaf_anchored[l] = bk_v3_dot(bk_transform_point(transform, mesh->positions[p]), up) <=
+                              def->anchor_height + tolerance;
     }
   }
 
@@ -116,6 +136,7 @@ bk_breakable_id bk_runtime_add_breakable(bk_runtime* rt, const bk_breakable_def*
   for (uint32_t l = 0; l < leaves; ++l)
     c->leaves[l] = l;
   c->leaf_count = leaves;
+  c->user_data = def->user_data;
   rt_cluster_finish(rt, slot);
   rt_record_created(rt, slot, (bk_cluster_id){0, 0}, transform, NULL);
   return (bk_breakable_id){index, b->generation};
@@ -124,6 +145,45 @@ bk_breakable_id bk_runtime_add_breakable(bk_runtime* rt, const bk_breakable_def*
 const bk_mesh_tree* bk_runtime_breakable_tree(const bk_runtime* rt, bk_breakable_id id) {
   const rt_breakable* b = rt_find_breakable(rt, id);
   return b ? b->tree : NULL;
+}
+
+void rt_breakable_free(rt_breakable* b) {
+  bk_free(b->adjacency_start);
+  bk_free(b->adjacency);
+  bk_free(b->bond_hp);
+  bk_free(b->bond_hp_initial);
+  bk_free(b->bond_broken);
+  bk_free(b->leaf_cluster);
+  bk_free(b->leaf_anchored);
+  bk_free(b->leaf_centroid);
+  bk_free(b->leaf_volume);
+  bk_free(b->leaf_motion);
+  bk_free(b->bond_stress);
+  uint32_t generation = b->generation;
+  memset(b, 0, sizeof *b);
+  b->generation = generation;
+}
+
+bk_result bk_runtime_remove_breakable(bk_runtime* rt, bk_breakable_id id) {
+  rt_breakable* b = rt_find_breakable(rt, id);
+  if (!b) return BK_ERROR_STALE_ID;
+  for (uint32_t slot = 0; slot < rt->cluster_count; ++slot)
+    if (rt->clusters[slot].alive && rt->clusters[slot].breakable == id.index) rt_remove_cluster(rt, slot);
+  rt_breakable_free(b);
+  rt->live_breakables--;
+  return BK_OK;
+}
+
+void* bk_runtime_breakable_user_data(const bk_runtime* rt, bk_breakable_id id) {
+  const rt_breakable* b = rt_find_breakable(rt, id);
+  return b ? b->user_data : NULL;
+}
+
+bk_result bk_runtime_set_breakable_user_data(bk_runtime* rt, bk_breakable_id id, void* user_data) {
+  rt_breakable* b = rt_find_breakable(rt, id);
+  if (!b) return BK_ERROR_STALE_ID;
+  b->user_data = user_data;
+  return BK_OK;
 }
 
 // Mass properties follow the density of every cluster of the breakable.
@@ -145,41 +205,45 @@ static void rescale_bonds(rt_breakable* b, double bond_strength) {
   }
 }
 
-bool bk_runtime_set_material(bk_runtime* rt, bk_breakable_id id, const bk_material* material) {
+bk_result bk_runtime_set_material(bk_runtime* rt, bk_breakable_id id, const bk_material* material) {
   rt_breakable* b = rt_find_breakable(rt, id);
-  if (!b || !bk_material_validate(material, NULL)) return false;
+  if (!b) return BK_ERROR_STALE_ID;
+  if (!bk_material_validate(material, NULL)) return BK_ERROR_INVALID_ARGUMENT;
   bool density_changed = material->density != b->material.density;
   if (material->bond_strength != b->material.bond_strength) rescale_bonds(b, material->bond_strength);
   set_material(b, material);
   if (density_changed) refresh_masses(rt, id.index);
   rt_stress_material_changed(rt, id.index); // new loads or limits: check the bonds again
-  return true;
+  return BK_OK;
 }
 
-bool bk_runtime_set_frailty(bk_runtime* rt, bk_breakable_id id, double frailty) {
+bk_result bk_runtime_set_frailty(bk_runtime* rt, bk_breakable_id id, double frailty) {
   rt_breakable* b = rt_find_breakable(rt, id);
-  if (!b || !(frailty >= 0.0) || !isfinite(frailty)) return false;
+  if (!b) return BK_ERROR_STALE_ID;
+  if (!(frailty >= 0.0) || !isfinite(frailty)) return BK_ERROR_INVALID_ARGUMENT;
   b->material.frailty = frailty;
-  return true;
+  return BK_OK;
 }
 
-bool bk_runtime_set_density(bk_runtime* rt, bk_breakable_id id, double density) {
+bk_result bk_runtime_set_density(bk_runtime* rt, bk_breakable_id id, double density) {
   rt_breakable* b = rt_find_breakable(rt, id);
-  if (!b || !(density >= BK_MATERIAL_DENSITY_MIN && density <= BK_MATERIAL_DENSITY_MAX)) return false;
+  if (!b) return BK_ERROR_STALE_ID;
+  if (!(density >= BK_MATERIAL_DENSITY_MIN && density <= BK_MATERIAL_DENSITY_MAX))
+    return BK_ERROR_INVALID_ARGUMENT;
   b->material.density = density;
   refresh_masses(rt, id.index);
   rt_stress_material_changed(rt, id.index);
-  return true;
+  return BK_OK;
 }
 
-bool bk_runtime_set_bond_strength(bk_runtime* rt, bk_breakable_id id, double bond_strength) {
+bk_result bk_runtime_set_bond_strength(bk_runtime* rt, bk_breakable_id id, double bond_strength) {
   rt_breakable* b = rt_find_breakable(rt, id);
-  if (!b ||
-      !(bond_strength >= BK_MATERIAL_BOND_STRENGTH_MIN && bond_strength <= BK_MATERIAL_BOND_STRENGTH_MAX))
-    return false;
+  if (!b) return BK_ERROR_STALE_ID;
+  if (!(bond_strength >= BK_MATERIAL_BOND_STRENGTH_MIN && bond_strength <= BK_MATERIAL_BOND_STRENGTH_MAX))
+    return BK_ERROR_INVALID_ARGUMENT;
   rescale_bonds(b, bond_strength);
   b->material.bond_strength = bond_strength;
-  return true;
+  return BK_OK;
 }
 
 bk_material bk_runtime_material(const bk_runtime* rt, bk_breakable_id id) {

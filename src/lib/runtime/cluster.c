@@ -33,9 +33,9 @@ uint32_t rt_cluster_alloc(bk_runtime* rt, uint32_t breakable_index) {
 void rt_cluster_free(bk_runtime* rt, uint32_t slot) {
   rt_cluster* c = &rt->clusters[slot];
   uint32_t generation = c->generation;
-  free(c->leaves);
-  free(c->nodes);
-  free(c->split_labels);
+  bk_free(c->leaves);
+  bk_free(c->nodes);
+  bk_free(c->split_labels);
   rt_stress_release(c);
   memset(c, 0, sizeof *c);
   c->generation = generation;

@@ -17,7 +17,7 @@ void rt_break_bond(bk_runtime* rt, uint32_t slot, uint32_t bond, bk_vec3 positio
   }
   rt_cluster* c = &rt->clusters[slot];
   rt_breakable* b = &rt->breakables[c->breakable];
-  free(c->split_labels); // its components change
+  bk_free(c->split_labels); // its components change
   c->split_labels = NULL;
   b->bond_hp[bond] = 0.0;
   b->bond_broken[bond] = 1;
@@ -28,7 +28,9 @@ void rt_break_bond(bk_runtime* rt, uint32_t slot, uint32_t bond, bk_vec3 positio
                                                    .position = position,
                                                    .velocity = velocity,
                                                    .area = b->tree->bonds[bond].area,
-                                                   .cause = cause};
+                                                   .cause = cause,
+                                                   .user_data = c->user_data,
+                                                   .breakable_user_data = b->user_data};
 }
 
 void rt_queue_split(bk_runtime* rt, uint32_t slot) {
@@ -84,14 +86,12 @@ static void damage_cluster(bk_runtime* rt, uint32_t slot, bk_vec3 point, double 
 }
 
 void bk_runtime_damage_at(bk_runtime* rt, bk_vec3 point, double impulse) {
-  rt_begin_call(rt);
   if (!bk_v3_is_finite(point) || !(impulse > 0.0) || !isfinite(impulse)) return;
   for (uint32_t slot = 0; slot < rt->cluster_count; ++slot)
     if (rt->clusters[slot].alive) damage_cluster(rt, slot, point, impulse);
 }
 
 void bk_runtime_apply_contacts(bk_runtime* rt, const bk_damage_contact* contacts, uint32_t count) {
-  rt_begin_call(rt);
   if (!contacts) count = 0; // no array: nothing to index into
   for (uint32_t i = 0; i < count; ++i) {
     const bk_damage_contact* ct = &contacts[i];

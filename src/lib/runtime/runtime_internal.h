@@ -3,13 +3,15 @@
 
 #include <breakables/runtime.h>
 
-#include "bk_geom.h"
+#include "bk_base.h"
 #include "stress_system.h"
 
 /// A breakable: the BCRB graph over its tree's leaves.
 typedef struct rt_breakable {
   const bk_mesh_tree* tree;
-  uint32_t generation;  // 0 = free slot
+  uint32_t generation; // kept across reuse of the slot
+  bool alive;
+  void* user_data;
   bk_material material; // name points at material_name
   char material_name[BK_MATERIAL_NAME_MAX + 1];
   // Graph in CSR form: bonds incident to each leaf.
@@ -37,11 +39,23 @@ typedef struct rt_leaf_load {
   double force[3], torque[3];
 } rt_leaf_load;
 
+/// A created event: the cluster (live: one removed before the clear takes
+/// its event back), the parent as the caller knows it, where its body starts.
+typedef struct rt_created {
+  uint32_t slot;
+  bk_cluster_id parent;
+  bk_body_state body;
+} rt_created;
+
 /// A connected cluster of fragments.
 typedef struct rt_cluster {
   uint32_t breakable;
   uint32_t generation; // kept across reuse of the slot
   bool alive, is_static, dirty, queued;
+  void* user_data;
+  // 1 + its record among the created events not yet cleared (0: none): the
+  // caller has no body for it yet, so the runtime answers where it is.
+  uint32_t created_event;
   uint32_t* leaves; // ascending
   uint32_t leaf_count;
   uint32_t* nodes; // minimal node set
@@ -84,10 +98,12 @@ struct bk_runtime {
   uint32_t live_count;
   uint32_t* split_queue; // clusters with broken bonds, oldest first
   uint32_t split_queue_count, split_queue_capacity;
-  // Results of the last call.
-  bk_cluster_created* created;
+  uint32_t live_breakables;
+  bk_vec3 up; // the opposite of gravity, unit
+  // Events since the last clear.
+  rt_created* created;
   uint32_t created_count, created_capacity;
-  bk_cluster_id* removed;
+  bk_cluster_removed* removed;
   uint32_t removed_count, removed_capacity;
   bk_bond_break* broken;
   uint32_t broken_count, broken_capacity;
@@ -98,6 +114,8 @@ struct bk_runtime {
   uint32_t stress_scratch_capacity;
   rt_leaf_load* stress_load_scratch; // the loads of a stress call, by cluster and leaf
   uint32_t stress_load_scratch_capacity;
+  bk_fracture_command* stress_commands; // what bk_runtime_solve_stress applies (stress.c)
+  uint32_t stress_command_capacity;
   // Scratch for splitting.
   uint32_t* scratch_component;
   uint32_t* scratch_stack;
@@ -106,8 +124,6 @@ struct bk_runtime {
   uint32_t scratch_position_capacity;
 };
 
-/// Clears the results before a call that changes the runtime.
-void rt_begin_call(bk_runtime* rt);
 /// The id of a live cluster slot.
 bk_cluster_id rt_cluster_id(const bk_runtime* rt, uint32_t slot);
 /// The cluster of a live id, or NULL.
@@ -116,6 +132,11 @@ rt_cluster* rt_find_cluster(const bk_runtime* rt, bk_cluster_id id);
 rt_breakable* rt_find_breakable(const bk_runtime* rt, bk_breakable_id id);
 /// A new cluster slot (arrays empty, alive).
 uint32_t rt_cluster_alloc(bk_runtime* rt, uint32_t breakable_index);
+/// Takes a live cluster out: its leaves point nowhere, its removal is
+/// recorded, its slot freed.
+void rt_remove_cluster(bk_runtime* rt, uint32_t slot);
+/// Frees a breakable's arrays (the slot stays, not alive).
+void rt_breakable_free(rt_breakable* b);
 /// Frees a cluster's arrays and slot (its leaves keep pointing at it until reassigned).
 void rt_cluster_free(bk_runtime* rt, uint32_t slot);
 /// Computes a cluster's node set, static flag and mass properties from its
@@ -127,7 +148,12 @@ void rt_cluster_mass(const bk_runtime* rt, rt_cluster* c);
 /// body (parent) at tree_to_world.
 void rt_record_created(bk_runtime* rt, uint32_t slot, bk_cluster_id parent, bk_transform tree_to_world,
                        const bk_body_state* parent_state);
-void rt_record_removed(bk_runtime* rt, bk_cluster_id id);
+/// Records a cluster's removal before its slot is freed; one created since
+/// the last clear has its created event taken back instead (false).
+bool rt_record_removed(bk_runtime* rt, uint32_t slot);
+/// The parent a cluster's parts name: itself, or, for one created since the
+/// last clear (the caller never saw it), its own parent as the caller knows it.
+bk_cluster_id rt_known_parent(const bk_runtime* rt, uint32_t slot);
 /// True once per intact bond inside cluster `slot`, seen from `leaf` (its
 /// lower leaf) among the leaf's bonds.
 static inline bool rt_bond_inside(const rt_breakable* b, uint32_t bond, uint32_t leaf, uint32_t slot) {
@@ -137,26 +163,12 @@ static inline bool rt_bond_inside(const rt_breakable* b, uint32_t bond, uint32_t
 /// Marks a bond broken and records it (position: world; velocity: of the body there).
 void rt_break_bond(bk_runtime* rt, uint32_t slot, uint32_t bond, bk_vec3 position, bk_vec3 velocity,
                    bk_break_cause cause);
-/// Frees a cluster's stress state (its system and held leaves).
+// The stress state kept with each cluster (stress_state.c); the stress stage
+// that fills it (stress.c) is above the core and only reads it.
+/// Frees a cluster's stress state (its system, held leaves and loads).
 void rt_stress_release(rt_cluster* c);
-/// The per-leaf data stress solves need (centroids, volumes, warm starts).
-void rt_stress_prepare_breakable(rt_breakable* b);
-/// The leaf of a cluster nearest a point of the tree frame.
-uint32_t rt_stress_leaf_at(const rt_breakable* b, const rt_cluster* c, bk_vec3 point);
-/// Maps the caller's loads to (cluster, leaf) entries, sorted, one per
-/// leaf, into rt's load scratch; returns how many.
-uint32_t rt_stress_gather_loads(bk_runtime* rt, const bk_stress_load* loads, uint32_t count);
-/// Adds a cluster's loads of this call (sorted by leaf) to its window; once
-/// the window spans enough calls, their average replaces the loads its
-/// solve carries if it differs from them by more than a tenth of its weight
-/// and loads (weight, N), and true is returned: the cluster must be loaded
-/// again.
-bool rt_stress_window_loads(rt_cluster* c, const rt_leaf_load* loads, uint32_t count, double weight);
 /// Drops a cluster's loads and window.
 void rt_stress_drop_loads(rt_cluster* c);
-/// The cluster's loads as forces on its system's nodes (6 per leaf, in the
-/// order of its leaves), or NULL when it carries none; the caller frees it.
-double* rt_stress_node_loads(const rt_cluster* c);
 /// Clusters whose load has not been solved and checked yet.
 uint32_t rt_stress_pending(const bk_runtime* rt);
 /// After a material change: every cluster of the breakable is solved again.

@@ -67,7 +67,7 @@ static uint32_t label_components(bk_runtime* w, const rt_cluster* c, uint32_t sl
 // that is queued to split further next step. Returns the bodies created.
 static uint32_t split_cluster(bk_runtime* w, uint32_t slot, uint32_t components, uint32_t max_bodies) {
   rt_cluster old = w->clusters[slot];
-  bk_cluster_id old_id = rt_cluster_id(w, slot);
+  bk_cluster_id known_parent = rt_known_parent(w, slot);
   bk_body_state state = rt_body_state(w, slot);
   bk_transform tree_to_world = rt_tree_to_world(&old, &state);
   const uint32_t* label = w->scratch_component;
@@ -109,34 +109,34 @@ static uint32_t split_cluster(bk_runtime* w, uint32_t slot, uint32_t components,
     if (p == 0 && renumber) remainder_labels[part_sizes[0]] = renumber[label[i]];
     part_leaves[p][part_sizes[p]++] = old.leaves[i]; // stays ascending
   }
-  free(renumber);
+  bk_free(renumber);
   uint32_t breakable_index = old.breakable;
-  rt_record_removed(w, old_id);
+  rt_record_removed(w, slot);
   rt_cluster_free(w, slot);
   for (uint32_t p = 0; p < parts; ++p) {
     uint32_t s = rt_cluster_alloc(w, breakable_index);
     rt_cluster* c = &w->clusters[s];
     c->leaves = part_leaves[p];
     c->leaf_count = part_sizes[p];
+    c->user_data = old.user_data; // the parent's, until the caller says otherwise
     rt_cluster_finish(w, s);
     if (p == 0 && remainder_split) {
       rt_queue_split(w, s); // before the record: it says so
       c->split_labels = remainder_labels;
       c->split_components = remainder_components;
     }
-    rt_record_created(w, s, old_id, tree_to_world, &state);
+    rt_record_created(w, s, known_parent, tree_to_world, &state);
   }
-  free(part_leaves);
-  free(part_sizes);
-  free(part_of);
-  free(sizes);
+  bk_free(part_leaves);
+  bk_free(part_sizes);
+  bk_free(part_of);
+  bk_free(sizes);
   w->splits++;
   return parts;
 }
 
 uint32_t bk_runtime_split(bk_runtime* w) {
-  rt_begin_call(w);
-  uint32_t budget = w->def.max_new_clusters_per_split, done = 0;
+  uint32_t budget = w->def.max_new_clusters_per_split, done = 0, created = 0;
   while (done < w->split_queue_count && budget >= 2) {
     uint32_t slot = w->split_queue[done++];
     rt_cluster* c = &w->clusters[slot];
@@ -147,15 +147,19 @@ uint32_t bk_runtime_split(bk_runtime* w) {
     if (c->split_labels) {
       memcpy(w->scratch_component, c->split_labels, sizeof(uint32_t) * c->leaf_count);
       components = c->split_components;
-      free(c->split_labels);
+      bk_free(c->split_labels);
       c->split_labels = NULL;
     } else {
       components = label_components(w, c, slot);
     }
-    if (components > 1) budget -= split_cluster(w, slot, components, budget);
+    if (components > 1) {
+      uint32_t parts = split_cluster(w, slot, components, budget);
+      budget -= parts;
+      created += parts;
+    }
   }
   if (done == 0) return 0;
   memmove(w->split_queue, w->split_queue + done, sizeof(uint32_t) * (w->split_queue_count - done));
   w->split_queue_count -= done;
-  return w->created_count;
+  return created;
 }

@@ -1,6 +1,9 @@
-// Structural stress (bk_runtime_solve_stress): which clusters carry a load
-// to supports, their systems (stress_system.c) kept across calls and
-// warm-started, and the bonds that give way.
+// Structural stress (bk_runtime_solve_stress, bk_runtime_stress_commands):
+// which clusters carry a load to supports, their systems (stress_system.c)
+// kept across calls and warm-started, and the bonds that give way. A stage
+// above the core: it reads the clusters and reports the bonds to break as
+// fracture commands, which the core applies (fracture_commands.c), as
+// Blast's stress extension emits fracture commands for its core.
 //
 // A static cluster rests on its anchored fragments. A moving cluster rests
 // on the fragments where the caller's physics has it touching something
@@ -10,43 +13,18 @@
 // set makes it stale; a new gravity direction (the body turned) reloads it.
 // Once a load has converged its bonds are checked against the material's
 // limits, and the cluster is settled: until something changes, it costs
-// nothing. A half-converged load never breaks a bond; a converged one breaks
-// every bond past its limit at once (the split follows) and the rest is
-// solved again, so an overload spreads as it would.
+// nothing. A half-converged load never breaks a bond; a converged one
+// reports every bond past its limit at once (applied, the split follows) and
+// the rest is solved again, so an overload spreads as it would.
 #include <stdlib.h>
 #include <string.h>
 
-#include "runtime_internal.h"
+#include "stress_leaves.h"
+#include "stress_loads.h"
 
 // A moving cluster counts as resting after this many calls in a row at rest
 // on something static (a quarter of a second at 60 Hz).
 enum { DOF = 6, GROUP_LEVELS = 5, REST_CALLS = 15 };
-
-void rt_stress_release(rt_cluster* c) {
-  rt_stress_destroy(c->stress);
-  free(c->stress_held);
-  c->stress = NULL;
-  c->stress_held = NULL;
-  c->stress_held_count = 0;
-  rt_stress_drop_loads(c);
-}
-
-// Per-leaf data the systems are made of, once per breakable.
-void rt_stress_prepare_breakable(rt_breakable* b) {
-  if (b->leaf_centroid) return;
-  const bk_mesh_tree* tree = b->tree;
-  b->leaf_centroid = bk_alloc(sizeof(bk_vec3) * tree->leaf_count);
-  b->leaf_volume = bk_alloc(sizeof(double) * tree->leaf_count);
-  b->leaf_motion = bk_calloc((size_t)DOF * tree->leaf_count, sizeof(double));
-  b->bond_stress = bk_alloc(sizeof(double) * 4u * (tree->bond_count ? tree->bond_count : 1u));
-  for (uint32_t l = 0; l < tree->leaf_count; ++l) {
-    bk_mass_properties mp = bk_mesh_tree_mass(tree, bk_mesh_tree_leaf(tree, l)->moments);
-    b->leaf_centroid[l] = mp.centroid;
-    b->leaf_volume[l] = mp.volume;
-  }
-  for (uint32_t k = 0; k < tree->bond_count; ++k)
-    b->bond_stress[4 * k + 3] = -1.0;
-}
 
 static int compare_u32(const void* a, const void* b) {
   uint32_t x = *(const uint32_t*)a, y = *(const uint32_t*)b;
@@ -111,23 +89,34 @@ static void build_system(rt_breakable* b, rt_cluster* c, uint32_t slot) {
   c->stress =
       rt_stress_create(nodes, c->leaf_count, bonds, bond_count, (const uint32_t* const*)keys, GROUP_LEVELS);
   for (uint32_t g = 0; g < GROUP_LEVELS; ++g)
-    free(keys[g]);
+    bk_free(keys[g]);
   for (uint32_t i = 0; i < c->leaf_count; ++i)
     memcpy(&c->stress->x[DOF * i], &b->leaf_motion[DOF * (size_t)c->leaves[i]], sizeof(double) * DOF);
-  free(nodes);
-  free(bonds);
+  bk_free(nodes);
+  bk_free(bonds);
   c->stress_stale = false;
   c->stress_settled = false;
 }
 
-// Checks every bond of a converged load; breaks those past their limits.
-static void settle(bk_runtime* rt, rt_breakable* b, rt_cluster* c, uint32_t slot, bk_transform tree_to_world,
-                   const bk_body_state* state) {
+// Where a call's fracture commands go: the caller's array (a fixed
+// capacity) or the runtime's own, grown as needed (bk_runtime_solve_stress).
+typedef struct command_sink {
+  bk_fracture_command* commands;
+  uint32_t count, capacity;
+  bool grows;
+} command_sink;
+
+// Checks every bond of a converged load; reports those past their limits.
+// When they do not all fit the sink, it reports none and the cluster is not
+// settled: the next call checks it again.
+static void settle(const bk_runtime* rt, rt_breakable* b, rt_cluster* c, uint32_t slot,
+                   bk_transform tree_to_world, const bk_body_state* state, command_sink* sink) {
   const rt_stress* s = c->stress;
   for (uint32_t i = 0; i < c->leaf_count; ++i)
     memcpy(&b->leaf_motion[DOF * (size_t)c->leaves[i]], &s->x[DOF * i], sizeof(double) * DOF);
   const bk_material* m = &b->material;
-  bool broke = false;
+  uint32_t first = sink->count;
+  bool overflow = false;
   for (uint32_t k = 0; k < s->bond_count; ++k) {
     double stress[3] = {0};
     rt_stress_bond_stress(s, k, stress);
@@ -136,16 +125,29 @@ static void settle(bk_runtime* rt, rt_breakable* b, rt_cluster* c, uint32_t slot
     uint32_t bond = s->tree_bond[k];
     double* out = &b->bond_stress[4 * (size_t)bond];
     out[0] = stress[0], out[1] = stress[1], out[2] = stress[2], out[3] = ratio;
-    if (!(ratio > 1.0)) continue;
+    if (!(ratio > 1.0) || overflow) continue;
+    if (sink->count == sink->capacity) {
+      if (!sink->grows) {
+        overflow = true;
+        continue;
+      }
+      sink->capacity = bk_grow_capacity(sink->capacity, sink->count + 1u);
+      sink->commands = bk_realloc(sink->commands, sizeof(bk_fracture_command) * sink->capacity);
+    }
     bk_vec3 position = bk_transform_point(tree_to_world, b->tree->bonds[bond].centroid);
     bk_vec3 r = bk_v3_sub(position, state->transform.position);
     bk_vec3 velocity = bk_v3_add(state->linear_velocity, bk_v3_cross(state->angular_velocity, r));
-    rt_break_bond(rt, slot, bond, position, velocity, BK_BREAK_STRESS);
-    rt->stress_bonds_broken++;
-    broke = true;
+    sink->commands[sink->count++] = (bk_fracture_command){.cluster = rt_cluster_id(rt, slot),
+                                                          .bond = bond,
+                                                          .position = position,
+                                                          .velocity = velocity,
+                                                          .cause = BK_BREAK_STRESS};
+  }
+  if (overflow) {
+    sink->count = first;
+    return;
   }
   c->stress_settled = true;
-  if (broke) rt_queue_split(rt, slot);
 }
 
 // ---------------------------------------------------------------- supports
@@ -186,60 +188,6 @@ static int compare_held(const void* a, const void* b) {
   const held_leaf *x = a, *y = b;
   if (x->slot != y->slot) return x->slot < y->slot ? -1 : 1;
   return x->leaf < y->leaf ? -1 : x->leaf > y->leaf;
-}
-
-static double box_distance_squared(bk_aabb box, bk_vec3 p) {
-  double dx = fmax(fmax(box.min.x - p.x, p.x - box.max.x), 0.0);
-  double dy = fmax(fmax(box.min.y - p.y, p.y - box.max.y), 0.0);
-  double dz = fmax(fmax(box.min.z - p.z, p.z - box.max.z), 0.0);
-  return dx * dx + dy * dy + dz * dz;
-}
-
-// The leaf of a cluster a contact point (tree frame) is on: the one whose
-// bounds are nearest, then whose centroid is.
-static uint32_t leaf_at_scan(const rt_breakable* b, const rt_cluster* c, bk_vec3 point) {
-  uint32_t best = c->leaves[0];
-  double best_box = INFINITY, best_centre = INFINITY;
-  for (uint32_t i = 0; i < c->leaf_count; ++i) {
-    uint32_t leaf = c->leaves[i];
-    double box = box_distance_squared(bk_mesh_tree_leaf(b->tree, leaf)->bounds, point);
-    double centre = bk_v3_length(bk_v3_sub(b->leaf_centroid[leaf], point));
-    if (box < best_box || (box == best_box && centre < best_centre))
-      best = leaf, best_box = box, best_centre = centre;
-  }
-  return best;
-}
-
-// Down the mesh tree from the cluster's node set (which covers exactly its
-// leaves), skipping every node whose bounds are farther than the best leaf's:
-// a few dozen boxes for a point on a 1,024-fragment wall, where trying every
-// leaf made a step with a few hundred contacts cost milliseconds. Should the
-// search outgrow its stack, every leaf is tried.
-uint32_t rt_stress_leaf_at(const rt_breakable* b, const rt_cluster* c, bk_vec3 point) {
-  enum { STACK = 512 };
-  const bk_mesh_tree* tree = b->tree;
-  uint32_t stack[STACK];
-  uint32_t top = 0, best = c->leaves[0];
-  double best_box = INFINITY, best_centre = INFINITY;
-  if (c->node_count > STACK) return leaf_at_scan(b, c, point);
-  for (uint32_t i = 0; i < c->node_count; ++i)
-    stack[top++] = c->nodes[i];
-  while (top) {
-    const bk_mesh_tree_node* node = &tree->nodes[stack[--top]];
-    double box = box_distance_squared(node->bounds, point);
-    if (box > best_box) continue;
-    if (node->child_count == 0) {
-      uint32_t leaf = node->leaf_begin;
-      double centre = bk_v3_length(bk_v3_sub(b->leaf_centroid[leaf], point));
-      if (box < best_box || (box == best_box && centre < best_centre))
-        best = leaf, best_box = box, best_centre = centre;
-      continue;
-    }
-    if (top + node->child_count > STACK) return leaf_at_scan(b, c, point);
-    for (uint32_t k = 0; k < node->child_count; ++k)
-      stack[top++] = node->first_child + k;
-  }
-  return best;
 }
 
 // Maps the caller's support points to (cluster, leaf) pairs, sorted, unique,
@@ -306,7 +254,7 @@ static void merge_held(rt_cluster* c, const held_leaf* held, uint32_t count) {
                         : held[j++].leaf;
     if (n == 0 || merged[n - 1] != next) merged[n++] = next;
   }
-  free(c->stress_held);
+  bk_free(c->stress_held);
   c->stress_held = merged;
   c->stress_held_count = n;
 }
@@ -317,9 +265,8 @@ static bool same_direction(bk_vec3 a, bk_vec3 b) {
   return bk_v3_length(bk_v3_sub(a, b)) <= 1e-9 * (bk_v3_length(a) + bk_v3_length(b));
 }
 
-void bk_runtime_solve_stress(bk_runtime* rt, bk_vec3 gravity, const bk_stress_support* supports,
-                             uint32_t support_count, const bk_stress_load* loads, uint32_t load_count) {
-  rt_begin_call(rt);
+static void solve(bk_runtime* rt, bk_vec3 gravity, const bk_stress_support* supports, uint32_t support_count,
+                  const bk_stress_load* loads, uint32_t load_count, command_sink* sink) {
   rt->stress_clusters_solved = 0;
   rt->stress_iterations = 0;
   if (!bk_v3_is_finite(gravity) || (support_count && !supports) || (load_count && !loads)) return;
@@ -405,7 +352,7 @@ void bk_runtime_solve_stress(bk_runtime* rt, bk_vec3 gravity, const bk_stress_su
       if (!s->loaded && charged < budget) {
         double* node_loads = rt_stress_node_loads(c);
         rt_stress_load(s, local_gravity, node_loads);
-        free(node_loads);
+        bk_free(node_loads);
         charged += cost;
       }
       if (s->loaded && charged < budget) {
@@ -423,8 +370,29 @@ void bk_runtime_solve_stress(bk_runtime* rt, bk_vec3 gravity, const bk_stress_su
       rt->stress_cursor = slot; // this one first next call
     }
     if (rt_stress_converged(c->stress, rt->def.stress_tolerance))
-      settle(rt, b, c, slot, tree_to_world, &state);
+      settle(rt, b, c, slot, tree_to_world, &state, sink);
   }
+}
+
+uint32_t bk_runtime_stress_commands(bk_runtime* rt, bk_vec3 gravity, const bk_stress_support* supports,
+                                    uint32_t support_count, const bk_stress_load* loads, uint32_t load_count,
+                                    bk_fracture_command* commands, uint32_t capacity) {
+  command_sink sink = {.commands = commands, .capacity = commands ? capacity : 0u, .grows = false};
+  solve(rt, gravity, supports, support_count, loads, load_count, &sink);
+  return sink.count;
+}
+
+// The stage's commands, applied by the core at once: the bonds a cluster's
+// converged load overstresses break together (the split follows) and the
+// rest is solved again, so an overload spreads as it would.
+void bk_runtime_solve_stress(bk_runtime* rt, bk_vec3 gravity, const bk_stress_support* supports,
+                             uint32_t support_count, const bk_stress_load* loads, uint32_t load_count) {
+  command_sink sink = {
+      .commands = rt->stress_commands, .capacity = rt->stress_command_capacity, .grows = true};
+  solve(rt, gravity, supports, support_count, loads, load_count, &sink);
+  rt->stress_commands = sink.commands;
+  rt->stress_command_capacity = sink.capacity;
+  bk_runtime_apply_fracture_commands(rt, sink.commands, sink.count);
 }
 
 bool bk_runtime_bond_stress(const bk_runtime* rt, bk_breakable_id id, uint32_t bond, bk_bond_stress* out) {
@@ -437,23 +405,4 @@ bool bk_runtime_bond_stress(const bk_runtime* rt, bk_breakable_id id, uint32_t b
   if (s[3] < 0.0) return false;
   if (out) *out = (bk_bond_stress){s[0], s[1], s[2], s[3]};
   return true;
-}
-
-uint32_t rt_stress_pending(const bk_runtime* rt) {
-  uint32_t pending = 0;
-  for (uint32_t slot = 0; slot < rt->cluster_count; ++slot) {
-    const rt_cluster* c = &rt->clusters[slot];
-    // A static cluster always has a load; a moving one once it rested. A
-    // bond broken since its last solve makes it pending too.
-    bool loaded = c->is_static || c->stress;
-    if (c->alive && loaded && c->leaf_count >= 2 && (!c->stress_settled || c->stress_stale)) pending++;
-  }
-  return pending;
-}
-
-void rt_stress_material_changed(bk_runtime* rt, uint32_t breakable_index) {
-  for (uint32_t slot = 0; slot < rt->cluster_count; ++slot) {
-    rt_cluster* c = &rt->clusters[slot];
-    if (c->alive && c->breakable == breakable_index) c->stress_stale = true;
-  }
 }

@@ -9,7 +9,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "runtime_internal.h"
+#include "stress_leaves.h"
+#include "stress_loads.h"
 
 // Calls a cluster's loads are averaged over before they count (a quarter of
 // a second at 60 Hz): a body coming to rest on it bounces, and a resting
@@ -107,7 +108,7 @@ static void window_add(rt_cluster* c, const rt_leaf_load* loads, uint32_t count)
       n++, j++;
     }
   }
-  free(c->stress_window);
+  bk_free(c->stress_window);
   c->stress_window = merged;
   c->stress_window_count = n;
 }
@@ -123,24 +124,16 @@ bool rt_stress_window_loads(rt_cluster* c, const rt_leaf_load* loads, uint32_t c
   bool changed =
       loads_differ(c->stress_loads, c->stress_load_count, c->stress_window, c->stress_window_count, weight);
   if (changed) { // the window's average becomes the loads carried
-    free(c->stress_loads);
+    bk_free(c->stress_loads);
     c->stress_loads = c->stress_window;
     c->stress_load_count = c->stress_window_count;
   } else {
-    free(c->stress_window);
+    bk_free(c->stress_window);
   }
   c->stress_window = NULL;
   c->stress_window_count = 0;
   c->stress_window_calls = 0;
   return changed;
-}
-
-void rt_stress_drop_loads(rt_cluster* c) {
-  free(c->stress_loads);
-  free(c->stress_window);
-  c->stress_loads = NULL;
-  c->stress_window = NULL;
-  c->stress_load_count = c->stress_window_count = c->stress_window_calls = 0;
 }
 
 double* rt_stress_node_loads(const rt_cluster* c) {

@@ -6,7 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "stress_system.h"
+#include "stress_setup.h"
 
 enum { DOF = RT_STRESS_DOF, BLOCK = RT_STRESS_DOF * RT_STRESS_DOF, COARSEST_NODES = 24 };
 
@@ -108,20 +108,20 @@ static void level_alloc(rt_stress_level* l, uint32_t nodes, uint32_t bonds, bool
 }
 
 static void level_free(rt_stress_level* l) {
-  free(l->fixed);
-  free(l->centroid);
-  free(l->ends);
-  free(l->frame);
-  free(l->stiffness);
-  free(l->inverse);
-  free(l->diagonal);
-  free(l->pair_ends);
-  free(l->pair_block);
-  free(l->work);
-  free(l->coarse_of);
-  free(l->offset);
-  free(l->dense);
-  free(l->dense_index);
+  bk_free(l->fixed);
+  bk_free(l->centroid);
+  bk_free(l->ends);
+  bk_free(l->frame);
+  bk_free(l->stiffness);
+  bk_free(l->inverse);
+  bk_free(l->diagonal);
+  bk_free(l->pair_ends);
+  bk_free(l->pair_block);
+  bk_free(l->work);
+  bk_free(l->coarse_of);
+  bk_free(l->offset);
+  bk_free(l->dense);
+  bk_free(l->dense_index);
 }
 
 // Each node's own block from its bonds, into blocks (36 per node).
@@ -209,7 +209,7 @@ static void level_assemble(rt_stress_level* l) {
     double* block = &l->pair_block[BLOCK * (size_t)(found - keys)];
     bond_blocks_add(&bb, g, swapped ? 1 : 0, swapped ? 0 : 1, -1.0, block, DOF);
   }
-  free(keys);
+  bk_free(keys);
   level_invert(l, l->diagonal);
 }
 
@@ -281,9 +281,9 @@ static bool coarsen(const rt_stress_level* fine, const double* fine_mass, const 
   }
   for (uint32_t i = 0; i < n; ++i)
     if (fine->fixed[i]) coarse_of[i] = 0;
-  free(order);
+  bk_free(order);
   if (free_count == 0 || (double)(coarse_nodes - first_group) > 0.7 * free_count) {
-    free(coarse_of);
+    bk_free(coarse_of);
     return false;
   }
   uint32_t bonds = 0;
@@ -402,10 +402,10 @@ uint64_t rt_stress_create_cost(const rt_stress* s) {
 
 // Frees what only the setup needed.
 static void setup_finish(rt_stress* s) {
-  if (s->level_mass != s->mass) free(s->level_mass);
+  if (s->level_mass != s->mass) bk_free(s->level_mass);
   s->level_mass = NULL;
-  free(s->group_keys);
-  free(s->member);
+  bk_free(s->group_keys);
+  bk_free(s->member);
   s->group_keys = NULL;
   s->member = NULL;
   s->ready = true;
@@ -433,11 +433,11 @@ uint64_t rt_stress_setup_step(rt_stress* s) {
     for (uint32_t i = 0; i < fine->node_count; ++i)
       if (!fine->fixed[i]) key[coarse->coarse_of[i]] = s->member[i];
     memcpy(s->member, key, sizeof(uint32_t) * coarse->node_count);
-    if (s->level_mass != s->mass) free(s->level_mass);
+    if (s->level_mass != s->mass) bk_free(s->level_mass);
     s->level_mass = coarse_mass;
     s->level_count++;
   }
-  free(key);
+  bk_free(key);
   if (made) {
     // The level before is not the coarsest: the finest is applied bond by
     // bond, the others assembled.
@@ -462,12 +462,12 @@ void rt_stress_destroy(rt_stress* s) {
   if (!s) return;
   for (uint32_t i = 0; i < s->level_count; ++i)
     level_free(&s->levels[i]);
-  free(s->mass);
-  free(s->area);
-  free(s->tree_bond);
-  free(s->x);
-  if (s->level_mass != s->mass) free(s->level_mass);
-  free(s->group_keys);
-  free(s->member);
-  free(s);
+  bk_free(s->mass);
+  bk_free(s->area);
+  bk_free(s->tree_bond);
+  bk_free(s->x);
+  if (s->level_mass != s->mass) bk_free(s->level_mass);
+  bk_free(s->group_keys);
+  bk_free(s->member);
+  bk_free(s);
 }

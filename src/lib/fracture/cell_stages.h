@@ -1,6 +1,6 @@
-// Internal: the stages of the cell patterns' mesh tree (cell_tree.c groups
-// the cells' solids into leaves, cell_build.c makes the complex,
-// cell_assemble.c makes the tree's nodes).
+// Internal: the stages of the cell patterns' mesh tree, which cell_tree.c
+// runs: cell_build.c makes the complex, cell_group.c groups the cells'
+// solids into leaves, cell_assemble.c makes the tree's nodes.
 #pragma once
 
 #include "cell_complex.h"

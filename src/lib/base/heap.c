@@ -3,7 +3,7 @@
 // cheapest edge to collapse).
 #include <stdlib.h>
 
-#include "bk_geom.h"
+#include "bk_base.h"
 
 // Smaller key first; equal keys by smaller value, so the order never depends
 // on how the heap happened to be laid out.
@@ -41,6 +41,6 @@ bk_heap_item bk_heap_pop(bk_heap* heap) {
 }
 
 void bk_heap_free(bk_heap* heap) {
-  free(heap->items);
+  bk_free(heap->items);
   *heap = (bk_heap){0};
 }

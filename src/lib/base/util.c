@@ -1,90 +1,60 @@
-// Shared utilities: errors, allocation, PCG32, the index map and hashing.
+// Shared utilities: errors, the index map, hashing and the C locale.
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "bk_geom.h"
+#include "bk_base.h"
+
+static void error_fill(bk_error* err, bk_result code, const char* fmt, va_list args) {
+  // Messages quote file names and file content: control bytes are escaped
+  // here, once for all of them, so no file can drive the user's terminal.
+  char text[sizeof err->message];
+  vsnprintf(text, sizeof text, fmt, args);
+  bk_escape_text(text, strlen(text), err->message, sizeof err->message);
+  err->code = code;
+}
 
 bool bk_error_set(bk_error* err, const char* fmt, ...) {
   if (err) {
-    // Messages quote file names and file content: control bytes are escaped
-    // here, once for all of them, so no file can drive the user's terminal.
-    char text[sizeof err->message];
     va_list args;
     va_start(args, fmt);
-    vsnprintf(text, sizeof text, fmt, args);
+    error_fill(err, BK_ERROR_FAILED, fmt, args);
     va_end(args);
-    bk_escape_text(text, strlen(text), err->message, sizeof err->message);
   }
   return false;
 }
 
-static void out_of_memory(size_t size) {
-  fprintf(stderr, "breakables: out of memory allocating %zu bytes\n", size);
-  abort();
-}
-
-void* bk_alloc(size_t size) {
-  void* p = malloc(size ? size : 1);
-  if (!p) out_of_memory(size);
-  return p;
-}
-
-void* bk_realloc(void* ptr, size_t size) {
-  void* p = realloc(ptr, size ? size : 1);
-  if (!p) out_of_memory(size);
-  return p;
-}
-
-void* bk_calloc(size_t count, size_t size) {
-  void* p = calloc(count ? count : 1, size ? size : 1);
-  if (!p) out_of_memory(count * size);
-  return p;
-}
-
-uint32_t bk_grow_capacity(uint32_t current, uint32_t need) {
-  if (need <= current) return current;
-  uint64_t cap = current ? current : 16;
-  while (cap < need)
-    cap *= 2;
-  if (cap > UINT32_MAX) {
-    if (need == UINT32_MAX) out_of_memory((size_t)need);
-    cap = UINT32_MAX;
+bool bk_error_set_code(bk_error* err, bk_result code, const char* fmt, ...) {
+  if (err) {
+    va_list args;
+    va_start(args, fmt);
+    error_fill(err, code, fmt, args);
+    va_end(args);
   }
-  return (uint32_t)cap;
+  return false;
 }
 
-// ---------------------------------------------------------------- PCG32 (O'Neill, pcg-random.org)
-
-bk_rng bk_rng_seed(uint64_t seed, uint64_t stream) {
-  bk_rng rng = {0u, (stream << 1u) | 1u};
-  (void)bk_rng_next(&rng);
-  rng.state += seed;
-  (void)bk_rng_next(&rng);
-  return rng;
-}
-
-uint32_t bk_rng_next(bk_rng* rng) {
-  uint64_t old = rng->state;
-  rng->state = old * 6364136223846793005ull + rng->inc;
-  uint32_t xorshifted = (uint32_t)(((old >> 18u) ^ old) >> 27u);
-  uint32_t rot = (uint32_t)(old >> 59u);
-  return (xorshifted >> rot) | (xorshifted << ((32u - rot) & 31u));
-}
-
-double bk_rng_unit(bk_rng* rng) {
-  // 53 random bits for a full-precision double in [0, 1).
-  uint64_t hi = bk_rng_next(rng) >> 5, lo = bk_rng_next(rng) >> 6;
-  return (double)((hi << 26) | lo) * (1.0 / 9007199254740992.0);
-}
-
-bk_vec3 bk_rng_direction(bk_rng* rng) {
-  // Uniform on the sphere: z uniform in [-1, 1], azimuth uniform.
-  double z = 2.0 * bk_rng_unit(rng) - 1.0;
-  double phi = 2.0 * 3.14159265358979323846 * bk_rng_unit(rng);
-  double r = sqrt(fmax(0.0, 1.0 - z * z));
-  return bk_v3(r * cos(phi), r * sin(phi), z);
+const char* bk_result_name(bk_result code) {
+  switch (code) {
+  case BK_OK:
+    return "ok";
+  case BK_ERROR_FAILED:
+    return "failed";
+  case BK_ERROR_INVALID_ARGUMENT:
+    return "invalid argument";
+  case BK_ERROR_STALE_ID:
+    return "stale id";
+  case BK_ERROR_BAD_TREE:
+    return "bad tree";
+  case BK_ERROR_IO:
+    return "i/o error";
+  case BK_ERROR_PHYSICS:
+    return "physics engine refused";
+  case BK_ERROR_OUT_OF_MEMORY:
+    return "out of memory";
+  }
+  return "unknown code";
 }
 
 // ---------------------------------------------------------------- index map
@@ -113,8 +83,8 @@ void bk_index_map_init(bk_index_map* map, uint32_t expected) {
 }
 
 void bk_index_map_free(bk_index_map* map) {
-  free(map->keys);
-  free(map->values);
+  bk_free(map->keys);
+  bk_free(map->values);
   memset(map, 0, sizeof *map);
 }
 
@@ -146,8 +116,8 @@ static void index_map_rehash(bk_index_map* map, uint32_t capacity) {
     bigger.values[s] = map->values[i];
   }
   bigger.count = map->count;
-  free(map->keys);
-  free(map->values);
+  bk_free(map->keys);
+  bk_free(map->values);
   *map = bigger;
 }
 

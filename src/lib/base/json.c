@@ -1,11 +1,11 @@
-// The JSON reader of the glTF loader (see gltf_json.h).
-#include "gltf_json.h"
+// The JSON reader (see bk_json.h).
+#include "bk_json.h"
 
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "bk_geom.h"
+#include "bk_base.h"
 
 typedef struct json_parser {
   const char* text;
@@ -290,7 +290,7 @@ bool bk_json_parse_limited(const char* text, size_t size, const bk_json_limits* 
 }
 
 void bk_json_free(bk_json_doc* doc) {
-  free(doc->values);
+  bk_free(doc->values);
   memset(doc, 0, sizeof *doc);
 }
 

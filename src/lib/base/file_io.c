@@ -9,7 +9,7 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "bk_geom.h"
+#include "bk_base.h"
 
 // First buffer size when reading; doubled as needed.
 #define FILE_READ_CHUNK ((size_t)1 << 16)
@@ -30,17 +30,30 @@ bool bk_file_read(const char* path, uint64_t max_bytes, const char* limit_text, 
   size_t length = 0;
   size_t capacity = file_size + 1 > FILE_READ_CHUNK ? (size_t)file_size + 1 : FILE_READ_CHUNK;
   if (capacity > max_bytes) capacity = (size_t)max_bytes;
-  char* buffer = bk_alloc(capacity);
+  // An allocator that runs out makes this a reported failure, not an abort.
+  char* buffer = bk_try_alloc(capacity);
+  if (!buffer) {
+    fclose(f);
+    return bk_error_set_code(err, BK_ERROR_OUT_OF_MEMORY, "%s: out of memory reading %zu bytes", path,
+                             capacity);
+  }
   for (;;) {
     if (length == capacity) {
       if ((uint64_t)capacity >= max_bytes) {
         if (fgetc(f) == EOF && !ferror(f)) break; // exactly at the limit
-        free(buffer);
+        bk_free(buffer);
         fclose(f);
         return bk_error_set(err, "%s: file larger than %s, refusing to load", path, limit_text);
       }
       capacity = (uint64_t)capacity * 2 < max_bytes ? capacity * 2 : (size_t)max_bytes;
-      buffer = bk_realloc(buffer, capacity);
+      char* bigger = bk_try_realloc(buffer, capacity);
+      if (!bigger) {
+        bk_free(buffer);
+        fclose(f);
+        return bk_error_set_code(err, BK_ERROR_OUT_OF_MEMORY, "%s: out of memory reading %zu bytes", path,
+                                 capacity);
+      }
+      buffer = bigger;
     }
     size_t got = fread(buffer + length, 1, capacity - length, f);
     length += got;
@@ -48,9 +61,9 @@ bool bk_file_read(const char* path, uint64_t max_bytes, const char* limit_text, 
   }
   if (ferror(f)) {
     int code = errno;
-    free(buffer);
+    bk_free(buffer);
     fclose(f);
-    return bk_error_set(err, "%s: read failed: %s", path, strerror(code));
+    return bk_error_set_code(err, BK_ERROR_IO, "%s: read failed: %s", path, strerror(code));
   }
   fclose(f);
   *data = buffer;
@@ -122,9 +135,9 @@ bool bk_file_begin_atomic(const char* path, const bk_atomic_messages* messages, 
       close(fd);
       unlink(tmp);
     }
-    free(tmp);
+    bk_free(tmp);
   }
-  return bk_error_set(err, "%s: %s: %s", path, messages->open_failed, strerror(code));
+  return bk_error_set_code(err, BK_ERROR_IO, "%s: %s: %s", path, messages->open_failed, strerror(code));
 }
 
 bool bk_file_commit_atomic(bk_atomic_file* file, const char* path, const bk_atomic_messages* messages,
@@ -142,23 +155,23 @@ bool bk_file_commit_atomic(bk_atomic_file* file, const char* path, const bk_atom
   if (fclose(f) != 0 && code == 0) code = errno ? errno : EIO;
   if (code != 0) {
     unlink(tmp);
-    free(tmp);
-    return bk_error_set(err, "%s: %s: %s", path, messages->write_failed, strerror(code));
+    bk_free(tmp);
+    return bk_error_set_code(err, BK_ERROR_IO, "%s: %s: %s", path, messages->write_failed, strerror(code));
   }
   if (rename(tmp, path) != 0) {
     code = errno;
     unlink(tmp);
-    free(tmp);
-    return bk_error_set(err, "%s: %s: %s", path, messages->rename_failed, strerror(code));
+    bk_free(tmp);
+    return bk_error_set_code(err, BK_ERROR_IO, "%s: %s: %s", path, messages->rename_failed, strerror(code));
   }
-  free(tmp);
+  bk_free(tmp);
   return true;
 }
 
 void bk_file_abort_atomic(bk_atomic_file* file) {
   if (file->stream) fclose(file->stream);
   if (file->tmp_path) unlink(file->tmp_path);
-  free(file->tmp_path);
+  bk_free(file->tmp_path);
   file->stream = NULL;
   file->tmp_path = NULL;
 }
