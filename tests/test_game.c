@@ -202,7 +202,7 @@ static void test_own_model(void) {
   snprintf(args, sizeof args, "fracture --mesh torus --pieces 40 --export-gltf '%s'", glb);
   ENSURE(run(args) == 0);
   snprintf(args, sizeof args,
-           "play --mesh '%s' --material glass --pieces 512 --frames 120 --autofire 3 --screenshot '%s' "
+           "play --mesh '%s' --material glass --pieces 512 --frames 60 --autofire 3 --screenshot '%s' "
            "--width 640 --height 360",
            glb, shot);
   ENSURE(run(args) == 0);
