@@ -14,8 +14,12 @@ export ASAN_OPTIONS=detect_leaks=1:abort_on_error=0
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 export LSAN_OPTIONS="suppressions=$repo/scripts/lsan.supp"
 
+# -O1, as the sanitizers' authors advise: reports keep their lines and
+# frames (no inlining across files, frame pointers kept), and the suite runs
+# in well under half the time of -O0. Assertions stay on (Debug).
 cmake -S . -B build-debug -DCMAKE_BUILD_TYPE=Debug -DBK_SANITIZE=ON \
-  -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++
+  -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
+  -DCMAKE_C_FLAGS_DEBUG="-g -O1" -DCMAKE_CXX_FLAGS_DEBUG="-g -O1"
 cmake --build build-debug -j"$(nproc)"
 # LeakSanitizer's tracer (clang 14's) now and then crashes while it stops a
 # process with many threads (the game under Mesa's llvmpipe) to check for
