@@ -79,18 +79,6 @@ static void reserve_source(bk_slicer* s, const bk_mesh* m) {
   s->plane_edge_count[0] = s->plane_edge_count[1] = 0;
 }
 
-// Global position id: source positions first, then cut positions.
-uint32_t bk_slicer_side_position(bk_slicer* s, const bk_mesh* m, bk_mesh* out, int side, uint32_t global) {
-  uint32_t* slot = global < m->position_count ? &s->pos_map[side][global]
-                                              : &s->cut_pos_map[side][global - m->position_count];
-  if (*slot == UINT32_MAX) {
-    bk_vec3 p =
-        global < m->position_count ? m->positions[global] : s->cut_positions[global - m->position_count];
-    *slot = bk_slicer_add_position(out, p);
-  }
-  return *slot;
-}
-
 // Global corner id: source corners first, then cut corners.
 static uint32_t side_corner(bk_slicer* s, const bk_mesh* m, bk_mesh* out, int side, uint32_t global) {
   bool source = global < m->corner_count;

@@ -80,8 +80,19 @@ static inline void bk_slicer_add_triangle(bk_mesh* m, uint32_t a, uint32_t b, ui
 }
 
 /// The side's position for a global id (source positions first, then cut
-/// positions), added to `out` on first use.
-uint32_t bk_slicer_side_position(bk_slicer* s, const bk_mesh* m, bk_mesh* out, int side, uint32_t global);
+/// positions), added to `out` on first use. Here, beside the other adders,
+/// because both the slicing and the caps take positions through it.
+static inline uint32_t bk_slicer_side_position(bk_slicer* s, const bk_mesh* m, bk_mesh* out, int side,
+                                               uint32_t global) {
+  uint32_t* slot = global < m->position_count ? &s->pos_map[side][global]
+                                              : &s->cut_pos_map[side][global - m->position_count];
+  if (*slot == UINT32_MAX) {
+    bk_vec3 p =
+        global < m->position_count ? m->positions[global] : s->cut_positions[global - m->position_count];
+    *slot = bk_slicer_add_position(out, p);
+  }
+  return *slot;
+}
 
 /// Closes both sides of a split mesh with their caps (the plane edges
 /// emit gathered); false (both sides freed) when a cap cannot be closed.
