@@ -9,6 +9,7 @@
 #include <breakables/runtime.h>
 
 #include "ensure.h"
+#include "shape_tree.h"
 
 typedef struct bodies {
   bk_body_state state[4096];
@@ -16,19 +17,6 @@ typedef struct bodies {
 
 static bk_body_state body_state(bk_cluster_id cluster, void* context) {
   return ((bodies*)context)->state[cluster.index];
-}
-
-static bk_mesh_tree make_tree(bk_shape shape, uint32_t pieces, uint64_t seed) {
-  bk_mesh mesh = {0};
-  bk_shape_build(shape, &mesh);
-  bk_fracture_def def = bk_default_fracture_def();
-  def.pieces = pieces;
-  def.seed = seed;
-  bk_mesh_tree tree = {0};
-  bk_error err = {0};
-  ENSURE_MSG(bk_mesh_tree_build(&mesh, &def, &tree, &err), "%s", err.message);
-  bk_mesh_free(&mesh);
-  return tree;
 }
 
 static bk_runtime* make_runtime(bodies* b, uint32_t budget) {

@@ -9,6 +9,7 @@
 #include <breakables/runtime.h>
 
 #include "ensure.h"
+#include "shape_tree.h"
 
 enum { MAX_BODIES = 4096 };
 
@@ -27,19 +28,6 @@ static bk_body_state body_state(bk_cluster_id cluster, void* context) {
     return (bk_body_state){.transform = {{NAN, NAN, NAN}, {0, 0, 0, 1}}};
   }
   return c->state[cluster.index];
-}
-
-static bk_mesh_tree make_tree(bk_shape shape, uint32_t pieces, uint64_t seed) {
-  bk_mesh mesh = {0};
-  bk_shape_build(shape, &mesh);
-  bk_fracture_def def = bk_default_fracture_def();
-  def.pieces = pieces;
-  def.seed = seed;
-  bk_mesh_tree tree = {0};
-  bk_error err = {0};
-  ENSURE_MSG(bk_mesh_tree_build(&mesh, &def, &tree, &err), "%s", err.message);
-  bk_mesh_free(&mesh);
-  return tree;
 }
 
 static bk_runtime* make_runtime(caller* c, uint32_t budget, bk_vec3 gravity) {

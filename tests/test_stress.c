@@ -10,6 +10,7 @@
 #include <breakables/runtime.h>
 
 #include "ensure.h"
+#include "runtime_caller.h"
 #include "runtime_internal.h"
 #include "stress_leaves.h"
 #include "stress_system.h"
@@ -198,24 +199,6 @@ static void test_cantilever_tip_load(void) {
 }
 
 // ---------------------------------------------------------------- through the runtime
-
-typedef struct bodies {
-  bk_body_state state[8192];
-} bodies;
-
-static bk_body_state body_state(bk_cluster_id cluster, void* context) {
-  return ((bodies*)context)->state[cluster.index];
-}
-
-static void take_created(bk_runtime* rt, bodies* b) {
-  uint32_t n = bk_runtime_created_clusters(rt, NULL, 0);
-  bk_cluster_created* created = calloc(n + 1u, sizeof *created);
-  bk_runtime_created_clusters(rt, created, n);
-  for (uint32_t i = 0; i < n; ++i)
-    b->state[created[i].cluster.id.index] = created[i].body;
-  free(created);
-  bk_runtime_clear_events(rt); // taken: the next calls' events start afresh
-}
 
 static bk_mesh_tree make_tree(bk_shape shape, uint32_t pieces, bk_fracture_pattern pattern) {
   bk_mesh mesh = {0};

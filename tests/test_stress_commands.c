@@ -10,28 +10,11 @@
 #include <breakables/runtime.h>
 
 #include "ensure.h"
+#include "runtime_caller.h"
 
 enum { MAX_COMMANDS = 8192 };
 
 static const bk_vec3 gravity = {0.0, -9.81, 0.0};
-
-typedef struct bodies {
-  bk_body_state state[8192];
-} bodies;
-
-static bk_body_state body_state(bk_cluster_id cluster, void* context) {
-  return ((bodies*)context)->state[cluster.index];
-}
-
-static void take_created(bk_runtime* rt, bodies* b) {
-  uint32_t n = bk_runtime_created_clusters(rt, NULL, 0);
-  bk_cluster_created* created = calloc(n + 1u, sizeof *created);
-  bk_runtime_created_clusters(rt, created, n);
-  for (uint32_t i = 0; i < n; ++i)
-    b->state[created[i].cluster.id.index] = created[i].body;
-  free(created);
-  bk_runtime_clear_events(rt);
-}
 
 typedef struct scene {
   bodies* bodies;
