@@ -514,6 +514,10 @@ static void test_hostile_input(void) {
                 "property float y\nproperty float z\nelement face 4000000000\nproperty list uchar "
                 "int vertex_indices\nend_header\n\0\0\0\0");
   expect_refusal(TMP "counts.ply", &def, "header declares 4000000000 vertex elements");
+  // assimp reads an OFF file's counts from the line after "OFF": a count
+  // there must fit the file as well as one on the "OFF" line itself.
+  write_literal(TMP "counts.off", "OFF 8\n05000500000 0\n4 6 7 1 0\n");
+  expect_refusal(TMP "counts.off", &def, "header declares 5000500000 vertex elements");
   bytes* b = &scratch_a; // binary STL claiming 2^32 - 1 triangles
   b->length = 0;
   char header[80] = "binary stl of nothing";

@@ -135,6 +135,15 @@ static bool precheck_ply(const char* name, const char* head, size_t size, uint64
   return bk_error_set(err, "%s: malformed PLY header: no end_header in the first %zu bytes", name, size);
 }
 
+// The leading digits of a word, as assimp's strtoul10 reads a count (it
+// stops at the first other character; 0 when there is none).
+static uint64_t leading_count(const char* word, size_t length) {
+  uint64_t value = 0;
+  for (size_t i = 0; i < length && word[i] >= '0' && word[i] <= '9'; ++i)
+    if (value < (1ull << 50)) value = value * 10 + (uint64_t)(word[i] - '0');
+  return value;
+}
+
 static bool precheck_off(const char* name, const char* head, size_t size, uint64_t file_size, bk_error* err) {
   // "[ST][C][N][4]OFF", comments, then "vertices faces edges".
   const char* end = head + size;
@@ -149,6 +158,20 @@ static bool precheck_off(const char* name, const char* head, size_t size, uint64
     if (next_word(&cursor, eol, &word, &length) && word[0] != '#') {
       if (!magic && length >= 3 && memcmp(word + length - 3, "OFF", 3) == 0) {
         magic = true;
+        // assimp 5.2 skips a line that starts with 'O' whole and reads the
+        // counts from the next line's leading digits, whatever the line
+        // holds (found by fuzz_import: "OFF 8" over "0500050000" made it
+        // allocate 11 GB): those must fit the file too.
+        if (eol < end) {
+          const char* next_eol = memchr(eol + 1, '\n', (size_t)(end - eol - 1));
+          const char* next_cursor = eol + 1;
+          uint64_t counts[2] = {0, 0};
+          for (int k = 0; k < 2 && next_word(&next_cursor, next_eol ? next_eol : end, &word, &length); ++k)
+            counts[k] = leading_count(word, length);
+          if (!check_element(name, "vertex", 6, counts[0], 6, file_size, err) ||
+              !check_element(name, "face", 4, counts[1], 8, file_size, err))
+            return false;
+        }
         if (!next_word(&cursor, eol, &word, &length)) {
           line = eol + 1;
           continue;
