@@ -678,6 +678,65 @@ static inline const bk_mesh_tree_node* bk_mesh_tree_leaf(const bk_mesh_tree* tre
 /// cap triangles (replaces tree->bonds). Called by bk_mesh_tree_build.
 void bk_mesh_tree_compute_bonds(bk_mesh_tree* tree);
 
+// ---------------------------------------------------------------- refinement
+
+/// Fractures one leaf's mesh again, for bk_mesh_tree_splice: as
+/// bk_mesh_tree_build does a source, but with every node's moments about the
+/// origin of the tree the leaf is in (bk_mesh_tree_origin, derived from that
+/// tree's root bounds `tree_bounds`) and cut faces textured at
+/// def->texture_scale as the tree's are. Reads nothing but its arguments
+/// (the mesh's arrays are never changed by a splice), so it may run on a
+/// worker thread while the tree is used and grown. The same mesh, bounds and
+/// def give the same bytes.
+bool bk_mesh_fracture_leaf(const bk_mesh* mesh, bk_aabb tree_bounds, const bk_fracture_def* def,
+                           bk_mesh_tree* out, bk_error* err);
+
+/// What bk_mesh_tree_splice did to a tree.
+typedef struct bk_splice_info {
+  /// The refined leaf's index before the splice, now its first piece's: its
+  /// pieces are leaves [leaf, leaf + leaf_count), and every leaf after it
+  /// moved up by leaf_count - 1 (so every subtree still covers a
+  /// contiguous leaf range)
+  uint32_t leaf;
+  uint32_t leaf_count;
+  uint32_t node;                   ///< the refined leaf's node, now an inner node (node indices never change)
+  uint32_t first_node, node_count; ///< the pieces' nodes, appended (children of `node` and below)
+  /// Bonds appended: the pieces' own bonds, and each divided bond's parts
+  /// but its first (which keeps the old bond's index). An appended bond
+  /// between a piece and a leaf outside came from the old bond of the
+  /// refined leaf with that leaf (a pair of leaves has at most one bond).
+  uint32_t first_bond, bond_count;
+  uint32_t bonds_divided; ///< bonds of the refined leaf with its neighbours, divided among its pieces
+} bk_splice_info;
+
+/// Grows a tree where it broke: leaf `leaf` becomes an inner node whose
+/// subtree is `pieces` (made by bk_mesh_fracture_leaf from that leaf's
+/// mesh and the tree's root bounds; its root stands for the leaf, its other
+/// nodes are appended with their meshes, moved out: `pieces` is freed).
+/// Every bond of the leaf with a neighbour is divided among the pieces that
+/// touch its face (measured as the bonds are: the overlap of their cap
+/// triangles), its area shared out in proportion to those overlaps, so the
+/// parts add up to the old bond's area; the first part keeps the bond's
+/// index. Existing nodes' meshes are neither moved nor freed, so a tree
+/// whose meshes are shared with another can be grown. False (the tree and
+/// `pieces` untouched) when `pieces` does not fit that leaf (its volume off
+/// the leaf's by more than 1e-9 relative, fewer than two leaves) or a bond
+/// of the leaf touches no piece.
+bool bk_mesh_tree_splice(bk_mesh_tree* tree, uint32_t leaf, bk_mesh_tree* pieces, bk_splice_info* info,
+                         bk_error* err);
+
+/// The contact of two closed meshes, measured as the bonds are, pair by
+/// pair of triangles: interior (cap) triangles of `a` and `b` in one plane
+/// (within `tolerance`), facing opposite ways, clipped against each other.
+/// Area 0 when they do not touch. O(triangles of a x triangles of b) within
+/// their bounds' overlap: a brute-force check of a tree's bonds.
+typedef struct bk_contact_measure {
+  double area;
+  bk_vec3 centroid;
+  bk_vec3 normal; ///< unit, from a to b (area-weighted)
+} bk_contact_measure;
+bk_contact_measure bk_mesh_contact(const bk_mesh* a, const bk_mesh* b, double tolerance);
+
 /// Statistics for reports and tests.
 typedef struct bk_mesh_tree_stats {
   uint32_t leaf_triangles;    ///< triangles over all leaves

@@ -94,6 +94,12 @@ typedef struct bk_material {
   double compression_limit;
   double tension_limit;
   double shear_limit;
+  /// Refinement (bk_breakable_def.refine): hit points per m^2 of a
+  /// fragment's cross-section (its volume^(2/3)) that a hit's damage at the
+  /// fragment (frailty x impulse / distance^3, the distance to its bounds)
+  /// must pass for the fragment to be fractured again around the hit;
+  /// >= 0, finite; 0 (the presets' and the default): never
+  double refine_strength;
 } bk_material;
 
 #define BK_MATERIAL_NAME_MAX 31
@@ -159,6 +165,18 @@ typedef struct bk_runtime_def {
   /// breakable's anchor plane is perpendicular to it); +Y when zero. The
   /// stress solve takes its own gravity per call. Default (0, -9.81, 0)
   bk_vec3 gravity;
+  /// Refinement (bk_runtime_refine): the calls of bk_runtime_refine between
+  /// a hit and its pieces landing (0: the next call fractures and lands
+  /// them; 1: the next call starts them, the one after lands them, the
+  /// work in between on a worker), in [0, 8]; default 1. The result does
+  /// not depend on the threads, only on this
+  uint32_t refine_latency;
+  /// Worker threads refinement may use: 0 does the work on the calling
+  /// thread (at the call that lands it); default 1
+  uint32_t refine_threads;
+  /// Fragments that may start refining per call of bk_runtime_refine (hits
+  /// beyond it damage those fragments' bonds as they are), >= 1; default 4
+  uint32_t max_refinements_per_call;
   bk_body_state_fn* body_state; ///< required
   void* context;                ///< passed to body_state
 } bk_runtime_def;
@@ -179,6 +197,23 @@ void bk_runtime_destroy(bk_runtime* runtime);
 bk_result bk_runtime_set_gravity(bk_runtime* runtime, bk_vec3 gravity);
 bk_vec3 bk_runtime_gravity(const bk_runtime* runtime);
 
+/// How a breakable's fragments are fractured again where they are hit
+/// (bk_material.refine_strength decides when). The refined fragment becomes
+/// an inner node of this breakable's own copy of the tree (other instances
+/// of the tree are not changed), its pieces the new leaves, exact as the
+/// offline tree's: closed, volumes adding up to the fragment's, bonds from
+/// their shared faces, its bonds with its neighbours divided among them.
+typedef struct bk_refine_def {
+  /// BK_PATTERN_RADIAL (the default: dense small pieces at the hit),
+  /// BK_PATTERN_VORONOI (uniform) or BK_PATTERN_PLANES
+  bk_fracture_pattern pattern;
+  uint32_t pieces; ///< pieces per refinement, in [2, 1024]; default 32
+  /// A fragment is refined only while its pieces would be at least this
+  /// large on average ((volume / pieces)^(1/3), tree units), > 0; default 0.02
+  double min_size;
+  double radial_falloff; ///< radial: as bk_fracture_def.radial_falloff; default 1
+} bk_refine_def;
+
 /// A breakable: an instance of a mesh tree. bk_default_breakable_def() fills
 /// every field; the add call takes them as given.
 typedef struct bk_breakable_def {
@@ -194,6 +229,7 @@ typedef struct bk_breakable_def {
   /// events' breakable_user_data); its first cluster's user data too.
   /// Default NULL
   void* user_data;
+  bk_refine_def refine; ///< used when material.refine_strength > 0
 } bk_breakable_def;
 
 bk_breakable_def bk_default_breakable_def(void);
@@ -209,7 +245,10 @@ bk_breakable_id bk_runtime_add_breakable(bk_runtime* runtime, const bk_breakable
 /// index order); its id and theirs become stale, and its slot may be reused
 /// (with a new generation). BK_ERROR_STALE_ID for a stale id.
 bk_result bk_runtime_remove_breakable(bk_runtime* runtime, bk_breakable_id id);
-/// The tree a breakable was made from (NULL for a stale id).
+/// The tree a breakable is made of now (NULL for a stale id): the one it was
+/// made from, or once refined the runtime's own grown copy (valid until the
+/// next call that lands a refinement or removes the breakable; save it with
+/// bk_mesh_tree_save or bk_mesh_tree_save_gltf; never free it).
 const bk_mesh_tree* bk_runtime_breakable_tree(const bk_runtime* runtime, bk_breakable_id id);
 /// A breakable's user data (NULL for a stale id) and its setter (the
 /// events recorded from now on carry the new one; BK_ERROR_STALE_ID).
@@ -353,6 +392,36 @@ uint32_t bk_runtime_broken_bonds(const bk_runtime* runtime, bk_bond_break* out, 
 /// runtime asks bk_body_state_fn where every live cluster is.
 void bk_runtime_clear_events(bk_runtime* runtime);
 
+// ---------------------------------------------------------------- refinement
+
+/// Lands and starts refinements; call it once a step, after the step's hits
+/// and before bk_runtime_split. A hit whose damage at a fragment passes its
+/// breakable's material.refine_strength (fragments large enough for
+/// bk_refine_def.min_size, at most max_refinements_per_call starting per
+/// call) marks it to be fractured again around the hit; the damage of that
+/// hit, and of later hits, to the fragment's bonds waits for its pieces.
+/// The refine_latency-th call after the mark lands them: the fragment
+/// becomes an inner node with the pieces its leaves (leaf numbers after it
+/// move up, see bk_splice_info), its cluster keeps its node set, body and
+/// mass, and the waiting hits damage the pieces' bonds as if they had been
+/// there all along. A fragment that cannot be fractured stays whole and
+/// takes its waiting damage. Results: refined leaves, broken bonds. Returns
+/// how many fragments it refined.
+uint32_t bk_runtime_refine(bk_runtime* runtime);
+
+/// A fragment refined since the last clear: its breakable's tree grew
+/// (bk_runtime_breakable_tree) by these nodes and leaves.
+typedef struct bk_leaf_refined {
+  bk_breakable_id breakable;
+  bk_cluster_id cluster; ///< the cluster holding the pieces (its node set is unchanged)
+  bk_splice_info splice; ///< what changed in the tree
+  void* breakable_user_data;
+} bk_leaf_refined;
+
+/// The refinements since the last clear, oldest first (as the other events:
+/// at most capacity written, the total returned).
+uint32_t bk_runtime_refined_leaves(const bk_runtime* runtime, bk_leaf_refined* out, uint32_t capacity);
+
 // ---------------------------------------------------------------- stress
 
 /// Where a moving cluster's body rests on something static (the ground, a
@@ -448,6 +517,9 @@ typedef struct bk_runtime_stats {
   uint32_t stress_clusters_solved;  ///< clusters the last bk_runtime_solve_stress iterated on
   uint32_t stress_iterations;       ///< iterations it spent, over all clusters
   uint32_t stress_clusters_pending; ///< clusters whose solve has not converged yet
+  uint32_t refined_leaves;          ///< fragments refined since creation
+  uint32_t refine_pending;          ///< fragments marked and not landed yet
+  uint32_t refine_failed;           ///< fragments that could not be fractured (left whole)
 } bk_runtime_stats;
 
 bk_runtime_stats bk_runtime_get_stats(const bk_runtime* runtime);

@@ -6,21 +6,23 @@
 #include "runtime_internal.h"
 
 bk_breakable_def bk_default_breakable_def(void) {
-  return (bk_breakable_def){.tree = NULL,
-                            .transform = {{0, 0, 0}, {0, 0, 0, 1}},
-                            .material = {.name = "default",
-                                         .density = 2400.0,
-                                         .frailty = 1.0,
-                                         .bond_strength = 2.0e5,
-                                         .accumulate = false,
-                                         .friction = 0.6,
-                                         .restitution = 0.1,
-                                         .compression_limit = 2.0e7,
-                                         .tension_limit = 1.0e6,
-                                         .shear_limit = 2.0e6},
-                            .anchored = false,
-                            .anchor_height = 0.0,
-                            .user_data = NULL};
+  return (bk_breakable_def){
+      .tree = NULL,
+      .transform = {{0, 0, 0}, {0, 0, 0, 1}},
+      .material = {.name = "default",
+                   .density = 2400.0,
+                   .frailty = 1.0,
+                   .bond_strength = 2.0e5,
+                   .accumulate = false,
+                   .friction = 0.6,
+                   .restitution = 0.1,
+                   .compression_limit = 2.0e7,
+                   .tension_limit = 1.0e6,
+                   .shear_limit = 2.0e6},
+      .anchored = false,
+      .anchor_height = 0.0,
+      .user_data = NULL,
+      .refine = {.pattern = BK_PATTERN_RADIAL, .pieces = 32, .min_size = 0.02, .radial_falloff = 1.0}};
 }
 
 static void set_material(rt_breakable* b, const bk_material* m) {
@@ -55,6 +57,7 @@ bk_breakable_id bk_runtime_add_breakable(bk_runtime* rt, const bk_breakable_def*
     return bk_error_set_code(err, invalid,
                              "breakable: transform.rotation must be a unit quaternion (length %g)", q_length),
            null_id;
+  if (def->material.refine_strength > 0.0 && !rt_refine_def_validate(&def->refine, err)) return null_id;
   if (!isfinite(def->anchor_height))
     return bk_error_set_code(err, invalid, "breakable: anchor_height must be finite (got %g)",
                              def->anchor_height),
@@ -89,6 +92,11 @@ bk_breakable_id bk_runtime_add_breakable(bk_runtime* rt, const bk_breakable_def*
   b->generation = generation;
   b->alive = true;
   b->user_data = def->user_data;
+  b->refine = def->refine;
+  b->anchored = def->anchored;
+  b->anchor_height = def->anchor_height;
+  b->placement = transform;
+  b->up = rt->up;
   rt->live_breakables++;
   set_material(b, &def->material);
 
@@ -147,7 +155,27 @@ const bk_mesh_tree* bk_runtime_breakable_tree(const bk_runtime* rt, bk_breakable
   return b ? b->tree : NULL;
 }
 
+bool rt_refine_def_validate(const bk_refine_def* d, bk_error* err) {
+  const bk_result invalid = BK_ERROR_INVALID_ARGUMENT;
+  if (d->pattern != BK_PATTERN_RADIAL && d->pattern != BK_PATTERN_VORONOI && d->pattern != BK_PATTERN_PLANES)
+    return bk_error_set_code(err, invalid,
+                             "breakable: refine.pattern must be radial, voronoi or planes (got %s)",
+                             bk_fracture_pattern_name(d->pattern));
+  if (d->pieces < 2 || d->pieces > 1024)
+    return bk_error_set_code(err, invalid, "breakable: refine.pieces must be in [2, 1024] (got %u)",
+                             d->pieces);
+  if (!(d->min_size > 0.0) || !isfinite(d->min_size))
+    return bk_error_set_code(err, invalid, "breakable: refine.min_size must be positive (got %g)",
+                             d->min_size);
+  if (!(d->radial_falloff >= 0.0 && d->radial_falloff <= 1.4))
+    return bk_error_set_code(err, invalid, "breakable: refine.radial_falloff must be in [0, 1.4] (got %g)",
+                             d->radial_falloff);
+  return true;
+}
+
 void rt_breakable_free(rt_breakable* b) {
+  rt_breakable_free_tree(b);
+  bk_free(b->leaf_refining);
   bk_free(b->adjacency_start);
   bk_free(b->adjacency);
   bk_free(b->bond_hp);
@@ -167,6 +195,7 @@ void rt_breakable_free(rt_breakable* b) {
 bk_result bk_runtime_remove_breakable(bk_runtime* rt, bk_breakable_id id) {
   rt_breakable* b = rt_find_breakable(rt, id);
   if (!b) return BK_ERROR_STALE_ID;
+  rt_refine_cancel(rt, id.index);
   for (uint32_t slot = 0; slot < rt->cluster_count; ++slot)
     if (rt->clusters[slot].alive && rt->clusters[slot].breakable == id.index) rt_remove_cluster(rt, slot);
   rt_breakable_free(b);
@@ -209,6 +238,8 @@ bk_result bk_runtime_set_material(bk_runtime* rt, bk_breakable_id id, const bk_m
   rt_breakable* b = rt_find_breakable(rt, id);
   if (!b) return BK_ERROR_STALE_ID;
   if (!bk_material_validate(material, NULL)) return BK_ERROR_INVALID_ARGUMENT;
+  if (material->refine_strength > 0.0 && !rt_refine_def_validate(&b->refine, NULL))
+    return BK_ERROR_INVALID_ARGUMENT;
   bool density_changed = material->density != b->material.density;
   if (material->bond_strength != b->material.bond_strength) rescale_bonds(b, material->bond_strength);
   set_material(b, material);

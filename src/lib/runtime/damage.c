@@ -46,6 +46,25 @@ void rt_queue_split(bk_runtime* rt, uint32_t slot) {
   rt->split_queue[rt->split_queue_count++] = slot;
 }
 
+bool rt_bond_damage(rt_breakable* b, uint32_t bond, double damage) {
+  if (b->material.accumulate) {
+    b->bond_hp[bond] -= damage;
+    return b->bond_hp[bond] <= 0.0;
+  }
+  return damage > b->bond_hp[bond];
+}
+
+void rt_break_bond_by_hit(bk_runtime* rt, uint32_t slot, uint32_t bond) {
+  rt_cluster* c = &rt->clusters[slot];
+  const bk_bond* bd = &rt->breakables[c->breakable].tree->bonds[bond];
+  bk_body_state state = rt_body_state(rt, slot);
+  bk_transform tree_to_world = rt_tree_to_world(c, &state);
+  bk_vec3 world_point = bk_transform_point(tree_to_world, bd->centroid);
+  bk_vec3 r = bk_v3_sub(world_point, state.transform.position);
+  bk_vec3 velocity = bk_v3_add(state.linear_velocity, bk_v3_cross(state.angular_velocity, r));
+  rt_break_bond(rt, slot, bond, world_point, velocity, BK_BREAK_DAMAGE);
+}
+
 static void damage_cluster(bk_runtime* rt, uint32_t slot, bk_vec3 point, double impulse) {
   rt_cluster* c = &rt->clusters[slot];
   rt_breakable* b = &rt->breakables[c->breakable];
@@ -58,23 +77,19 @@ static void damage_cluster(bk_runtime* rt, uint32_t slot, bk_vec3 point, double 
   // would break.
   if (!bk_v3_is_finite(local)) return;
   double s_min = rt->def.damage_min_distance;
+  // Fragments this hit refines, and those already waiting for their
+  // pieces, take its damage when their pieces land.
+  rt_refine_hit_cluster(rt, slot, local, impulse);
   bool broke = false;
   for (uint32_t i = 0; i < c->leaf_count; ++i) {
     uint32_t leaf = c->leaves[i];
     for (uint32_t k = b->adjacency_start[leaf]; k < b->adjacency_start[leaf + 1]; ++k) {
       uint32_t bond = b->adjacency[k];
       const bk_bond* bd = &tree->bonds[bond];
-      if (!rt_bond_inside(b, bond, leaf, slot)) continue;
+      if (!rt_bond_inside(b, bond, leaf, slot) || rt_bond_waits(b, bd)) continue;
       double s = fmax(bk_v3_length(bk_v3_sub(local, bd->centroid)), s_min);
       double damage = b->material.frailty * impulse / (s * s * s);
-      bool breaks = false;
-      if (b->material.accumulate) {
-        b->bond_hp[bond] -= damage;
-        breaks = b->bond_hp[bond] <= 0.0;
-      } else {
-        breaks = damage > b->bond_hp[bond];
-      }
-      if (!breaks) continue;
+      if (!rt_bond_damage(b, bond, damage)) continue;
       broke = true;
       bk_vec3 world_point = bk_transform_point(tree_to_world, bd->centroid);
       bk_vec3 r = bk_v3_sub(world_point, state.transform.position);

@@ -60,5 +60,7 @@ bool bk_material_validate(const bk_material* m, bk_error* err) {
   for (int i = 0; i < 3; ++i)
     if (!(limits[i] > 0.0)) // INFINITY is allowed: never fails that way
       return bk_error_set(err, "material.%s must be positive, in Pa (got %g)", limit_names[i], limits[i]);
+  if (!(m->refine_strength >= 0.0) || !isfinite(m->refine_strength))
+    return bk_error_set(err, "material.refine_strength must be finite and >= 0 (got %g)", m->refine_strength);
   return true;
 }

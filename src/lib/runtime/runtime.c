@@ -14,6 +14,9 @@ bk_runtime_def bk_default_runtime_def(void) {
                           .stress_tolerance = 1e-3,
                           .stress_rest_speed = 0.25,
                           .gravity = {0.0, -9.81, 0.0},
+                          .refine_latency = 1,
+                          .refine_threads = 1,
+                          .max_refinements_per_call = 4,
                           .body_state = NULL,
                           .context = NULL};
 }
@@ -44,6 +47,9 @@ bk_vec3 bk_runtime_gravity(const bk_runtime* rt) { return rt->def.gravity; }
 
 void bk_runtime_destroy(bk_runtime* rt) {
   if (!rt) return;
+  rt_refine_cancel(rt, UINT32_MAX); // workers read the trees' meshes
+  bk_free(rt->refine_jobs);
+  bk_free(rt->refined);
   for (uint32_t i = 0; i < rt->cluster_count; ++i) {
     bk_free(rt->clusters[i].leaves);
     bk_free(rt->clusters[i].nodes);
@@ -74,6 +80,7 @@ void bk_runtime_clear_events(bk_runtime* rt) {
   rt->created_count = 0;
   rt->removed_count = 0;
   rt->broken_count = 0;
+  rt->refined_count = 0;
 }
 
 uint32_t bk_runtime_clusters(const bk_runtime* rt, bk_cluster_id* out, uint32_t capacity) {
@@ -131,5 +138,8 @@ bk_runtime_stats bk_runtime_get_stats(const bk_runtime* rt) {
                             .stress_bonds_broken = rt->stress_bonds_broken,
                             .stress_clusters_solved = rt->stress_clusters_solved,
                             .stress_iterations = rt->stress_iterations,
-                            .stress_clusters_pending = rt_stress_pending(rt)};
+                            .stress_clusters_pending = rt_stress_pending(rt),
+                            .refined_leaves = rt->refined_leaves,
+                            .refine_pending = rt->refine_job_count,
+                            .refine_failed = rt->refine_failed};
 }

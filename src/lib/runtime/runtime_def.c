@@ -36,5 +36,15 @@ bool bk_runtime_def_validate(const bk_runtime_def* def, const char* prefix, bk_e
                              def->stress_rest_speed);
   if (!bk_v3_is_finite(def->gravity))
     return bk_error_set_code(err, BK_ERROR_INVALID_ARGUMENT, "%sgravity must be finite", prefix);
+  if (def->refine_latency > 8)
+    return bk_error_set_code(err, BK_ERROR_INVALID_ARGUMENT, "%srefine_latency must be in [0, 8] (got %u)",
+                             prefix, def->refine_latency);
+  if (def->refine_threads > 64)
+    return bk_error_set_code(err, BK_ERROR_INVALID_ARGUMENT, "%srefine_threads must be in [0, 64] (got %u)",
+                             prefix, def->refine_threads);
+  if (def->max_refinements_per_call < 1)
+    return bk_error_set_code(err, BK_ERROR_INVALID_ARGUMENT,
+                             "%smax_refinements_per_call must be at least 1 (got %u)", prefix,
+                             def->max_refinements_per_call);
   return true;
 }

@@ -30,7 +30,42 @@ typedef struct rt_breakable {
   double* leaf_volume;
   double* leaf_motion;
   double* bond_stress;
+  // Refinement (refine.c): the breakable's own copy of its tree once a
+  // fragment was refined (its first `shared_nodes` nodes' meshes are the
+  // caller's tree's), how, and where anchoring puts the support plane.
+  bk_mesh_tree* own_tree;
+  uint32_t shared_nodes;
+  bk_refine_def refine;
+  bool anchored;
+  double anchor_height;
+  bk_transform placement;
+  bk_vec3 up;             // the runtime's up when it was added
+  uint8_t* leaf_refining; // per leaf: marked, its pieces not landed yet
 } rt_breakable;
+
+/// A hit waiting for a fragment's pieces (refine.c): tree frame, as it was.
+typedef struct rt_refine_hit {
+  uint64_t sequence; // order of hits over the runtime
+  bk_vec3 local;
+  double impulse, frailty;
+} rt_refine_hit;
+
+/// A fragment being refined: marked by a hit, fractured (on a worker or at
+/// landing), landed refine_latency calls later.
+typedef struct rt_refine_job {
+  uint32_t breakable, generation;
+  uint32_t node;     // the leaf's node (node indices never change)
+  uint32_t due_call; // the bk_runtime_refine call that lands it
+  rt_refine_hit* hits;
+  uint32_t hit_count, hit_capacity;
+  bk_mesh mesh; // the leaf's (borrowed: a node's mesh never changes)
+  bk_aabb tree_bounds;
+  bk_fracture_def def;
+  bk_mesh_tree pieces; // the result
+  bool built, ok, threaded;
+  void* thread; // pthread_t, when on a worker
+  bk_error err;
+} rt_refine_job;
 
 /// A force on one leaf of a cluster for the stress solve (stress_loads.c),
 /// tree frame: the force at the leaf's centroid and its moment about it.
@@ -122,6 +157,16 @@ struct bk_runtime {
   uint32_t scratch_capacity;
   uint32_t* scratch_position; // a split cluster's leaf -> its index in the cluster's leaves
   uint32_t scratch_position_capacity;
+  // Refinement (refine.c, refine_jobs.c).
+  rt_refine_job** refine_jobs; // oldest first
+  uint32_t refine_job_count, refine_job_capacity;
+  uint32_t refine_calls;   // bk_runtime_refine calls so far
+  uint32_t refine_marked;  // fragments marked since the last call
+  uint32_t refine_threads; // workers running
+  uint64_t hit_sequence;
+  bk_leaf_refined* refined; // events since the last clear
+  uint32_t refined_count, refined_capacity;
+  uint32_t refined_leaves, refine_failed;
 };
 
 /// The id of a live cluster slot.
@@ -160,6 +205,30 @@ static inline bool rt_bond_inside(const rt_breakable* b, uint32_t bond, uint32_t
   const bk_bond* bd = &b->tree->bonds[bond];
   return bd->leaf_a == leaf && !b->bond_broken[bond] && b->leaf_cluster[bd->leaf_b] == slot;
 }
+/// Damages a bond (accumulating or discrete, by its material); true when it breaks.
+bool rt_bond_damage(rt_breakable* b, uint32_t bond, double damage);
+/// Breaks a bond of cluster `slot` as a hit does: the event at the bond's
+/// centroid where the cluster's body is now.
+void rt_break_bond_by_hit(bk_runtime* rt, uint32_t slot, uint32_t bond);
+/// A hit on a cluster (tree frame): marks the fragments it refines and
+/// records it for every fragment of the cluster waiting for its pieces
+/// (refine_jobs.c).
+void rt_refine_hit_cluster(bk_runtime* rt, uint32_t slot, bk_vec3 local, double impulse);
+/// Whether a bond waits for a fragment's pieces (either leaf marked).
+static inline bool rt_bond_waits(const rt_breakable* b, const bk_bond* bd) {
+  return b->leaf_refining && (b->leaf_refining[bd->leaf_a] || b->leaf_refining[bd->leaf_b]);
+}
+/// Frees a breakable's own tree (the meshes it made, never the caller's).
+void rt_breakable_free_tree(rt_breakable* b);
+/// Checks a refine def; err names the field ("breakable: refine.pieces ...").
+bool rt_refine_def_validate(const bk_refine_def* def, bk_error* err);
+/// Waits for and frees every job (of one breakable, or all: UINT32_MAX).
+void rt_refine_cancel(bk_runtime* rt, uint32_t breakable_index);
+/// Starts a job's work on a worker when one is free (refine_jobs.c).
+void rt_refine_start(bk_runtime* rt, rt_refine_job* job);
+/// Finishes a job's work (joins its worker, or does it here).
+void rt_refine_finish(bk_runtime* rt, rt_refine_job* job);
+void rt_refine_job_free(rt_refine_job* job);
 /// Marks a bond broken and records it (position: world; velocity: of the body there).
 void rt_break_bond(bk_runtime* rt, uint32_t slot, uint32_t bond, bk_vec3 position, bk_vec3 velocity,
                    bk_break_cause cause);

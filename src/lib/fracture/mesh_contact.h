@@ -1,0 +1,23 @@
+// Internal: contacts between closed meshes measured triangle pair by pair
+// (mesh_contact.c), the parts bk_mesh_contact is made of, so a refinement can
+// gather one neighbour's triangles once and measure every piece against them.
+#pragma once
+
+#include "bk_fracture.h"
+
+/// One mesh's interior triangles near a region, with their planes and boxes.
+typedef struct bk_contact_side {
+  void* tris; // tri_info (mesh_contact.c)
+  uint32_t count;
+  bk_aabb box; // of the triangles kept
+} bk_contact_side;
+
+/// The interior triangles of `mesh` whose boxes touch `within`.
+void bk_contact_side_gather(const bk_mesh* mesh, bk_aabb within, double tolerance, bk_contact_side* out);
+/// Keeps only the triangles of `side` that face one of `other`'s (a smaller
+/// set to measure many meshes against).
+void bk_contact_side_keep_facing(bk_contact_side* side, const bk_contact_side* other, double tolerance);
+/// The contact of the two sides' triangles (area 0: none); normal from a to b.
+bk_contact_measure bk_contact_sides_measure(const bk_contact_side* a, const bk_contact_side* b,
+                                            double tolerance);
+void bk_contact_sides_free(bk_contact_side* side);
