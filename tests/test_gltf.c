@@ -50,6 +50,26 @@ static void build_noisy_voronoi_tree(uint32_t pieces, bk_mesh_tree* tree) {
   ENSURE(tree->leaf_count == pieces);
 }
 
+// A tree grown at run time (bk_mesh_tree_splice): the noisy Voronoi torus
+// with two of its leaves fractured again, radially, where a hit would be.
+static void build_refined_tree(bk_mesh_tree* tree) {
+  build_noisy_voronoi_tree(16, tree);
+  const uint32_t refined[2] = {9, 2}; // the later leaf first: the earlier keeps its number
+  for (int i = 0; i < 2; ++i) {
+    const bk_mesh_tree_node* leaf = bk_mesh_tree_leaf(tree, refined[i]);
+    bk_fracture_def def = bk_default_fracture_def();
+    def.pattern = BK_PATTERN_RADIAL;
+    def.pieces = 12;
+    def.impact = leaf->bounds.max;
+    bk_mesh_tree pieces = {0};
+    bk_error err = {{0}};
+    ENSURE_MSG(bk_mesh_fracture_leaf(&leaf->mesh, tree->nodes[0].bounds, &def, &pieces, &err), "%s",
+               err.message);
+    ENSURE_MSG(bk_mesh_tree_splice(tree, refined[i], &pieces, NULL, &err), "%s", err.message);
+  }
+  ENSURE(tree->leaf_count > 30);
+}
+
 static uint8_t* read_all(const char* path, size_t* size) {
   void* data = NULL;
   bk_error err = {{0}};
@@ -961,12 +981,42 @@ static int export_for_js(const char* dir) {
   print_expected(path, &tree, BK_GLTF_LEVELS_HIERARCHY);
   printf(" --materials 2\n");
   bk_mesh_tree_free(&tree);
+  // A tree refined at run time, as a saved game keeps it.
+  build_refined_tree(&tree);
+  snprintf(path, sizeof path, "%s/refined.glb", dir);
+  ENSURE_MSG(bk_mesh_tree_save_gltf(&tree, path, NULL, &err), "%s", err.message);
+  print_expected(path, &tree, BK_GLTF_LEVELS_HIERARCHY);
+  printf(" --materials 2\n");
+  bk_mesh_tree_free(&tree);
   return 0;
+}
+
+// A refined tree saves to .glb and loads back whole: every node, leaf and
+// bond, valid.
+static void test_refined(void) {
+  bk_mesh_tree tree = {0}, back = {0};
+  build_refined_tree(&tree);
+  bk_error err = {{0}};
+  ENSURE_MSG(bk_mesh_tree_validate(&tree, &err), "%s", err.message);
+  const char* path = BK_TEST_TMP "/refined.glb";
+  ENSURE_MSG(bk_mesh_tree_save_gltf(&tree, path, NULL, &err), "%s", err.message);
+  ENSURE_MSG(bk_mesh_tree_load_gltf(path, &back, &err), "%s", err.message);
+  ENSURE(back.node_count == tree.node_count && back.leaf_count == tree.leaf_count &&
+         back.bond_count == tree.bond_count && back.max_depth == tree.max_depth);
+  for (uint32_t j = 0; j < tree.bond_count; ++j)
+    ENSURE(back.bonds[j].leaf_a == tree.bonds[j].leaf_a && back.bonds[j].leaf_b == tree.bonds[j].leaf_b &&
+           back.bonds[j].area == tree.bonds[j].area);
+  for (uint32_t i = 0; i < tree.node_count; ++i)
+    ENSURE(back.nodes[i].mesh.triangle_count == tree.nodes[i].mesh.triangle_count &&
+           back.nodes[i].parent == tree.nodes[i].parent);
+  bk_mesh_tree_free(&back);
+  bk_mesh_tree_free(&tree);
 }
 
 int main(int argc, char** argv) {
   if (argc == 3 && strcmp(argv[1], "--export") == 0) return export_for_js(argv[2]);
   RUN(test_exports);
+  RUN(test_refined);
   RUN(test_damaged);
   RUN(test_save_errors);
   RUN(test_two_materials);

@@ -12,12 +12,15 @@
 #include "tree_bonds.h"
 #include "tree_bytes.h"
 
+static double noise = 0.0; // the source trees' cut faces' noise amplitude
+
 static bk_mesh_tree build(bk_shape shape, bk_fracture_pattern pattern, uint32_t pieces) {
   bk_mesh mesh = {0};
   bk_shape_build(shape, &mesh);
   bk_fracture_def def = bk_default_fracture_def();
   def.pattern = pattern;
   def.pieces = pieces;
+  def.noise_amplitude = noise;
   def.aspect_bias = 1.5;
   bk_mesh_tree tree = {0};
   bk_error err = {0};
@@ -142,6 +145,9 @@ int main(void) {
   test_refine(BK_SHAPE_WALL, BK_PATTERN_VORONOI, BK_PATTERN_RADIAL);
   test_refine(BK_SHAPE_WALL, BK_PATTERN_PLANES, BK_PATTERN_VORONOI);
   test_refine(BK_SHAPE_TORUS, BK_PATTERN_PLANES, BK_PATTERN_PLANES);
+  noise = 0.02; // curved cut faces: each bond is many small tilted contacts
+  test_refine(BK_SHAPE_TORUS, BK_PATTERN_VORONOI, BK_PATTERN_RADIAL);
+  noise = 0.0;
   test_refused();
   printf("refine tree ok\n");
   return 0;

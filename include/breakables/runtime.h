@@ -12,14 +12,16 @@
 //   3. feeds it contacts (bk_runtime_apply_contacts) or blasts
 //      (bk_runtime_damage_at), and, for structures, the weights they carry
 //      (bk_runtime_solve_stress: bonds also break under load), then calls
-//      bk_runtime_split.
-// Events are never lost: every call that changes clusters or bonds
+//      bk_runtime_refine (fragments hit hard enough are fractured again
+//      around the hit: bk_refine_def) and bk_runtime_split.
+// Events are never lost: every call that changes clusters, bonds or trees
 // (add_breakable, apply_contacts, damage_at, solve_stress,
-// apply_fracture_commands, split, remove_cluster, remove_breakable) adds to
-// three lists (created clusters, removed clusters, broken bonds) that
-// accumulate until you call bk_runtime_clear_events. Read them as often as
-// you like into buffers you own (capacity in, count out), act on them (make
-// and remove bodies), then clear: once a step, after the runtime's calls of
+// apply_fracture_commands, refine, split, remove_cluster, remove_breakable)
+// adds to four lists (created clusters, removed clusters, broken bonds,
+// refined fragments) that accumulate until you call
+// bk_runtime_clear_events. Read them as often as you like into buffers you
+// own (capacity in, count out), act on them (make and remove bodies), then
+// clear: once a step, after the runtime's calls of
 // that step, is the usual rule (Box2D's events likewise live until the next
 // step). A cluster created and removed between two clears appears in neither
 // list; until you clear, the runtime answers itself where a cluster you have
@@ -27,7 +29,8 @@
 // bk_body_state_fn only about the others.
 // Setters, queries and calls that fail add nothing.
 // Same calls with the same inputs give the same results, bit for bit.
-// A runtime is not thread-safe: call it from one thread at a time.
+// A runtime is not thread-safe: call it from one thread at a time (its own
+// refinement workers touch nothing of it but the meshes they fracture).
 #pragma once
 
 #include <stdbool.h>

@@ -3,11 +3,13 @@
 // small trees built once (a cube in 8 and in 27 pieces, a tower in 12 that
 // stands on y = 0, a cube left whole: one leaf, no bonds).
 //
-// Input: byte 0 sets the runtime (split budget, stress budget), then each
-// op is one byte (op % 10) followed by its arguments, read on demand (an
+// Input: byte 0 sets the runtime (split budget, stress budget), byte 1 its
+// refinement (latency, a worker or not, per call), then each op is one byte
+// (op % 11) followed by its arguments, read on demand (an
 // input that runs out reads zeros and stops at the next op):
 //   0 add a breakable (tree, anchored, transform, material: NaN, huge and
-//     non-unit values included; its user data)    1 contacts    2 damage
+//     non-unit values included; its user data; refinement where it is
+//     hit)    1 contacts    2 damage
 //   at a point    3 split    4 remove a cluster or a whole breakable
 //   5 setters (material, frailty, density, bond strength, a cluster's user
 //   data, gravity)    6 stress solves (1..32 calls, random gravity,
@@ -15,7 +17,7 @@
 //   ones, applied)    7 move a body (the caller's physics; NaN and
 //   huge states included)    8 pull the events into small buffers, then
 //   take them or leave them to accumulate    9 queries with stale and
-//   forged ids.
+//   forged ids    10 refine (lands refinements: the tracked leaves renumbered).
 // Numbers come from a table of the usual suspects (0, -0, NaN, +-inf,
 // +-1e300, denormals) and of plausible values. Ids come live, stale
 // (removed), forged (wrong generation, index out of range) or null.
@@ -206,6 +208,9 @@ static bk_material pick_material(reader* r) {
   case 10:
     m.accumulate = !m.accumulate;
     break;
+  case 11:
+    m.refine_strength = pick_double(r, 2e4); // refinement (bk_runtime_refine)
+    break;
   default:
     break;
   }
@@ -224,6 +229,15 @@ static void op_add(session* s, reader* r) {
   if (flags & 8) def.material = pick_material(r);
   if (flags & 16) def.anchor_height = pick_double(r, 0.1);
   if (flags & 32) def.tree = NULL;
+  if (flags & 64) { // refines where it is hit: few pieces, not too small (the leaves stay under MAX_LEAVES)
+    uint8_t how = u8(r);
+    static const bk_fracture_pattern patterns[4] = {BK_PATTERN_RADIAL, BK_PATTERN_VORONOI, BK_PATTERN_PLANES,
+                                                    BK_PATTERN_BRICK};
+    def.refine.pattern = patterns[how % 4];
+    def.refine.pieces = 1u + (how >> 2) % 4u; // 1: refused
+    def.refine.min_size = (how & 64) ? 0.15 : 0.3;
+    def.material.refine_strength = (how & 128) ? 1e3 : def.material.bond_strength / 8.0;
+  }
   if (s->breakable_count == MAX_BREAKABLES || bk_runtime_get_stats(s->rt).breakables == MAX_LIVE_BREAKABLES)
     return;
   tracked* tb = &s->breakables[s->breakable_count];
@@ -287,6 +301,36 @@ static void op_split(session* s) {
   if (s->live_count + splits != live_before + made)
     bk_fuzz_fail("split: returned %u made by %u splits, the live count went from %u to %u", made, splits,
                  live_before, s->live_count);
+}
+
+// Lands and starts refinements: leaves renumbered (the tracked retired
+// leaves with them), bonds broken by the hits that waited, no cluster made
+// or removed.
+static void op_refine(session* s) {
+  uint32_t live_before = s->live_count, bonds_before = s->bonds_broken;
+  uint32_t events_before = bk_runtime_refined_leaves(s->rt, NULL, 0);
+  uint32_t landed = bk_runtime_refine(s->rt);
+  uint32_t events = bk_runtime_refined_leaves(s->rt, NULL, 0);
+  if (events != events_before + landed)
+    bk_fuzz_fail("refine: landed %u, refined events went from %u to %u", landed, events_before, events);
+  bk_leaf_refined* refined = calloc(events + 1u, sizeof *refined);
+  bk_runtime_refined_leaves(s->rt, refined, events);
+  for (uint32_t i = events_before; i < events; ++i) {
+    tracked* tb = bk_fuzz_find_tracked(s, refined[i].breakable);
+    const bk_splice_info* sp = &refined[i].splice;
+    const bk_mesh_tree* tree = tb ? bk_runtime_breakable_tree(s->rt, tb->id) : NULL;
+    if (!tb || !tree || sp->leaf_count < 2 || sp->leaf + sp->leaf_count > tree->leaf_count ||
+        tree->leaf_count > MAX_LEAVES || refined[i].breakable_user_data != &tb->tag)
+      bk_fuzz_fail("refine: event %u names no refined leaf of a live breakable", i);
+    uint32_t grow = sp->leaf_count - 1, old_count = tree->leaf_count - grow;
+    memmove(tb->retired + sp->leaf + sp->leaf_count, tb->retired + sp->leaf + 1, old_count - sp->leaf - 1);
+    memset(tb->retired + sp->leaf, tb->retired[sp->leaf], sp->leaf_count);
+    tb->refined = true;
+  }
+  free(refined);
+  bk_fuzz_check_state(s, "refine");
+  bk_fuzz_check_results(s, "refine", live_before, bonds_before, true);
+  if (s->live_count != live_before) bk_fuzz_fail("refine: the live count changed");
 }
 
 // Removes a whole breakable: its clusters go (those the caller was given
@@ -503,7 +547,7 @@ static void op_stress(session* s, reader* r) {
   bk_bond_stress st = {0};
   bool known = bk_runtime_bond_stress(s->rt, id, bond, &st);
   const tracked* tb = bk_fuzz_find_tracked(s, id);
-  if (known && (!tb || bond >= bk_fuzz_trees[tb->tree].bond_count))
+  if (known && (!tb || bond >= bk_runtime_breakable_tree(s->rt, tb->id)->bond_count))
     bk_fuzz_fail("bond_stress: answered for a stale id or bond %u", bond);
   if (known && !(st.compression >= 0.0 && st.tension >= 0.0 && st.shear >= 0.0 && st.ratio >= 0.0))
     bk_fuzz_fail("bond_stress: bond %u: %g %g %g ratio %g", bond, st.compression, st.tension, st.shear,
@@ -542,10 +586,11 @@ static void op_query(session* s, reader* r) {
   const tracked* tb = bk_fuzz_find_tracked(s, id);
   uint32_t leaf = u8(r) % 40, bond = u8(r);
   bk_cluster_id owner = bk_runtime_leaf_cluster(s->rt, id, leaf);
-  if (!bk_cluster_is_null(owner) && (!tb || leaf >= bk_fuzz_trees[tb->tree].leaf_count))
+  const bk_mesh_tree* tree = tb ? bk_runtime_breakable_tree(s->rt, tb->id) : NULL;
+  if (!bk_cluster_is_null(owner) && (!tree || leaf >= tree->leaf_count))
     bk_fuzz_fail("leaf_cluster: stale breakable or leaf %u has a cluster", leaf);
   double initial = -1.0, health = bk_runtime_bond_health(s->rt, id, bond, &initial);
-  if (!tb || bond >= bk_fuzz_trees[tb->tree].bond_count) {
+  if (!tree || bond >= tree->bond_count) {
     if (health != 0.0 || initial != 0.0)
       bk_fuzz_fail("bond_health: stale id or bond %u has %g of %g", bond, health, initial);
   } else if (!(health >= 0.0 && health <= initial && isfinite(initial))) {
@@ -570,13 +615,17 @@ int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   uint8_t setup = u8(&r);
   def.max_new_clusters_per_split = setup & 1 ? 2u + setup % 5u : 48u;
   def.stress_budget = setup & 2 ? 1u + (uint32_t)(setup >> 2) * 40u : 16000u;
+  uint8_t refine_setup = u8(&r);
+  def.refine_latency = refine_setup % 3u;
+  def.refine_threads = (refine_setup >> 2) & 1u;
+  def.max_refinements_per_call = 1u + (refine_setup >> 3) % 3u;
   def.body_state = body_state;
   def.context = s;
   bk_error err = {{0}};
   s->rt = bk_runtime_create(&def, &err);
   if (!s->rt) bk_fuzz_fail("cannot create a runtime: %s", err.message);
   for (uint32_t op = 0; op < MAX_OPS && r.at < r.size; ++op) {
-    switch (u8(&r) % 10) {
+    switch (u8(&r) % 11) {
     case 0:
       op_add(s, &r);
       break;
@@ -604,8 +653,11 @@ int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     case 8:
       op_pull(s, &r);
       break;
-    default:
+    case 9:
       op_query(s, &r);
+      break;
+    default:
+      op_refine(s);
       break;
     }
   }

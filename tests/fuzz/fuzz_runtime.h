@@ -16,7 +16,7 @@ enum {
   MAX_OPS = 400,
   STALE_IDS = 16,
   MAX_CLUSTERS = 4096, // more than 8 breakables of 27 leaves can make
-  MAX_LEAVES = 64,     // of a tree
+  MAX_LEAVES = 4096,   // of a tree, refined ones included
 };
 #define REL_TOLERANCE 1e-9
 
@@ -33,6 +33,7 @@ typedef struct tracked {
   uint32_t tree;
   char tag;                    // its user data is &tag
   bool removed;                // by bk_runtime_remove_breakable: its id is stale
+  bool refined;                // a fragment of it was refined: its tree is the runtime's copy
   uint8_t retired[MAX_LEAVES]; // leaves whose cluster was removed
   double removed_volume;
 } tracked;

@@ -74,10 +74,17 @@ void bk_fuzz_check_state(session* s, const char* call) {
         bk_fuzz_fail("%s: removed breakable %u still answers", call, t);
       continue;
     }
-    const bk_mesh_tree* tree = &bk_fuzz_trees[tb->tree];
-    if (bk_runtime_breakable_tree(rt, tb->id) != tree)
+    // Its tree is the one it was made from until a fragment of it was
+    // refined, then the runtime's own copy, grown from it.
+    const bk_mesh_tree* tree = bk_runtime_breakable_tree(rt, tb->id);
+    if (!tree || (!tb->refined && tree != &bk_fuzz_trees[tb->tree]) ||
+        (tb->refined &&
+         (tree == &bk_fuzz_trees[tb->tree] || tree->leaf_count <= bk_fuzz_trees[tb->tree].leaf_count)))
       bk_fuzz_fail("%s: breakable %u lost its tree", call, t);
-    uint8_t owners[MAX_LEAVES] = {0};
+    if (tree->leaf_count > MAX_LEAVES)
+      bk_fuzz_fail("%s: breakable %u has %u leaves", call, t, tree->leaf_count);
+    static uint8_t owners[MAX_LEAVES];
+    memset(owners, 0, sizeof owners);
     double volume = tb->removed_volume, mass = 0.0;
     double density = bk_runtime_density(rt, tb->id);
     for (uint32_t i = 0; i < live; ++i) {
@@ -182,7 +189,8 @@ void bk_fuzz_check_results(session* s, const char* call, uint32_t live_before, u
   bk_runtime_broken_bonds(rt, b, broken);
   for (uint32_t i = s->broken; i < broken; ++i) { // this call's
     const tracked* tb = bk_fuzz_find_tracked(s, b[i].breakable);
-    if (!tb || b[i].bond >= bk_fuzz_trees[tb->tree].bond_count)
+    const bk_mesh_tree* tree = tb ? bk_runtime_breakable_tree(rt, tb->id) : NULL;
+    if (!tb || (tree && b[i].bond >= tree->bond_count))
       bk_fuzz_fail("%s: broken bond %u of an unknown breakable", call, b[i].bond);
     if (b[i].breakable_user_data != &tb->tag)
       bk_fuzz_fail("%s: broken bond %u: not its breakable's user data", call, b[i].bond);

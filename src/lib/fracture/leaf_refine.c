@@ -67,15 +67,32 @@ static bool divide_bonds(const bk_mesh_tree* tree, uint32_t leaf, const bk_mesh_
     d->bond = j;
     d->neighbour = b->leaf_a == leaf ? b->leaf_b : b->leaf_a;
     d->parts = bk_calloc(pieces->leaf_count, sizeof(bk_contact_measure));
-    // The neighbour's triangles on this face: those facing the leaf's own.
-    bk_contact_side other = {0};
-    bk_contact_side_gather(&bk_mesh_tree_leaf(tree, d->neighbour)->mesh, node->bounds, tolerance, &other);
-    bk_contact_side_keep_facing(&other, &own, tolerance);
+    // The neighbour's triangles on this face: those facing the leaf's own
+    // (both sides taken where the two leaves' boxes meet).
+    const bk_mesh_tree_node* neighbour = bk_mesh_tree_leaf(tree, d->neighbour);
+    bk_contact_side other = {0}, near = {0};
+    bk_contact_side_gather(&neighbour->mesh, node->bounds, tolerance, &other);
+    bk_contact_side_subset(&own, neighbour->bounds, tolerance, &near);
+    bk_contact_side_keep_facing(&other, &near, tolerance);
+    bk_contact_side_keep_facing(&near, &other, tolerance);
+    // When the leaf's side of the face is all in contact (its area is the
+    // bond's: cell patterns share faces exactly), a piece's contact is its
+    // triangles that are pieces of that side's: those in its plane when it
+    // is flat and no other triangle of the leaf is there, else those inside
+    // its triangles. Else they are clipped against the neighbour's.
+    double own_area = bk_contact_side_area(&near), bond_area = tree->bonds[j].area;
+    bool covered = fabs(own_area - bond_area) <= 1e-9 * bond_area;
+    bk_plane plane = {{0, 0, 0}, 0};
+    bool flat = covered && bk_contact_side_plane(&near, tolerance, &plane) &&
+                fabs(bk_contact_side_on_plane(&own, plane, tolerance).area - own_area) <= 1e-9 * own_area;
     double total = 0.0;
     for (uint32_t p = 0; p < pieces->leaf_count; ++p) {
-      d->parts[p] = bk_contact_sides_measure(&sides[p], &other, tolerance);
+      d->parts[p] = flat      ? bk_contact_side_on_plane(&sides[p], plane, tolerance)
+                    : covered ? bk_contact_side_parts_of(&sides[p], &near, tolerance)
+                              : bk_contact_sides_measure(&sides[p], &other, tolerance);
       total += d->parts[p].area;
     }
+    bk_contact_sides_free(&near);
     bk_contact_sides_free(&other);
     // Slivers of area from rounding at a face's rim are no contact.
     for (uint32_t p = 0; p < pieces->leaf_count; ++p) {

@@ -16,18 +16,26 @@ typedef struct tri_info {
   bk_aabb box;
 } tri_info;
 
-static bool tri_measure(const bk_mesh* mesh, uint32_t t, tri_info* out) {
+static bool boxes_touch(bk_aabb a, bk_aabb b, double tolerance);
+
+// An interior triangle whose box touches `within`, measured (else false).
+static bool tri_measure(const bk_mesh* mesh, uint32_t t, bk_aabb within, double tolerance, tri_info* out) {
   if (!bk_material_is_interior(mesh->materials[t])) return false;
   for (int k = 0; k < 3; ++k)
     out->p[k] = mesh->positions[bk_mesh_tri_position(mesh, t, (uint32_t)k)];
+  out->box = (bk_aabb){bk_v3_min(out->p[0], bk_v3_min(out->p[1], out->p[2])),
+                       bk_v3_max(out->p[0], bk_v3_max(out->p[1], out->p[2]))};
+  if (!boxes_touch(out->box, within, tolerance)) return false;
   bk_vec3 n = bk_v3_cross(bk_v3_sub(out->p[1], out->p[0]), bk_v3_sub(out->p[2], out->p[0]));
   double length = bk_v3_length(n);
   if (!(length > 0.0)) return false; // no area: touches nothing
   out->normal = bk_v3_scale(n, 1.0 / length);
   out->offset = bk_v3_dot(out->normal, out->p[0]);
-  out->box = (bk_aabb){bk_v3_min(out->p[0], bk_v3_min(out->p[1], out->p[2])),
-                       bk_v3_max(out->p[0], bk_v3_max(out->p[1], out->p[2]))};
   return true;
+}
+
+static double tri_area(const tri_info* t) {
+  return 0.5 * bk_v3_length(bk_v3_cross(bk_v3_sub(t->p[1], t->p[0]), bk_v3_sub(t->p[2], t->p[0])));
 }
 
 static bool boxes_touch(bk_aabb a, bk_aabb b, double tolerance) {
@@ -117,6 +125,15 @@ static void overlap_add(const tri_info* a, const tri_info* b, double* area, bk_v
   *moment = bk_v3_add(*moment, bk_v3_scale(centroid, a_area));
 }
 
+static bk_contact_measure finish(double area, bk_vec3 moment, bk_vec3 normal) {
+  bk_contact_measure out = {0};
+  if (!(area > 0.0)) return out;
+  out.area = area;
+  out.centroid = bk_v3_scale(moment, 1.0 / area);
+  out.normal = bk_v3_normalize(normal); // a's outward normal: from a to b
+  return out;
+}
+
 void bk_contact_sides_free(bk_contact_side* side) {
   bk_free(side->tris);
   memset(side, 0, sizeof *side);
@@ -129,10 +146,25 @@ void bk_contact_side_gather(const bk_mesh* mesh, bk_aabb within, double toleranc
   tri_info* tris = out->tris;
   for (uint32_t t = 0; t < mesh->triangle_count; ++t) {
     tri_info info = {0};
-    if (!tri_measure(mesh, t, &info) || !boxes_touch(info.box, within, tolerance)) continue;
+    if (!tri_measure(mesh, t, within, tolerance, &info)) continue;
     tris[out->count++] = info;
     out->box.min = bk_v3_min(out->box.min, info.box.min);
     out->box.max = bk_v3_max(out->box.max, info.box.max);
+  }
+}
+
+void bk_contact_side_subset(const bk_contact_side* from, bk_aabb within, double tolerance,
+                            bk_contact_side* out) {
+  memset(out, 0, sizeof *out);
+  out->tris = bk_alloc(sizeof(tri_info) * (from->count + 1u));
+  out->box = (bk_aabb){{INFINITY, INFINITY, INFINITY}, {-INFINITY, -INFINITY, -INFINITY}};
+  const tri_info* all = from->tris;
+  tri_info* tris = out->tris;
+  for (uint32_t i = 0; i < from->count; ++i) {
+    if (!boxes_touch(all[i].box, within, tolerance)) continue;
+    tris[out->count++] = all[i];
+    out->box.min = bk_v3_min(out->box.min, all[i].box.min);
+    out->box.max = bk_v3_max(out->box.max, all[i].box.max);
   }
 }
 
@@ -156,8 +188,7 @@ void bk_contact_side_keep_facing(bk_contact_side* side, const bk_contact_side* o
 
 bk_contact_measure bk_contact_sides_measure(const bk_contact_side* a, const bk_contact_side* b,
                                             double tolerance) {
-  bk_contact_measure out = {0};
-  if (!a->count || !b->count || !boxes_touch(a->box, b->box, tolerance)) return out;
+  if (!a->count || !b->count || !boxes_touch(a->box, b->box, tolerance)) return (bk_contact_measure){0};
   const tri_info* ta = a->tris;
   const tri_info* tb = b->tris;
   double area = 0.0;
@@ -171,11 +202,85 @@ bk_contact_measure bk_contact_sides_measure(const bk_contact_side* a, const bk_c
       normal = bk_v3_add(normal, bk_v3_scale(ta[i].normal, area - before));
     }
   }
-  if (!(area > 0.0)) return out;
-  out.area = area;
-  out.centroid = bk_v3_scale(moment, 1.0 / area);
-  out.normal = bk_v3_normalize(normal); // a's outward normal: from a to b
-  return out;
+  return finish(area, moment, normal);
+}
+
+double bk_contact_side_area(const bk_contact_side* side) {
+  const tri_info* t = side->tris;
+  double area = 0.0;
+  for (uint32_t i = 0; i < side->count; ++i)
+    area += tri_area(&t[i]);
+  return area;
+}
+
+// Whether point p (on t's plane, within tolerance) lies inside triangle t.
+static bool inside_triangle(const tri_info* t, bk_vec3 p, double tolerance) {
+  if (fabs(bk_v3_dot(t->normal, p) - t->offset) > tolerance) return false;
+  for (int k = 0; k < 3; ++k) {
+    bk_vec3 edge = bk_v3_sub(t->p[(k + 1) % 3], t->p[k]);
+    bk_vec3 inward = bk_v3_cross(t->normal, edge); // points into the triangle
+    double length = bk_v3_length(inward);
+    if (!(length > 0.0) || bk_v3_dot(inward, bk_v3_sub(p, t->p[k])) < -tolerance * length) return false;
+  }
+  return true;
+}
+
+bk_contact_measure bk_contact_side_parts_of(const bk_contact_side* a, const bk_contact_side* on,
+                                            double tolerance) {
+  if (!a->count || !on->count || !boxes_touch(a->box, on->box, tolerance)) return (bk_contact_measure){0};
+  const tri_info* ta = a->tris;
+  const tri_info* to = on->tris;
+  double area = 0.0;
+  bk_vec3 moment = {0}, normal = {0};
+  for (uint32_t i = 0; i < a->count; ++i) {
+    if (!boxes_touch(ta[i].box, on->box, tolerance)) continue;
+    bk_vec3 centroid = bk_v3_scale(bk_v3_add(ta[i].p[0], bk_v3_add(ta[i].p[1], ta[i].p[2])), 1.0 / 3.0);
+    for (uint32_t j = 0; j < on->count; ++j) {
+      if (!boxes_touch(ta[i].box, to[j].box, tolerance) || !(bk_v3_dot(ta[i].normal, to[j].normal) > 0.99) ||
+          !inside_triangle(&to[j], centroid, tolerance))
+        continue;
+      double part = tri_area(&ta[i]);
+      area += part;
+      moment = bk_v3_add(moment, bk_v3_scale(centroid, part));
+      normal = bk_v3_add(normal, bk_v3_scale(ta[i].normal, part));
+      break;
+    }
+  }
+  return finish(area, moment, normal);
+}
+
+bool bk_contact_side_plane(const bk_contact_side* side, double tolerance, bk_plane* plane) {
+  const tri_info* t = side->tris;
+  if (!side->count) return false;
+  // The largest triangle's plane: the most precise normal.
+  uint32_t best = 0;
+  for (uint32_t i = 1; i < side->count; ++i)
+    if (tri_area(&t[i]) > tri_area(&t[best])) best = i;
+  *plane = (bk_plane){t[best].normal, t[best].offset};
+  for (uint32_t i = 0; i < side->count; ++i)
+    for (int k = 0; k < 3; ++k)
+      if (!(fabs(bk_plane_distance(*plane, t[i].p[k])) <= tolerance) ||
+          !(bk_v3_dot(t[i].normal, plane->normal) > 0.0))
+        return false;
+  return true;
+}
+
+bk_contact_measure bk_contact_side_on_plane(const bk_contact_side* a, bk_plane plane, double tolerance) {
+  const tri_info* t = a->tris;
+  double area = 0.0;
+  bk_vec3 moment = {0}, normal = {0};
+  for (uint32_t i = 0; i < a->count; ++i) {
+    bool on = bk_v3_dot(t[i].normal, plane.normal) > 0.0;
+    for (int k = 0; k < 3 && on; ++k)
+      on = fabs(bk_plane_distance(plane, t[i].p[k])) <= tolerance;
+    if (!on) continue;
+    double part = tri_area(&t[i]);
+    bk_vec3 centroid = bk_v3_scale(bk_v3_add(t[i].p[0], bk_v3_add(t[i].p[1], t[i].p[2])), 1.0 / 3.0);
+    area += part;
+    moment = bk_v3_add(moment, bk_v3_scale(centroid, part));
+    normal = bk_v3_add(normal, bk_v3_scale(t[i].normal, part));
+  }
+  return finish(area, moment, normal);
 }
 
 bk_contact_measure bk_mesh_contact(const bk_mesh* a, const bk_mesh* b, double tolerance) {

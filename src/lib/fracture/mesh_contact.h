@@ -14,10 +14,27 @@ typedef struct bk_contact_side {
 
 /// The interior triangles of `mesh` whose boxes touch `within`.
 void bk_contact_side_gather(const bk_mesh* mesh, bk_aabb within, double tolerance, bk_contact_side* out);
+/// The triangles of `from` whose boxes touch `within`.
+void bk_contact_side_subset(const bk_contact_side* from, bk_aabb within, double tolerance,
+                            bk_contact_side* out);
 /// Keeps only the triangles of `side` that face one of `other`'s (a smaller
 /// set to measure many meshes against).
 void bk_contact_side_keep_facing(bk_contact_side* side, const bk_contact_side* other, double tolerance);
 /// The contact of the two sides' triangles (area 0: none); normal from a to b.
 bk_contact_measure bk_contact_sides_measure(const bk_contact_side* a, const bk_contact_side* b,
                                             double tolerance);
+/// The total area of a side's triangles.
+double bk_contact_side_area(const bk_contact_side* side);
+/// The part of `a` made of pieces of `on`'s triangles: each triangle of `a`
+/// whose centroid lies inside a triangle of `on` facing the same way counts
+/// whole (a refined leaf's pieces' triangles on a face are pieces of the
+/// leaf's own triangles there); normal a's.
+bk_contact_measure bk_contact_side_parts_of(const bk_contact_side* a, const bk_contact_side* on,
+                                            double tolerance);
+/// Whether all of a side's triangles lie in one plane (within tolerance),
+/// facing one way: that plane, its normal theirs.
+bool bk_contact_side_plane(const bk_contact_side* side, double tolerance, bk_plane* plane);
+/// The part of `a` in a plane: its triangles whose corners lie on it
+/// (within tolerance), facing its normal.
+bk_contact_measure bk_contact_side_on_plane(const bk_contact_side* a, bk_plane plane, double tolerance);
 void bk_contact_sides_free(bk_contact_side* side);

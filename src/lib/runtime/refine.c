@@ -259,6 +259,7 @@ static bool land(bk_runtime* rt, rt_refine_job* job) {
   if (n->child_count != 0) return false;
   uint32_t leaf = n->leaf_begin;
   b->leaf_refining[leaf] = 0;
+  if (b->leaf_cluster[leaf] == UINT32_MAX) return false; // taken out meanwhile: nothing to refine
   bool ok = job->ok;
   bk_splice_info info = {0};
   if (ok) {
