@@ -35,6 +35,12 @@ SAMPLES = [
                    "step_ms_max", "mass_rel_error", "nan", "pattern", "patterns"],
         "timings": ["step_ms_median", "step_ms_max"],
     },
+    {
+        "args": ["sim", "--scene", "wall", "--pieces", "64", "--refine", "--shots", "3", "--json"],
+        "fields": ["scene", "pieces", "shots", "bodies_final", "bonds_broken", "colliders_final", "fragments_free",
+                   "break_ms_max", "refined_leaves", "leaves_final", "refine_ms_p99", "refine_ms_max"],
+        "timings": ["break_ms_max", "refine_ms_p99", "refine_ms_max"],
+    },
 ]
 # The README's blocks are 120 columns at most; a field is never split.
 WIDTH = 120

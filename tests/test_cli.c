@@ -514,7 +514,7 @@ static void test_number_options(void) {
       {"editor", "0..3"},
       {"editor", "64..8192"},
       {"bench", "0..18446744073709551615"},
-      {"bench", "1..9"},
+      {"bench", "1..10"},
       {"sim", "0..1000 ms"},
       {"sim", "1..64"},
       {"play", "0..1000 ms"},

@@ -231,14 +231,103 @@ static void test_bench_budget(const char* report) {
   ENSURE(strstr(report, "and does what the player sees stay?**") != NULL);
 }
 
+// 10. Refinement (--quick): four arcs of a torus each hit once, through the
+// world and the runtime alone, on a worker and synchronous, and the walls of
+// 64 (refined and not) and 1024 shot alike.
+static void test_bench_refine(const char* report) {
+  const csv_table* t =
+      read_csv("refine_speed",
+               "setup,latency,hits,refined,leaf_triangles,refine_ms_p50,refine_ms_p99,refine_ms_"
+               "max,start_ms_max,bodies_ms_p50,bodies_ms_p99,bodies_ms_max,step_ms_p99,steps_"
+               "to_bodies_max,target_met",
+               5);
+  static const char* const setups[] = {"world: on a worker", "world: synchronous", "runtime: on a worker",
+                                       "runtime: synchronous", "worker: the fracture alone"};
+  const char* times[] = {"refine_ms_p50", "refine_ms_p99", "refine_ms_max", "leaf_triangles"};
+  ensure_positive(t, times, sizeof times / sizeof *times);
+  for (uint32_t i = 0; i < 5; ++i) {
+    ENSURE_MSG(strcmp(csv_field(t, i, "setup"), setups[i]) == 0, "row %u: %s", i, csv_field(t, i, "setup"));
+    // Each hit refines the arc it strikes, and no other.
+    ENSURE(csv_number(t, i, "hits") == 4.0 && csv_number(t, i, "refined") == 4.0);
+    ENSURE(csv_number(t, i, "refine_ms_p50") <= csv_number(t, i, "refine_ms_p99") &&
+           csv_number(t, i, "refine_ms_p99") <= csv_number(t, i, "refine_ms_max"));
+    if (i == 4) {
+      ENSURE(strcmp(csv_field(t, i, "latency"), "-") == 0 && strcmp(csv_field(t, i, "target_met"), "-") == 0);
+      continue;
+    }
+    // On a worker the pieces have bodies in the step after the hit's, synchronous in the hit's own.
+    double latency = csv_number(t, i, "latency");
+    ENSURE(latency == (i % 2 == 0 ? 1.0 : 0.0));
+    ENSURE_MSG(csv_number(t, i, "steps_to_bodies_max") == latency + 1.0, "row %u: %s steps", i,
+               csv_field(t, i, "steps_to_bodies_max"));
+    ENSURE(csv_number(t, i, "bodies_ms_p50") > 0.0 &&
+           csv_number(t, i, "bodies_ms_p50") <= csv_number(t, i, "bodies_ms_max"));
+    ENSURE(csv_number(t, i, "step_ms_p99") >= csv_number(t, i, "bodies_ms_p50"));
+    bool met = csv_number(t, i, "step_ms_p99") <= 2.0;
+    ENSURE_MSG(strcmp(csv_field(t, i, "target_met"), met ? "yes" : "no") == 0, "row %u: target_met '%s'", i,
+               csv_field(t, i, "target_met"));
+  }
+  // What the worker buys: the landing call no longer fractures.
+  ENSURE_MSG(csv_number(t, 2, "refine_ms_p50") < csv_number(t, 3, "refine_ms_p50"),
+             "the runtime lands a refinement in %s ms on a worker, %s synchronous",
+             csv_field(t, 2, "refine_ms_p50"), csv_field(t, 3, "refine_ms_p50"));
+  ENSURE(csv_number(t, 3, "refine_ms_p50") > csv_number(t, 4, "refine_ms_p50") * 0.5);
+
+  t = read_csv(
+      "refine_walls",
+      "wall,refine,fragments_load,fragments_end,refined_leaves,tree_kb_load,tree_kb_end,fracture_ms,cached_"
+      "load_ms,bodies_max,bodies_end,colliders_max,colliders_end,near_shot_mean,near_shot_min,near_shot_"
+      "max,physics_ms_mean,physics_ms_p99,refine_ms_p99,refine_ms_max,bodies_ms_p99,bodies_ms_max",
+      3);
+  const char* positive[] = {"fragments_load", "tree_kb_load",  "fracture_ms",    "cached_load_ms",
+                            "bodies_end",     "colliders_end", "near_shot_mean", "physics_ms_p99"};
+  ensure_positive(t, positive, sizeof positive / sizeof *positive);
+  const double pieces[] = {64, 64, 1024};
+  for (uint32_t i = 0; i < 3; ++i) {
+    bool refined = i == 1;
+    ENSURE(csv_number(t, i, "wall") == pieces[i] && csv_number(t, i, "fragments_load") == pieces[i]);
+    ENSURE(strcmp(csv_field(t, i, "refine"), refined ? "yes" : "no") == 0);
+    ENSURE(csv_number(t, i, "bodies_max") >= csv_number(t, i, "bodies_end") &&
+           csv_number(t, i, "colliders_max") >= csv_number(t, i, "colliders_end"));
+    ENSURE(csv_number(t, i, "near_shot_min") <= csv_number(t, i, "near_shot_mean") &&
+           csv_number(t, i, "near_shot_mean") <= csv_number(t, i, "near_shot_max") &&
+           csv_number(t, i, "near_shot_max") <= csv_number(t, i, "fragments_end"));
+    if (!refined) {
+      // Without refinement the tree is the one loaded, to the end.
+      ENSURE(csv_number(t, i, "refined_leaves") == 0.0 && csv_number(t, i, "refine_ms_max") == 0.0);
+      ENSURE(csv_number(t, i, "fragments_end") == pieces[i]);
+      ENSURE(strcmp(csv_field(t, i, "tree_kb_end"), csv_field(t, i, "tree_kb_load")) == 0);
+    }
+  }
+  // Refinement grew the coarse wall where it was shot: more fragments near
+  // the shots than the coarse wall has, fewer in all than the fine wall.
+  ENSURE(csv_number(t, 1, "refined_leaves") > 0.0 && csv_number(t, 1, "refine_ms_max") > 0.0);
+  ENSURE(csv_number(t, 1, "fragments_end") > 64.0 &&
+         csv_number(t, 1, "tree_kb_end") > csv_number(t, 1, "tree_kb_load"));
+  ENSURE_MSG(csv_number(t, 1, "near_shot_mean") > 2.0 * csv_number(t, 0, "near_shot_mean"),
+             "near the shots: %s fragments refined, %s coarse", csv_field(t, 1, "near_shot_mean"),
+             csv_field(t, 0, "near_shot_mean"));
+  ENSURE_MSG(csv_number(t, 1, "fragments_end") < csv_number(t, 2, "fragments_end"),
+             "the refined wall ends with %s fragments, the 1024 wall %s", csv_field(t, 1, "fragments_end"),
+             csv_field(t, 2, "fragments_end"));
+  ENSURE(csv_number(t, 2, "fracture_ms") > csv_number(t, 0, "fracture_ms") &&
+         csv_number(t, 2, "tree_kb_load") > csv_number(t, 0, "tree_kb_load"));
+  const char* answers[] = {"**Does refining a fragment of about 10,000 triangles into 32 pieces keep to 2 ms",
+                           "**What does refinement buy against a finer pre-fractured wall?**", "Here J was"};
+  for (size_t i = 0; i < sizeof answers / sizeof *answers; ++i)
+    ENSURE_MSG(strstr(report, answers[i]) != NULL, "report lacks %s", answers[i]);
+  ENSURE(!bench_file_exists("refine_wall_64.mtree") && !bench_file_exists("refine_wall_1024.mtree"));
+}
+
 static void test_bench_quick(void) {
   setenv("BREAKABLES_CACHE_DIR", BK_TEST_TMP "/cache", 1);
   run_result* r = run("bench --quick --out '" BK_TEST_TMP "/bench'");
   ENSURE_MSG(r->status == 0, "%s", r->err);
-  const char* sections[] = {
-      "1. Fracture speed", "2. Meshes",         "3. Maximum fragments", "4. Runtime",
-      "5. Scaling",        "6. Asset pipeline", "7. Fracture patterns", "8. Structural stress",
-      "9. Physics budget"};
+  const char* sections[] = {"1. Fracture speed",    "2. Meshes",
+                            "3. Maximum fragments", "4. Runtime",
+                            "5. Scaling",           "6. Asset pipeline",
+                            "7. Fracture patterns", "8. Structural stress",
+                            "9. Physics budget",    "10. Refinement at the impact"};
   for (size_t i = 0; i < sizeof sections / sizeof *sections; ++i)
     ENSURE_MSG(strstr(r->out, sections[i]) != NULL, "stdout lacks %s", sections[i]);
 
@@ -258,12 +347,13 @@ static void test_bench_quick(void) {
                                 "## 6. Asset pipeline",
                                 "## 7. Fracture patterns",
                                 "## 9. Physics budget",
+                                "## 10. Refinement at the impact",
                                 "| ---: |"};
   for (size_t i = 0; i < sizeof report_parts / sizeof *report_parts; ++i)
     ENSURE_MSG(strstr(report, report_parts[i]) != NULL, "report lacks %s", report_parts[i]);
   bool gnuplot = system("command -v gnuplot >/dev/null 2>&1") == 0;
-  const char* plots[] = {"fracture_speed.png", "runtime.png",          "colliders.png",
-                         "patterns_time.png",  "patterns_slivers.png", "budget.png"};
+  const char* plots[] = {"fracture_speed.png",   "runtime.png", "colliders.png",    "patterns_time.png",
+                         "patterns_slivers.png", "budget.png",  "refine_speed.png", "refine_walls.png"};
   for (size_t i = 0; i < sizeof plots / sizeof *plots; ++i) {
     char embedded[64];
     snprintf(embedded, sizeof embedded, "](%s)", plots[i]);
@@ -355,6 +445,7 @@ static void test_bench_quick(void) {
   ENSURE(!bench_file_exists("cube_1024.glb") && !bench_file_exists("torus_100000.glb"));
   test_bench_patterns(r->out, report);
   test_bench_budget(report);
+  test_bench_refine(report);
 
   r = run("bench --help");
   const char* options[] = {"--quick", "--out", "--seed"};
@@ -365,7 +456,7 @@ static void test_bench_quick(void) {
   expect_error("bench --seed x", 2, "--seed 'x' is not a whole number (0..18446744073709551615)");
   expect_error("bench --out", 2, "--out needs a value");
   expect_error("bench --slow", 2, "unknown option '--slow'");
-  expect_error("bench --only 10", 2, "breakables bench: --only '10' is out of range (1..9)");
+  expect_error("bench --only 11", 2, "breakables bench: --only '11' is out of range (1..10)");
 
   // --only: that section alone.
   r = run("bench --quick --only 1 --out '" BK_TEST_TMP "/bench_only'");

@@ -43,6 +43,11 @@ static void test_each_field_is_set(void) {
     ENSURE(parse_one(command, "--drop-radius", "0.5", &a) == 0 && a.drop.radius == 0.5 &&
            a.drop.radius_given);
     ENSURE(parse_one(command, "--drop-at", "90", &a) == 0 && a.drop.at == 90 && a.drop.at_given);
+    ENSURE(parse_one(command, "--refine", NULL, &a) == 0 && a.options.refine &&
+           a.options.refine_pieces == BK_REFINE_PIECES_DEFAULT && a.options.stress);
+    ENSURE(parse_one(command, "--refine-pieces", "1024", &a) == 0 && a.options.refine &&
+           a.options.refine_pieces == 1024);
+    ENSURE(parse_one(command, "--no-stress", NULL, &a) == 0 && !a.options.refine);
     ENSURE(parse_one(command, "--max-memory", "4096", &a) == 0);
     ENSURE(parse_one(command, "--scale", "2", &a) == 0);
     ENSURE(parse_one(command, "--units", "cm", &a) == 0);
@@ -55,6 +60,8 @@ static void test_each_field_is_set(void) {
     ENSURE(parse_one(command, "--pattern", "zigzag", &a) == 2 && a.options.pattern == -1);
     ENSURE(parse_one(command, "--stress-scale", "nan", &a) == 2 && a.options.stress_scale == 1.0);
     ENSURE(parse_one(command, "--seed", NULL, &a) == 2);
+    ENSURE(parse_one(command, "--refine-pieces", "1", &a) == 2 && !a.options.refine &&
+           a.options.refine_pieces == BK_REFINE_PIECES_DEFAULT);
   }
   printf("each shared option sets its field in sim and play; bad values are refused\n");
 }

@@ -90,6 +90,27 @@ int bk_physics_step(bk_physics* world, double dt, int max_substeps);
 /// Returns null if fewer than 4 non-coplanar points are given.
 bk_shape_id bk_physics_create_hull(bk_physics* world, const bk_vec3* points, uint32_t count,
                                    uint32_t max_vertices);
+/// What bk_physics_create_hull computes before it makes a shape: the hull's
+/// core (simplified, shrunk by the margin) and its measures.
+#define BK_HULL_PREPARED_MAX 128
+typedef struct bk_hull_prepared {
+  bk_vec3 vertices[BK_HULL_PREPARED_MAX]; ///< the core's vertices
+  uint32_t vertex_count;                  ///< 0: no hull (fewer than 4 non-coplanar points)
+  double margin;                          ///< the shrink applied (the shape's margin)
+  double volume;                          ///< the hull's volume before shrinking
+  double inner_radius;
+} bk_hull_prepared;
+/// Computes a hull as bk_physics_create_hull does, for a world whose hull
+/// margin is `margin` (bk_physics_hull_margin), without touching a world: it
+/// may run on any thread (a refinement worker prepares its pieces' hulls).
+/// False (vertex_count 0) when there is no hull.
+bool bk_physics_prepare_hull(const bk_vec3* points, uint32_t count, uint32_t max_vertices, double margin,
+                             bk_hull_prepared* out);
+/// The hull shape of prepared data (microseconds): the same shape
+/// bk_physics_create_hull makes of the same points. Null if it has no hull.
+bk_shape_id bk_physics_create_prepared_hull(bk_physics* world, const bk_hull_prepared* prepared);
+/// The margin hulls are shrunk by (bk_physics_def.default_margin).
+double bk_physics_hull_margin(const bk_physics* world);
 /// A hull's copy moved by `transform` (its core vertices moved, its margin and
 /// volume kept): the same solid in another frame, made without computing a
 /// hull again (microseconds, where bk_physics_create_hull takes tens of them).
@@ -261,7 +282,8 @@ typedef struct bk_world_def {
   bool ground;     ///< a static ground plane at y = 0; default true
   /// The runtime the world drives (bk_default_runtime_def's values): its
   /// damage thresholds, its split budget (max_new_clusters_per_split: the
-  /// new bodies one step may make) and its stress budget. The world sets its
+  /// new bodies one step may make), its stress budget and its refinement
+  /// (refine_latency, refine_threads, max_refinements_per_call). The world sets its
   /// gravity (from gravity above), body_state and context; bk_world_create
   /// names a bad field as "runtime.<field>".
   bk_runtime_def runtime;
@@ -478,7 +500,10 @@ bk_body_id bk_world_fire(bk_world* world, const bk_projectile_def* def, bk_error
 void bk_world_impact(bk_world* world, bk_vec3 point, double impulse);
 
 /// Advances one fixed step (dt = the world's fixed_dt): physics, damage from
-/// this step's contacts, then splits within the step's budget.
+/// this step's contacts, refinement (bk_runtime_refine; see
+/// bk_material.refine_strength and bk_breakable_def.refine: a refined
+/// fragment's new nodes get their hulls when a body first needs them),
+/// then splits within the step's budget.
 void bk_world_step(bk_world* world);
 
 /// A bond broken in the last step or by bk_world_impact since (pulled after
@@ -513,7 +538,9 @@ uint32_t bk_world_retired_bodies(const bk_world* world, bk_retired_body* out, ui
 
 /// Where each fragment of a breakable is now: its centroid in the world
 /// (NaN for a fragment whose cluster was removed, e.g. retired). Writes at
-/// most capacity; returns the breakable's fragment count (0 for a stale id).
+/// most capacity; returns the breakable's fragment count now (0 for a stale
+/// id), which grows as its fragments are refined (leaves after a refined
+/// one move up: see bk_splice_info).
 uint32_t bk_world_fragment_centroids(const bk_world* world, bk_breakable_id id, bk_vec3* out,
                                      uint32_t capacity);
 
@@ -559,6 +586,14 @@ typedef struct bk_world_stats {
   /// CPU time (ms) of the last step that merged pieces: their bodies parked
   /// and their cells' compounds rebuilt
   double settle_batch_ms;
+  /// Last step's refinement (bk_world_step calls bk_runtime_refine after
+  /// its hits), in CPU time of the calling thread (ms): starting and
+  /// landing the pieces (the fracture runs on runtime.refine_threads
+  /// workers; a fragment beyond them is fractured on this thread when it
+  /// lands). Their hulls are made when a body first needs them, in
+  /// fracture_ms
+  double refine_ms;
+  uint32_t refined_leaves; ///< fragments refined since creation (bk_material.refine_strength)
 } bk_world_stats;
 
 bk_world_stats bk_world_get_stats(const bk_world* world);

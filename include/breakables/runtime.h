@@ -180,8 +180,18 @@ typedef struct bk_runtime_def {
   /// Fragments that may start refining per call of bk_runtime_refine (hits
   /// beyond it damage those fragments' bonds as they are), >= 1; default 4
   uint32_t max_refinements_per_call;
-  bk_body_state_fn* body_state; ///< required
-  void* context;                ///< passed to body_state
+  /// Optional: called with a fragment's pieces as soon as they are made, on
+  /// the refinement worker (refine_threads > 0) or the thread landing them,
+  /// so your own work on them (a physics engine's hulls) is off the
+  /// stepping thread; thread-safe, reading nothing the step changes. What it
+  /// returns comes back in the refined event (bk_leaf_refined.prepared,
+  /// yours then), or goes to refine_discard if the pieces never land (their
+  /// breakable removed, the splice refused). Pieces node j >= 1 becomes the
+  /// tree's node splice.first_node + j - 1. Default NULL
+  void* (*refine_prepare)(const bk_mesh_tree* pieces, void* context);
+  void (*refine_discard)(void* prepared, void* context); ///< default NULL
+  bk_body_state_fn* body_state;                          ///< required
+  void* context;                                         ///< passed to body_state
 } bk_runtime_def;
 
 bk_runtime_def bk_default_runtime_def(void);
@@ -419,6 +429,7 @@ typedef struct bk_leaf_refined {
   bk_cluster_id cluster; ///< the cluster holding the pieces (its node set is unchanged)
   bk_splice_info splice; ///< what changed in the tree
   void* breakable_user_data;
+  void* prepared; ///< what bk_runtime_def.refine_prepare returned for these pieces (yours), or NULL
 } bk_leaf_refined;
 
 /// The refinements since the last clear, oldest first (as the other events:

@@ -23,9 +23,7 @@ static const double pi = 3.14159265358979323846;
 
 static uint32_t asset_runs(const bench* b) { return b->quick ? 3 : ASSET_MAX_RUNS; }
 
-/// A closed ring torus (radii 1 and 0.35) of 2 * ring * tube triangles: positions
-/// are shared across the UV seams, normals are exact, tangents computed.
-static void build_fine_torus(uint32_t ring, uint32_t tube, bk_mesh* m) {
+void bench_fine_torus(uint32_t ring, uint32_t tube, bk_mesh* m) {
   const double major = 1.0, minor = 0.35;
   bk_mesh_reserve(m, ring * tube, (ring + 1) * (tube + 1), 2 * ring * tube);
   for (uint32_t i = 0; i < ring; ++i) {
@@ -151,7 +149,7 @@ static bool measure_import(const bench* b, import_result* out) {
   bk_mesh torus = {0}, imported = {0};
   bk_mesh_tree tree = {0};
   bk_error err = {0};
-  build_fine_torus(TORUS_RING, TORUS_TUBE, &torus);
+  bench_fine_torus(TORUS_RING, TORUS_TUBE, &torus);
   out->triangles_written = torus.triangle_count;
   bk_fracture_def fracture = bk_default_fracture_def();
   fracture.pieces = 1;

@@ -78,6 +78,10 @@ bool bench_table_write(const bench* b, const bench_table* t);
 
 /// |sum of the leaves' mesh volumes - source volume| / source volume, from the geometry itself.
 double bench_leaf_volume_error(const bk_mesh_tree* tree);
+/// A closed ring torus (radii 1 and 0.35, lying in the xz plane round the
+/// origin) of 2 * ring * tube triangles: positions are shared across the UV
+/// seams, normals are exact, tangents computed (bench_assets.c; sections 6 and 10).
+void bench_fine_torus(uint32_t ring, uint32_t tube, bk_mesh* m);
 
 // ---------------------------------------------------------------- plots
 
@@ -119,3 +123,11 @@ bool bench_section_stress(const bench* b);
 /// with the budget off and on, what it retired, and how much of the debris'
 /// mass and momentum the player still sees.
 bool bench_section_budget(const bench* b);
+/// 10. Refinement at the impact (bench_refine.c): what refining a fragment
+/// of 10,000 triangles into 32 pieces costs the calling thread a step, and
+/// the wall of 64 fragments refined where it is shot against the wall of
+/// 1,024 (bench_refine_wall.c).
+bool bench_section_refine(const bench* b);
+/// Its second part (bench_refine_wall.c): the wall scene of 64 fragments
+/// refined where it is shot, against 64 and 1,024 without refinement.
+bool bench_refine_walls(const bench* b);

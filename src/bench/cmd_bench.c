@@ -2,7 +2,8 @@
 // speed, meshes, maximum fragment count, the runtime cost of a break in
 // bench_runtime.c) plus scaling (bench_runtime.c), the asset pipeline
 // (bench_assets.c), the fracture patterns (bench_patterns.c), structural
-// stress (bench_stress.c) and the physics budget (bench_budget.c), written
+// stress (bench_stress.c), the physics budget (bench_budget.c) and
+// refinement at the impact (bench_refine.c, bench_refine_wall.c), written
 // to a directory as a Markdown report with CSV tables and gnuplot plots
 // (bench_report.c), and printed as tables.
 #include <errno.h>
@@ -43,21 +44,29 @@ static const char* const bench_usage =
     "     for the others): step and physics time p50, p95 and max, the budget's tiers,\n"
     "     the mass retired, and the debris' mass and momentum over the first second\n"
     "     after each hit against the run without a budget\n"
+    " 10. refinement at the impact: a fragment of about 10,000 triangles refined\n"
+    "     into 32 pieces where it is hit, the calling thread's cost a step (on a\n"
+    "     worker and synchronous) and the steps until its pieces have bodies; the\n"
+    "     wall of 64 fragments refined where it is shot against the walls of 64\n"
+    "     and 1024: memory, load time, bodies, fragments near the shots, physics\n"
     "\n"
     "options:\n"
     "  --quick     a short run (under a minute): fracture speed up to 1024 fragments,\n"
     "              maximum fragments up to 2048, runtime up to 256, 1 and 4 walls,\n"
     "              the export with a cube of 1024 fragments, the patterns at 64 and\n"
     "              1024 pieces, stress on walls of 256 and 1024, the budget on the showcase\n"
-    "              at 256 pieces with 20 shots, 4 walls and a cube of 1024. The full run goes\n"
-    "              to 65536, 65536, 4096, 16 walls, 4096 fragments and 4096 pieces (minutes).\n"
-    "  --only N    run section N alone, 1..9 (default: all)\n"
+    "              at 256 pieces with 20 shots, 4 walls and a cube of 1024, refinement on\n"
+    "              a torus of 9,600 triangles in 4 arcs and the walls shot twice in 90 steps.\n"
+    "              The full run goes to 65536, 65536, 4096, 16 walls, 4096 fragments and\n"
+    "              4096 pieces, and refines 40 arcs of 10,000 triangles (minutes).\n"
+    "  --only N    run section N alone, 1..10 (default: all)\n"
     "  --out DIR   output directory, created if missing (default: bench-out);\n"
     "              files of the same names in it are replaced\n"
     "  --seed S    fracture seed of every mesh, 0..18446744073709551615 (default: 3000)\n"
     "  -h, --help  show this help\n"
     "\n"
-    "Mesh trees of sections 4 and 5 are cached like those of 'breakables sim'.\n";
+    "Mesh trees of sections 4, 5 and 10 (its walls) are cached like those of\n"
+    "'breakables sim'.\n";
 
 enum {
   MAX_RUNS = 5, ///< timed builds per fracture measurement
@@ -403,7 +412,7 @@ int cmd_bench(int argc, char** argv) {
       if (!value) return usage_error(arg, "needs a value");
       ++i;
       if (strcmp(arg, "--only") == 0) {
-        if (!option_u64("bench", arg, value, 1, 9, &only)) return 2;
+        if (!option_u64("bench", arg, value, 1, 10, &only)) return 2;
       } else if (strcmp(arg, "--out") == 0) {
         if (!*value) return usage_error(arg, "must not be empty");
         b.dir = value;
@@ -429,9 +438,9 @@ int cmd_bench(int argc, char** argv) {
   bench_report_header(&b, argc, argv);
   double start = app_now_ms();
   bool (*const sections[])(const bench*) = {
-      section_fracture_speed, section_meshes,        section_max_fragments,
-      bench_section_runtime,  bench_section_scaling, bench_section_assets,
-      bench_section_patterns, bench_section_stress,  bench_section_budget};
+      section_fracture_speed, section_meshes,       section_max_fragments,  bench_section_runtime,
+      bench_section_scaling,  bench_section_assets, bench_section_patterns, bench_section_stress,
+      bench_section_budget,   bench_section_refine};
   bool ok = true;
   for (uint64_t i = 0; ok && i < sizeof sections / sizeof *sections; ++i)
     if (!only || only == i + 1) ok = sections[i](&b);

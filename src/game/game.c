@@ -25,7 +25,7 @@ static const char* const play_usage =
     "                  [--volley V] [--benchmark] [--no-stress] [--stress-scale X] [--drop KG]\n"
     "                  [--drop-radius M] [--drop-at FRAME] [--max-memory MIB] [--budget-ms X]\n"
     "                  [--record DIR] [--record-every K] [--camera X,Y,Z]\n"
-    "                  [--scale S] [--units mm|cm|m|in]\n"
+    "                  [--scale S] [--units mm|cm|m|in] [--refine] [--refine-pieces N]\n"
     "\n"
     "The demo game: shoot projectiles at breakable objects and tune them live.\n"
     "\n"
@@ -70,11 +70,15 @@ bool game_load_scene(app_game* g, uint32_t index, bk_error* err) {
   if (!loaded_scene_create(scene, &g->options, &g->scene, err)) return false;
   g->scene_index = index;
   scene = g->scene.scene; // a user's model's scene is fitted to it when loaded
+  if (g->scene.tree_count)
+    g->refine_pieces_made =
+        scene_object_def(&scene->objects[0], &g->scene.trees[0], &g->options).breakable.refine.pieces;
   for (uint32_t i = 0; i < g->scene.tree_count; ++i) {
     g->render_trees[i] = renderer_upload_tree(g->renderer, &g->scene.trees[i]);
     const scene_object* object = &scene->objects[i];
     g->looks[i] = app_renderer_material(g->renderer, object->look ? object->look : object->material);
   }
+  grown_trees_reset(&g->grown, g->scene.trees, g->scene.tree_count);
   // A user's model with a texture or colour of its own shows them on its
   // surface, its cut faces the chosen material's.
   app_model_surface surface = {0};
@@ -96,6 +100,7 @@ bool game_load_scene(app_game* g, uint32_t index, bk_error* err) {
 }
 
 void game_unload_scene(app_game* g) {
+  grown_trees_reset(&g->grown, NULL, 0);
   for (uint32_t i = 0; i < g->scene.tree_count; ++i)
     renderer_release_tree(g->renderer, g->render_trees[i]);
   if (g->scene.world) loaded_scene_destroy(&g->scene);
@@ -154,6 +159,8 @@ static void run_steps(void* game) {
   double start = glfwGetTime();
   for (int i = 0; i < g->pending_steps; ++i)
     step_world(g);
+  // Fragments the steps refined: their pieces' meshes made ready for the GPU here.
+  grown_trees_build(&g->grown, g->scene.world, g->scene.ids, g->scene.tree_count);
   g->steps_ms = (glfwGetTime() - start) * 1e3;
 }
 
@@ -220,6 +227,9 @@ static void node_color(uint32_t i, float out[4]) {
 
 static void draw_world(app_game* g, double alpha) {
   bk_world* w = g->scene.world;
+  // Fragments refined in the last steps are new nodes of their trees: the
+  // renderer gets them before a body names them.
+  grown_trees_upload(&g->grown, g->renderer, w, g->scene.ids, g->render_trees, g->scene.tree_count);
   uint32_t bodies = bk_world_body_count(w);
   for (uint32_t i = 0; i < bodies; ++i) {
     bk_body_view v = {0};
@@ -486,6 +496,11 @@ int cmd_play(int argc, char** argv) {
            frame ? last_ms_sum / (frame < 60 ? frame : 60) : 0.0, jobs ? physics_ms_sum / jobs : 0.0,
            frame ? last_physics_sum / (frame < 60 ? frame : 60) : 0.0, fired + g->shots, g->weights,
            gl_error ? "yes" : "none");
+  if (wo.frames && g->options.refine) {
+    const bk_mesh_tree* tree = bk_runtime_breakable_tree(bk_world_runtime(g->scene.world), g->scene.ids[0]);
+    printf("refined %u fragments: the first object's %u -> %u\n", s.refined_leaves,
+           g->scene.trees[0].leaf_count, tree ? tree->leaf_count : 0);
+  }
   if (gl_error) {
     fprintf(stderr, "breakables play: OpenGL error 0x%x while rendering\n", gl_error);
     status = 1;

@@ -27,8 +27,10 @@ void game_collect_retired(app_game* g) {
   for (uint32_t i = 0; i < total && i < 256; ++i) {
     uint32_t tree_index = bodies[i].breakable.index;
     if (tree_index >= g->scene.tree_count) continue;
-    const bk_mesh_tree* tree = &g->scene.trees[tree_index];
-    if (bodies[i].node >= tree->node_count) continue;
+    // The tree as it is now: a refined one names its new nodes, which the
+    // tree the scene was made from does not have.
+    const bk_mesh_tree* tree = bk_runtime_breakable_tree(bk_world_runtime(world), bodies[i].breakable);
+    if (!tree || bodies[i].node >= tree->node_count) continue;
     const bk_mesh* mesh = &tree->nodes[bodies[i].node].mesh;
     retired_pieces_add(&g->retired, &bodies[i], tree_index, g->looks[tree_index], mesh->positions,
                        mesh->position_count);

@@ -3,6 +3,7 @@
 
 #include <GLFW/glfw3.h>
 
+#include "grown_trees.h"
 #include "particles.h"
 #include "recorder.h"
 #include "retired_pieces.h"
@@ -17,11 +18,17 @@ typedef struct app_game {
   loaded_scene scene;
   scene_options options;
   app_render_tree render_trees[8];
+  /// Their new nodes as refinement grows the trees: made ready on the
+  /// worker after its steps, uploaded before the next frame is drawn.
+  app_grown_trees grown;
   int looks[8];
   uint32_t scene_index;
   int next_scene; ///< -1: reload the same one
   bool reload;
   bool reload_keeps_camera; ///< the reload keeps where the camera is (the panel's re-fracture)
+  /// Pieces a refinement of the loaded scene's objects makes (fixed when they
+  /// were added: the panel's slider applies on reload)
+  uint32_t refine_pieces_made;
   // Camera.
   bk_vec3 eye;
   double view_distance; ///< from the scene's camera to its target when loaded (camera_fit_planes)

@@ -8,6 +8,7 @@
 
 #include "panel.h"
 #include "panel_budget.h"
+#include "panel_refine.h"
 #include "ui.h"
 
 typedef struct refracture_job {
@@ -217,6 +218,7 @@ static void material_section(app_game* g) {
     g->options.bond_strength = strength;
     for (uint32_t i = 0; i < g->scene.tree_count; ++i)
       bk_world_set_bond_strength(world, g->scene.ids[i], strength);
+    game_refine_follow(g); // how hard a hit must be to refine goes with it
   }
   ui_tooltip("hit points per m^2 of contact (intact bonds keep the fraction they have left)");
   int kind = live.accumulate ? 1 : 0;
@@ -415,6 +417,8 @@ void game_panel(app_game* g) {
   if (ui_collapsing_header("Material", true)) material_section(g);
   if (ui_collapsing_header("Structural stress", false)) stress_section(g);
   if (ui_collapsing_header("Fracture", false)) fracture_section(g);
+  // Open from the start when the game was started with refinement.
+  if (ui_collapsing_header("Refinement", g->options.refine)) game_refine_section(g);
   if (ui_collapsing_header("Projectile", false)) {
     // A user's model's shots are sized to it, maybe beyond these ranges:
     // they reach its own, so that touching a slider does not clamp it.

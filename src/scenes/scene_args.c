@@ -24,6 +24,8 @@ enum {
   ARG_DROP_AT,
   ARG_MAX_MEMORY,
   ARG_BUDGET_MS,
+  ARG_REFINE,
+  ARG_REFINE_PIECES,
   ARG_COUNT
 };
 
@@ -87,6 +89,14 @@ static const scene_arg table[ARG_COUNT] = {
          "at rest) get cheaper: no contacts among themselves, then a fitted sphere or box, then "
          "frozen, then retired",
          0, BK_BUDGET_MS_MAX},
+    [ARG_REFINE] = {"--refine", NULL,
+                    "break where it is hit: a fragment struck hard enough is fractured again, radially round "
+                    "the hit, and its pieces take the hit's damage (hard enough: enough to break a bond an "
+                    "eighth of the fragment's cross-section, about the bonds of a wall of 1,024 fragments "
+                    "near the hits on one of 64)"},
+    [ARG_REFINE_PIECES] = {"--refine-pieces", "N",
+                           "pieces per refinement, 2..1024 (default 32); implies --refine",
+                           BK_REFINE_PIECES_MIN, BK_REFINE_PIECES_MAX, true},
 };
 
 const scene_arg* scene_arg_table(uint32_t* count) {
@@ -121,7 +131,8 @@ int scene_args_parse(const char* command, int argc, char** argv, int* i, scene_a
     return parse_drop_option(command, argc, argv, i, &a->drop);
   const scene_arg* arg = &table[which];
   if (!arg->value) {
-    a->options.stress = false; // --no-stress, the one flag
+    if (which == ARG_NO_STRESS) a->options.stress = false;
+    if (which == ARG_REFINE) a->options.refine = true;
     return 0;
   }
   const char* value = NULL;
@@ -172,6 +183,10 @@ int scene_args_parse(const char* command, int argc, char** argv, int* i, scene_a
     break;
   case ARG_BUDGET_MS:
     ok = app_parse_budget_ms(command, value, &a->options);
+    break;
+  case ARG_REFINE_PIECES:
+    a->options.refine_pieces = (uint32_t)number;
+    a->options.refine = true; // asking for pieces asks for refinement
     break;
   default:
     break;

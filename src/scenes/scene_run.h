@@ -55,6 +55,13 @@ typedef struct scene_options {
   /// Copies of the whole scene side by side along x (sim --copies; 1, the
   /// default: the scene alone), spaced so that they do not touch
   uint32_t copies;
+  /// Refinement (--refine): every object's fragments are fractured again
+  /// around the hits that strike them hard enough (scene_object_def sets
+  /// the material's refine_strength and the breakable's refine def); off by
+  /// default
+  bool refine;
+  /// Pieces per refinement (--refine-pieces), 2..1024; default 32
+  uint32_t refine_pieces;
   /// Optional fracture progress report (leaves so far, target), from the building thread.
   bool (*progress)(void* user, uint32_t leaves, uint32_t target);
   void* progress_user;
@@ -115,6 +122,12 @@ uint32_t loaded_scene_fire(loaded_scene* scene, uint32_t shot, double speed);
 double copy_offset(uint32_t copy, uint32_t copies, double spacing);
 /// sim --copies: at most this many (a 16-wall scaling run, and room above).
 enum { BK_COPIES_MAX = 64 };
+/// --refine-pieces (sim, play): pieces per refinement, as bk_refine_def.pieces allows.
+enum { BK_REFINE_PIECES_MIN = 2, BK_REFINE_PIECES_MAX = 1024, BK_REFINE_PIECES_DEFAULT = 32 };
+/// What --refine does to an object's breakable: its material's
+/// refine_strength from its bond strength (scene_object_def) and a radial
+/// refinement of options->refine_pieces pieces. Nothing when refinement is off.
+void scene_refine(bk_breakable_def* breakable, const scene_options* options);
 /// --budget-ms (sim, play): the physics budget per step, 0 (off) .. this.
 #define BK_BUDGET_MS_MAX 1000.0
 /// Parses the value of --budget-ms for `command` into options->physics_budget_ms;

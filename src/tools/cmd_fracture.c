@@ -8,6 +8,7 @@
 #include "commands.h"
 #include "fracture_patterns.h"
 #include "scene_run.h"
+#include "tree_export.h"
 
 // The ranges of the general options, stated by --help and enforced by parsing.
 #define PIECES_MAX (1u << 20)
@@ -236,14 +237,7 @@ static void print_summary(const fracture_request* r, const fracture_result* f) {
 static bool write_files(const fracture_request* r, const bk_mesh_tree* tree, const bk_gltf_def* gltf) {
   bk_error err = {0};
   if (r->out_path && !bk_mesh_tree_save(tree, r->out_path, &err)) return fail(err.message), false;
-  if (r->obj_path) {
-    bk_mesh* leaves = bk_alloc(sizeof(bk_mesh) * tree->leaf_count);
-    for (uint32_t i = 0; i < tree->leaf_count; ++i)
-      leaves[i] = bk_mesh_tree_leaf(tree, i)->mesh;
-    bool saved = bk_obj_save(r->obj_path, leaves, tree->leaf_count, &err);
-    free(leaves);
-    if (!saved) return fail(err.message), false;
-  }
+  if (r->obj_path && !tree_export_obj(tree, r->obj_path, &err)) return fail(err.message), false;
   if (r->gltf_path && !bk_mesh_tree_save_gltf(tree, r->gltf_path, gltf, &err))
     return fail(err.message), false;
   return true;

@@ -7,6 +7,7 @@
 #include "commands.h"
 #include "fracture_patterns.h"
 #include "scene_args.h"
+#include "tree_export.h"
 
 static const char* const sim_usage =
     "usage: breakables sim [--scene NAME | --mesh PATH] [--material NAME] [--pattern NAME] [--pieces N]\n"
@@ -15,7 +16,8 @@ static const char* const sim_usage =
     "                      [--speed M/S] [--frailty X] [--density X] [--discrete|--accumulate] [--naive]\n"
     "                      [--no-stress] [--stress-scale X] [--drop KG] [--drop-radius M] [--drop-at STEP]\n"
     "                      [--budget-ms X] [--budget-fidelity S] [--budget-fidelity-factor F]\n"
-    "                      [--copies N] [--max-memory MIB] [--json]\n"
+    "                      [--copies N] [--max-memory MIB] [--refine] [--refine-pieces N]\n"
+    "                      [--export-obj FILE.obj] [--export-gltf FILE.glb|FILE.gltf] [--json]\n"
     "\n"
     "Runs a scene headless at a fixed 60 Hz: builds (or loads from the cache) the\n"
     "scene's mesh tree, fires K projectiles at the object at regular intervals\n"
@@ -42,6 +44,13 @@ static const char* const sim_options =
     "                   important of them give it up; 0 keeps it whatever it costs\n"
     "  --copies N       N copies of the scene side by side along x, 1..64 (default 1), a gap\n"
     "                   between them; each shot hits every copy in the same step\n"
+    "  --export-obj FILE.obj  write the first object's mesh tree as it stands at the end of\n"
+    "                   the run (refined where it was hit, with --refine): its fragments as OBJ,\n"
+    "                   one 'o fragment_<i>' each, in the object's own frame (as fracture\n"
+    "                   --export-obj writes them)\n"
+    "  --export-gltf FILE.glb|FILE.gltf  the same tree as glTF 2.0, as fracture --export-gltf\n"
+    "                   writes it (the fragments, their hierarchy and the exact tree); it\n"
+    "                   loads back, in sim --mesh too\n"
     "  --json           print one JSON object: scene, pieces, bodies_initial, bodies_final,\n"
     "                   break_events, bonds_broken, colliders_initial, colliders_final,\n"
     "                   colliders_naive_final, step_ms_median, step_ms_max, break_ms_median,\n"
@@ -75,7 +84,13 @@ static const char* const sim_options =
     "                   break_wait_steps_max (the most steps a shot's last piece waited\n"
     "                   for its body: from the step it was hit until no hit or split waits);\n"
     "                   settled_physics_ms (the physics engine's CPU time per step, mean\n"
-    "                   over the last 60 steps, when the debris has come to rest)\n"
+    "                   over the last 60 steps, when the debris has come to rest);\n"
+    "                   refined_leaves (fragments refined over the run, 0 without --refine),\n"
+    "                   leaves_final (the fragments of every object's tree at the end: the\n"
+    "                   pieces plus what refinement added), refine_ms_p99 and refine_ms_max\n"
+    "                   (each step's refinement, CPU time of the thread: starting and landing\n"
+    "                   the pieces; the fracture runs on a worker, their hulls are made with\n"
+    "                   the bodies, in break_ms)\n"
     "  -h, --help       show this help\n"
     "\n"
     "Mesh trees are cached in $BREAKABLES_CACHE_DIR (else $XDG_CACHE_HOME/breakables,\n"
@@ -130,20 +145,104 @@ static double* heights_of(const loaded_scene* s) {
   return heights;
 }
 
+// How each breakable's tree frame was turned at the start, object after
+// object, copy after copy (every body of it stood where it was placed).
+static bk_quat* start_rotations(const loaded_scene* s) {
+  uint32_t copies = s->copies ? s->copies : 1, count = s->tree_count * copies;
+  bk_quat* rotations = bk_alloc(sizeof(bk_quat) * (count + 1u));
+  for (uint32_t k = 0; k < count; ++k) {
+    bk_breakable_id id = loaded_scene_id(s, k / s->tree_count, k % s->tree_count);
+    rotations[k] = bk_quat_identity();
+    bk_body_view view = {0};
+    for (uint32_t b = 0; bk_world_body_view(s->world, b, &view); ++b)
+      if (view.breakable.index == id.index) {
+        rotations[k] = view.tree_to_world.rotation;
+        break;
+      }
+  }
+  return rotations;
+}
+
 // Fragments whose centroid ended more than 0.5 m below where it started.
-static uint32_t fragments_fallen(const loaded_scene* s, const double* rest_heights) {
-  uint32_t fallen = 0, count = fragments_of(s) * (s->copies ? s->copies : 1);
-  double* heights = heights_of(s);
-  for (uint32_t f = 0; f < count; ++f)
-    fallen += heights[f] < rest_heights[f] - 0.5; // NaN (gone) counts as not fallen
-  free(heights);
+// A refined fragment's pieces (its tree grew) started where they were in
+// it: its start height, plus how far each piece's centroid lies above its
+// own in the tree frame as it was turned then.
+static uint32_t fragments_fallen(const loaded_scene* s, const double* rest_heights,
+                                 const bk_quat* rotations) {
+  const bk_runtime* runtime = bk_world_runtime(s->world);
+  uint32_t fallen = 0, at = 0, copies = s->copies ? s->copies : 1;
+  for (uint32_t k = 0; k < s->tree_count * copies; ++k) {
+    const bk_mesh_tree* first = &s->trees[k % s->tree_count];
+    const bk_mesh_tree* tree =
+        bk_runtime_breakable_tree(runtime, loaded_scene_id(s, k / s->tree_count, k % s->tree_count));
+    if (!tree) tree = first;
+    bk_vec3* centroids = bk_alloc(sizeof(bk_vec3) * (tree->leaf_count + 1u));
+    uint32_t n = bk_world_fragment_centroids(
+        s->world, loaded_scene_id(s, k / s->tree_count, k % s->tree_count), centroids, tree->leaf_count);
+    for (uint32_t l = 0; l < n && l < tree->leaf_count; ++l) {
+      double rest = 0.0;
+      if (tree->leaf_count == first->leaf_count) {
+        rest = rest_heights[at + l];
+      } else {
+        // New nodes are appended: the first ancestor among the first tree's
+        // nodes is the fragment the piece was refined from.
+        uint32_t node = tree->leaf_nodes[l];
+        while (node >= first->node_count)
+          node = tree->nodes[node].parent;
+        uint32_t from = first->nodes[node].leaf_begin;
+        bk_vec3 offset =
+            bk_v3_sub(bk_mesh_tree_mass(tree, bk_mesh_tree_leaf(tree, l)->moments).centroid,
+                      bk_mesh_tree_mass(first, bk_mesh_tree_leaf(first, from)->moments).centroid);
+        rest = rest_heights[at + from] + bk_quat_rotate(rotations[k], offset).y;
+      }
+      fallen += centroids[l].y < rest - 0.5; // NaN (gone) counts as not fallen
+    }
+    bk_free(centroids);
+    at += first->leaf_count;
+  }
   return fallen;
+}
+
+// Fragments of every object's tree as it is now (refinement grows them).
+static uint32_t leaves_now(const loaded_scene* s) {
+  uint32_t total = 0, copies = s->copies ? s->copies : 1;
+  for (uint32_t c = 0; c < copies; ++c)
+    for (uint32_t i = 0; i < s->tree_count; ++i) {
+      const bk_mesh_tree* tree =
+          bk_runtime_breakable_tree(bk_world_runtime(s->world), loaded_scene_id(s, c, i));
+      total += tree ? tree->leaf_count : 0;
+    }
+  return total;
+}
+
+// The first object's tree as it stands now, to the files asked for; false
+// (one line printed) at the first that cannot be written.
+static bool export_first_tree(const loaded_scene* s, const char* obj_path, const char* gltf_path) {
+  const bk_mesh_tree* tree = bk_runtime_breakable_tree(bk_world_runtime(s->world), loaded_scene_id(s, 0, 0));
+  bk_error err = {0};
+  bool ok = tree != NULL;
+  if (ok && obj_path) ok = tree_export_obj(tree, obj_path, &err);
+  if (ok && gltf_path) {
+    // As fracture writes a tree with its default options, its one material
+    // a plain surface (a built-in mesh's).
+    app_export_materials materials = {0};
+    app_export_materials_from_import(NULL, s->scene->objects[0].mesh, &materials);
+    bk_gltf_def gltf = bk_default_gltf_def();
+    gltf.materials = materials.list;
+    gltf.material_count = materials.count;
+    ok = bk_mesh_tree_save_gltf(tree, gltf_path, &gltf, &err);
+    app_export_materials_free(&materials);
+  }
+  if (!ok) fprintf(stderr, "breakables sim: %s\n", err.message[0] ? err.message : "no object to export");
+  return ok;
 }
 
 int cmd_sim(int argc, char** argv) {
   uint64_t shots = 3, steps = 300;
   double speed = 0.0;
   bool json = false, shots_given = false;
+  const char* obj_path = NULL;
+  const char* gltf_path = NULL;
   scene_args args = default_scene_args("wall");
   for (int i = 1; i < argc; ++i) {
     const char* arg = argv[i];
@@ -169,9 +268,10 @@ int cmd_sim(int argc, char** argv) {
       flag = false;
     }
     if (flag) continue;
-    static const char* const names[] = {"--shots",  "--frailty",        "--density",
-                                        "--steps",  "--speed",          "--budget-fidelity-factor",
-                                        "--copies", "--budget-fidelity"};
+    static const char* const names[] = {"--shots",      "--frailty",         "--density",
+                                        "--steps",      "--speed",           "--budget-fidelity-factor",
+                                        "--copies",     "--budget-fidelity", "--export-obj",
+                                        "--export-gltf"};
     const char* value = NULL;
     int which = take_option("sim", argc, argv, &i, names, (int)(sizeof names / sizeof *names), &value);
     if (which == -2) return 2;
@@ -180,7 +280,11 @@ int cmd_sim(int argc, char** argv) {
       return 2;
     }
     scene_options* o = &args.options;
-    if (strcmp(arg, "--shots") == 0) {
+    if (strcmp(arg, "--export-obj") == 0) {
+      obj_path = value;
+    } else if (strcmp(arg, "--export-gltf") == 0) {
+      gltf_path = value;
+    } else if (strcmp(arg, "--shots") == 0) {
       if (!option_u64("sim", arg, value, 0, 1000, &shots)) return 2;
       shots_given = true;
     } else if (strcmp(arg, "--steps") == 0) {
@@ -233,6 +337,16 @@ int cmd_sim(int argc, char** argv) {
   }
   const app_scene* scene = scene_at(scene_index);
   options.material = material;
+  // The files to write, checked before the run, as fracture checks its own:
+  // names the writers take, places to write them, and no file lost (the
+  // model read, or the other export).
+  const app_file inputs[] = {{"--mesh", mesh, NULL, false}};
+  const app_file outputs[] = {{"--export-obj", obj_path, ".obj", true},
+                              {"--export-gltf", gltf_path, ".glb .gltf", true}};
+  if (!app_check_files(inputs, 1, outputs, 2, &err)) {
+    fprintf(stderr, "breakables sim: %s\n", err.message);
+    return 1;
+  }
 
   loaded_scene loaded = {0};
   if (!loaded_scene_create(scene, &options, &loaded, &err)) {
@@ -254,6 +368,8 @@ int cmd_sim(int argc, char** argv) {
   app_fidelity fidelity = {0};
   double* break_ms = bk_alloc(sizeof(double) * steps);
   double* stress_ms = bk_alloc(sizeof(double) * steps);
+  double* refine_ms = bk_alloc(sizeof(double) * steps);
+  bk_quat* rotations = start_rotations(&loaded);
   uint32_t break_steps = 0, stress_steps = 0, fired = 0;
   // Clusters waiting for the split budget: since which step, and the
   // longest wait of a shot's last piece for its body.
@@ -273,6 +389,7 @@ int cmd_sim(int argc, char** argv) {
                 drop_err.message[0] ? drop_err.message
                                     : "no surface of the first object to set the weight on");
         free(step_ms), free(physics_ms), free(break_ms), free(stress_ms), free(rest_heights);
+        bk_free(refine_ms), bk_free(rotations);
         loaded_scene_destroy(&loaded);
         return 1;
       }
@@ -289,6 +406,7 @@ int cmd_sim(int argc, char** argv) {
     bk_world_stats now = bk_world_get_stats(loaded.world);
     step_ms[step] = now.step_ms;
     physics_ms[step] = now.physics_ms;
+    refine_ms[step] = now.refine_ms;
     // Steps with break work: bonds broke, a body split, or splits waited.
     if (break_step(&before, &now)) break_ms[break_steps++] = now.fracture_ms;
     bool pending = now.pending_splits > 0 || now.pending_hits > 0;
@@ -320,7 +438,11 @@ int cmd_sim(int argc, char** argv) {
   double settled_ms = settled_sum / (double)(steps - settled_from);
   double step_p95 = app_percentile(step_ms, (uint32_t)steps, 95.0);
   uint32_t pieces = fragments_of(&loaded) * loaded.copies;
-  uint32_t fallen = fragments_fallen(&loaded, rest_heights);
+  uint32_t fallen = fragments_fallen(&loaded, rest_heights, rotations);
+  uint32_t leaves_final = leaves_now(&loaded);
+  double refine_p99 = app_percentile(refine_ms, (uint32_t)steps, 99.0);
+  double refine_max = app_maximum(refine_ms, (uint32_t)steps);
+  bool exported = (!obj_path && !gltf_path) || export_first_tree(&loaded, obj_path, gltf_path);
   double stress_median = app_median(stress_ms, stress_steps),
          stress_max = app_maximum(stress_ms, stress_steps);
   if (json) {
@@ -368,9 +490,11 @@ int cmd_sim(int argc, char** argv) {
            BK_APP_JSON_NUMBER("%.6g", debris.net_momentum), BK_APP_JSON_NUMBER("%.6g", near.mass),
            BK_APP_JSON_NUMBER("%.6g", near.momentum), BK_APP_JSON_NUMBER("%.6g", near.net_momentum));
     printf("\"break_ms_p50\": %s, \"break_ms_p99\": %s, \"break_wait_steps_max\": %llu, "
-           "\"settled_physics_ms\": %s}\n",
+           "\"settled_physics_ms\": %s, \"refined_leaves\": %u, \"leaves_final\": %u, "
+           "\"refine_ms_p99\": %s, \"refine_ms_max\": %s}\n",
            BK_APP_JSON_NUMBER("%.4f", break_median), BK_APP_JSON_NUMBER("%.4f", break_p99),
-           (unsigned long long)wait_max, BK_APP_JSON_NUMBER("%.4f", settled_ms));
+           (unsigned long long)wait_max, BK_APP_JSON_NUMBER("%.4f", settled_ms), final.refined_leaves,
+           leaves_final, BK_APP_JSON_NUMBER("%.4f", refine_p99), BK_APP_JSON_NUMBER("%.4f", refine_max));
   } else {
     if (loaded.copies > 1) printf("%u copies %.3g m apart, ", loaded.copies, loaded.copy_spacing);
     printf("%s: %u fragments, %u shots over %llu steps (%.1f s)\n", scene->name, pieces, fired,
@@ -400,14 +524,21 @@ int cmd_sim(int argc, char** argv) {
     if (fidelity.weight > 0.0)
       printf("  debris over the first second after each shot: %.4g kg, momentum %.4g kg m/s (net %.4g)\n",
              debris.mass, debris.momentum, debris.net_momentum);
+    if (options.refine)
+      printf("  refined %u fragments: %u -> %u; refinement ms p99 %.3f max %.3f (CPU)\n",
+             final.refined_leaves, pieces, leaves_final, refine_p99, refine_max);
     printf("  mass error %.2e%s\n", mass_error, final.nan ? ", NaN detected" : "");
     print_patterns(&loaded, false);
+    if (obj_path && exported) printf("  exported %s\n", obj_path);
+    if (gltf_path && exported) printf("  exported %s\n", gltf_path);
   }
   free(step_ms);
   free(physics_ms);
   free(break_ms);
   free(stress_ms);
   free(rest_heights);
+  bk_free(refine_ms);
+  bk_free(rotations);
   loaded_scene_destroy(&loaded);
-  return final.nan ? 1 : 0;
+  return final.nan || !exported ? 1 : 0;
 }

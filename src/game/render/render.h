@@ -1,5 +1,6 @@
 // render: OpenGL 3.3 core renderer for breakables. Mesh trees are uploaded
-// once (one vertex and index buffer per tree; each node a range in them), and
+// once (one vertex and index buffer per tree; each node a range in them; a
+// tree grown at run time adds its new nodes' ranges), and
 // a body draws its minimal node set with its model matrix. Frames are
 // recorded as a draw list and played at renderer_end_frame: a sun shadow
 // pass, the lit pass with textured materials, the sky, transparent glass
@@ -40,6 +41,28 @@ typedef struct app_render_tree {
 
 /// Uploads every node of a tree once. The tree may be freed afterwards.
 app_render_tree renderer_upload_tree(app_renderer* renderer, const bk_mesh_tree* tree);
+/// Uploads the nodes a tree gained since it was uploaded: nodes
+/// [renderer_tree_node_count, tree->node_count) of `tree`, which must be
+/// the uploaded tree grown by appending (as bk_runtime_refine grows a
+/// breakable's: node indices and the meshes of the nodes it had never
+/// change). Returns how many nodes it added (0 for a stale id, or when the
+/// tree has no more nodes than were uploaded); the id stays the same.
+/// renderer_build_nodes + renderer_append_nodes in one call.
+uint32_t renderer_grow_tree(app_renderer* renderer, app_render_tree id, const bk_mesh_tree* tree);
+/// The nodes uploaded of a tree (0 for a null, released or stale id).
+uint32_t renderer_tree_node_count(const app_renderer* renderer, app_render_tree id);
+/// Nodes of a tree made ready for the GPU (their vertices, indices, coarse
+/// copies and bounds: the costly part of an upload, decimating the coarse
+/// copies), without GL and without a renderer, so on any thread.
+typedef struct render_nodes render_nodes;
+/// Builds nodes [first, end) of `tree` (NULL when they are not its nodes).
+render_nodes* renderer_build_nodes(const bk_mesh_tree* tree, uint32_t first, uint32_t end);
+/// Appends built nodes to an uploaded tree, when they are the nodes that
+/// follow what it has (first == renderer_tree_node_count); frees `nodes`
+/// either way. Returns how many it appended.
+uint32_t renderer_append_nodes(app_renderer* renderer, app_render_tree id, render_nodes* nodes);
+/// Frees built nodes not appended (NULL is ignored).
+void renderer_free_nodes(render_nodes* nodes);
 void renderer_release_tree(app_renderer* renderer, app_render_tree tree);
 
 /// Material looks, by name: stone, brick, concrete, porcelain, glass,

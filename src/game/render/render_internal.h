@@ -66,6 +66,9 @@ typedef struct tree_buffers {
   uint32_t generation; // last generation handed out for this slot
   bool used;
   GLuint vao, vbo, ibo;
+  // What the buffers hold and have room for (vertices, indices): a tree grown
+  // at run time (renderer_grow_tree) appends its new nodes after them.
+  uint32_t vertex_count, vertex_capacity, index_total, index_capacity;
   uint32_t* first_index[SECTIONS]; // per section, per node
   uint32_t* index_count[SECTIONS];
   uint32_t* coarse_first[COARSE_LEVELS][SECTIONS]; // the same, decimated: what SIMPLE draws

@@ -105,18 +105,19 @@ std::vector<btVector3> simplify_hull(const std::vector<btVector3>& points, uint3
 
 // ---------------------------------------------------------------- shapes
 
-bk_shape_id bk_physics_create_hull(bk_physics* w, const bk_vec3* points, uint32_t count,
-                                   uint32_t max_vertices) {
-  const bk_shape_id null_id = {0, 0};
-  if (!w || !points || count < 4) return null_id;
+bool bk_physics_prepare_hull(const bk_vec3* points, uint32_t count, uint32_t max_vertices, double margin,
+                             bk_hull_prepared* out) {
+  if (!out) return false;
+  out->vertex_count = 0;
+  if (!points || count < 4 || !(margin >= 0.0)) return false;
   for (uint32_t i = 0; i < count; ++i)
-    if (!bk_v3_is_finite(points[i])) return null_id;
+    if (!bk_v3_is_finite(points[i])) return false;
   if (max_vertices == 0 || max_vertices > max_hull_vertices) max_vertices = max_hull_vertices;
   if (max_vertices < 4) max_vertices = 4;
   try {
     static_assert(sizeof(bk_vec3) == 3 * sizeof(double), "bk_vec3 must be three packed doubles");
     HullInfo exact = analyze_hull(&points[0].x, count);
-    if (exact.vertices.size() < 4) return null_id;
+    if (exact.vertices.size() < 4) return false;
     std::vector<btVector3> vertices;
     vertices.reserve(exact.vertices.size());
     for (uint32_t v : exact.vertices)
@@ -132,7 +133,7 @@ bk_shape_id bk_physics_create_hull(bk_physics* w, const bk_vec3* points, uint32_
     }
     double extent = (hi - lo).length();
     if (final_hull.vertices.size() < 4 || !(final_hull.volume > 1e-9 * extent * extent * extent))
-      return null_id;
+      return false;
     // Rounding to float may have pushed a nearly coplanar vertex inside.
     std::vector<btVector3> kept;
     kept.reserve(final_hull.vertices.size());
@@ -145,7 +146,6 @@ bk_shape_id bk_physics_create_hull(bk_physics* w, const bk_vec3* points, uint32_
     // cores would touch at distance zero, and every such pair would take
     // Bullet's slow penetration-depth path (EPA) instead of GJK. The clamp
     // keeps slivers from collapsing; the margin becomes the actual shrink.
-    double margin = w->margin;
     if (margin > 0.0) {
       btConvexHullComputer shrunk;
       btScalar applied = shrunk.compute(&vertices[0].x(), (int)sizeof(btVector3), (int)vertices.size(),
@@ -158,21 +158,58 @@ bk_shape_id bk_physics_create_hull(bk_physics* w, const bk_vec3* points, uint32_
         if (vertices.size() > max_vertices) vertices = simplify_hull(vertices, max_vertices);
       }
     }
+    if (vertices.size() > BK_HULL_PREPARED_MAX) return false;
+    for (size_t i = 0; i < vertices.size(); ++i)
+      out->vertices[i] = bk_v3(vertices[i].x(), vertices[i].y(), vertices[i].z());
+    out->vertex_count = (uint32_t)vertices.size();
+    out->margin = margin;
+    out->volume = final_hull.volume;
+    out->inner_radius =
+        final_hull.inner_radius > 0.0 ? final_hull.inner_radius : 0.25 * (hi - lo)[(hi - lo).minAxis()];
+    return true;
+  } catch (...) {
+    out->vertex_count = 0;
+    return false;
+  }
+}
+
+bk_shape_id bk_physics_create_prepared_hull(bk_physics* w, const bk_hull_prepared* prepared) {
+  const bk_shape_id null_id = {0, 0};
+  if (!w || !prepared || prepared->vertex_count < 4 || prepared->vertex_count > BK_HULL_PREPARED_MAX)
+    return null_id;
+  try {
+    std::vector<btVector3> vertices;
+    vertices.reserve(prepared->vertex_count);
+    for (uint32_t i = 0; i < prepared->vertex_count; ++i)
+      vertices.push_back(to_bt(prepared->vertices[i]));
     btConvexHullShape* hull =
         new btConvexHullShape(&vertices[0].x(), (int)vertices.size(), sizeof(btVector3));
-    hull->setMargin((btScalar)margin);
+    hull->setMargin((btScalar)prepared->margin);
     // The constructor cached the bounds with Bullet's default 4 cm margin;
     // stale, they made every fragment overlap dozens of neighbours.
     hull->recalcLocalAabb();
-    double inner =
-        final_hull.inner_radius > 0.0 ? final_hull.inner_radius : 0.25 * (hi - lo)[(hi - lo).minAxis()];
-    bk_shape_id id = w->add_shape(hull, ShapeKind::hull, inner);
+    bk_shape_id id = w->add_shape(hull, ShapeKind::hull, prepared->inner_radius);
     ShapeSlot* slot = w->shape(id);
-    if (slot) slot->hull_volume = final_hull.volume;
+    if (slot) slot->hull_volume = prepared->volume;
     return id;
   } catch (...) {
     return null_id;
   }
+}
+
+double bk_physics_hull_margin(const bk_physics* w) { return w ? w->margin : 0.0; }
+
+bk_shape_id bk_physics_create_hull(bk_physics* w, const bk_vec3* points, uint32_t count,
+                                   uint32_t max_vertices) {
+  if (!w) return bk_shape_id{0, 0};
+  // Prepared and made in one go (the same hull bk_physics_prepare_hull and
+  // bk_physics_create_prepared_hull make in two).
+  bk_hull_prepared* prepared = new bk_hull_prepared;
+  bk_shape_id id = bk_physics_prepare_hull(points, count, max_vertices, w->margin, prepared)
+                       ? bk_physics_create_prepared_hull(w, prepared)
+                       : bk_shape_id{0, 0};
+  delete prepared;
+  return id;
 }
 
 bk_shape_id bk_physics_copy_hull(bk_physics* w, bk_shape_id hull, bk_transform transform) {

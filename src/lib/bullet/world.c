@@ -124,6 +124,8 @@ bk_world* bk_world_create(const bk_world_def* def, bk_error* err) {
   d.runtime.gravity = d.gravity; // up, for anchoring, is its opposite
   d.runtime.body_state = body_state;
   d.runtime.context = NULL;
+  d.runtime.refine_prepare = bk_world_refine_prepare; // the pieces' hulls, on the refinement worker
+  d.runtime.refine_discard = bk_world_refine_discard;
   if (!bk_runtime_def_validate(&d.runtime, "world: runtime.", err)) return NULL;
 
   // An allocator that runs out makes creation fail with an error, not abort.
@@ -188,6 +190,7 @@ void bk_world_destroy(bk_world* w) {
   bk_free(w->stress_loads);
   bk_world_budget_free(w);
   bk_world_settle_free(w);
+  bk_free(w->refined);
   bk_free(w);
 }
 
@@ -222,29 +225,29 @@ bk_breakable_id bk_world_add_breakable(bk_world* w, const bk_world_breakable_def
     }
     w->breakable_count = index + 1;
   }
-  const bk_mesh_tree* tree = def->breakable.tree;
   w->breakables[index] = (world_breakable){.id = id,
                                            .convex_colliders = def->convex_colliders,
                                            .naive = def->naive,
                                            .convexity_tolerance = def->convexity_tolerance,
-                                           .node_hull = bk_calloc(tree->node_count, sizeof(bk_shape_id)),
-                                           .node_body_hull = bk_calloc(tree->node_count, sizeof(bk_shape_id)),
-                                           .hull_fits = bk_calloc(tree->node_count, 1)};
-  bk_world_prepare_hulls(w, index);
+                                           .node_hull = NULL,
+                                           .node_body_hull = NULL,
+                                           .hull_fits = NULL,
+                                           .node_count = 0};
+  bk_world_prepare_hulls(w, index); // every node's, as node_count is 0
   bool made = bk_world_apply_results(w, err);
   bk_world_refresh_live(w);
   return made ? id : null_id;
 }
 
 bk_result bk_world_remove_breakable(bk_world* w, bk_breakable_id id) {
-  const bk_mesh_tree* tree = bk_runtime_breakable_tree(w->runtime, id);
   bk_result result = bk_runtime_remove_breakable(w->runtime, id);
   if (result != BK_OK) return result;
   bk_world_apply_results(w, NULL); // releases its bodies (nothing is created)
   bk_world_refresh_live(w);
-  // Its hulls go once no body uses them (a shape in use is left alone).
+  // Its hulls go once no body uses them (a shape in use is left alone). Its
+  // tree is not read: a refined breakable's own tree went with it.
   world_breakable* wb = &w->breakables[id.index];
-  for (uint32_t i = 0; i < tree->node_count; ++i) {
+  for (uint32_t i = 0; i < wb->node_count; ++i) {
     if (!bk_shape_is_null(wb->node_hull[i])) bk_physics_destroy_shape(w->physics, wb->node_hull[i]);
     if (!bk_shape_is_null(wb->node_body_hull[i])) bk_physics_destroy_shape(w->physics, wb->node_body_hull[i]);
   }
@@ -444,7 +447,12 @@ void bk_world_step(bk_world* w) {
   uint32_t contacts = bk_physics_contacts(w->physics, w->contacts, w->contact_capacity);
   w->contact_count = contacts < w->contact_capacity ? contacts : w->contact_capacity;
   apply_contacts(w, contacts);
-  double before_stress = now_ms(), cpu_damage = cpu_ms() - cpu_after_physics;
+  double cpu_damage = cpu_ms() - cpu_after_physics;
+  // Fragments the hits marked are fractured around them (on a worker),
+  // those due land, and the hits that waited for them break the pieces'
+  // bonds: before the stress solve and the split, which see the grown tree.
+  bk_world_refine(w);
+  double before_stress = now_ms();
   if (w->def.stress) solve_stress(w, contacts);
   w->stress_ms = now_ms() - before_stress;
   double cpu_before_split = cpu_ms();

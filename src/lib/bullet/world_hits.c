@@ -39,7 +39,8 @@ uint32_t bk_world_apply_hits(bk_world* w, uint32_t count) {
       w->hit_count > 0 && w->hits_held_last && bk_runtime_get_stats(w->runtime).pending_splits > 0;
   reserve_hits(w, w->hit_count + count);
   // The step's hits join the queue: those the runtime would apply (past its
-  // thresholds) on clusters with bonds to break (a single fragment has none).
+  // thresholds) on clusters with bonds to break (a single fragment has
+  // none) or that may be refined (a single fragment too).
   for (uint32_t i = 0; i < count; ++i) {
     const bk_damage_contact* ct = &w->damage[i];
     const bk_runtime_def* rd = &w->def.runtime;
@@ -47,7 +48,9 @@ uint32_t bk_world_apply_hits(bk_world* w, uint32_t count) {
         !isfinite(ct->impulse) || !bk_v3_is_finite(ct->point))
       continue;
     bk_cluster_info info = {0};
-    if (!bk_runtime_cluster(w->runtime, ct->cluster, &info) || info.leaf_count < 2) continue;
+    if (!bk_runtime_cluster(w->runtime, ct->cluster, &info)) continue;
+    if (info.leaf_count < 2 && !(bk_runtime_material(w->runtime, info.breakable).refine_strength > 0.0))
+      continue;
     w->hits[w->hit_count++] = (world_hit){.cluster = ct->cluster,
                                           .point = ct->point,
                                           .local = ct->point,

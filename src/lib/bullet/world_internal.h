@@ -15,8 +15,26 @@ typedef struct world_breakable {
   double convexity_tolerance;
   bk_shape_id* node_hull;      // in the tree frame
   bk_shape_id* node_body_hull; // a leaf's hull in its own principal frame, for one-fragment bodies
-  uint8_t* hull_fits;          // per node: its hull may stand for it (bk_collider_nodes)
+  uint8_t* hull_fits;          // per node: its hull may stand for it (bk_collider_nodes), or HULL_LATER
+  // Nodes the arrays above hold (their hulls made): the tree's node count,
+  // which grows as fragments are refined (world_refine.c)
+  uint32_t node_count;
+  bool grown; // refined: some nodes' hulls may be HULL_LATER
 } world_breakable;
+
+/// hull_fits of a node a refinement added whose hull is not made yet
+/// (world_bodies.c makes it when a body first needs it).
+#define HULL_LATER 2
+/// bk_runtime_def.refine_prepare and refine_discard of the world's runtime
+/// (world_refine.c): a refinement's pieces' hulls prepared on its worker.
+void* bk_world_refine_prepare(const bk_mesh_tree* pieces, void* context);
+void bk_world_refine_discard(void* prepared, void* context);
+/// Room bk_world_hull_points needs.
+#define BK_WORLD_HULL_POINTS 96
+/// A refined node's hull points (hull_points.c): its mesh's extreme vertices
+/// along 96 fixed directions (all of them for a mesh of no more); `out`
+/// holds BK_WORLD_HULL_POINTS. Returns the count.
+uint32_t bk_world_hull_points(const bk_mesh* mesh, bk_vec3* out);
 
 /// The body of one runtime cluster, indexed by the cluster's index.
 typedef struct world_body {
@@ -147,6 +165,9 @@ struct bk_world {
   world_settle settle;
   bk_retired_body* aged; // small fragments retire_volume removed in the last step
   uint32_t aged_count, aged_capacity;
+  bk_leaf_refined* refined; // the last step's refinements (world_refine.c)
+  uint32_t refined_capacity;
+  double refine_ms; // thread CPU time of the last step's refinement
 };
 
 /// User data tags on physics bodies.
@@ -156,8 +177,17 @@ struct bk_world {
 
 /// Makes every node's hull (and each fragment's body-frame hull) now, at load
 /// time, so breaking later only creates bodies: a shattering hit must not
-/// compute hulls inside a step.
+/// compute hulls inside a step. Its per-node arrays grow to the tree's node
+/// count (from world_breakable.node_count on: all nodes at load time); the
+/// nodes a refinement added are marked HULL_LATER, their hulls made when a
+/// body first needs them (choose_colliders).
 void bk_world_prepare_hulls(bk_world* world, uint32_t breakable_index);
+/// The step's refinement, after its hits and before its split: lands and
+/// starts the runtime's refinements (bk_runtime_refine), collects the bonds
+/// the hits that waited for the pieces broke, and grows the per-node arrays
+/// of the trees that grew (the new nodes' hulls are made when a body first
+/// needs them), so that the split that follows can make bodies of them.
+void bk_world_refine(bk_world* world);
 /// Applies what the runtime's last call reported, in order: each removed
 /// cluster's body goes, then the bodies of the clusters made from it.
 /// Returns false (err set) if a body could not be made.

@@ -56,6 +56,8 @@ bk_world_stats bk_world_get_stats(const bk_world* w) {
   s.settled_areas = w->settle.live_areas;
   s.settle_wakes = w->settle.wakes;
   s.settle_batch_ms = w->settle.batch_ms;
+  s.refine_ms = w->refine_ms;
+  s.refined_leaves = rs.refined_leaves;
   for (uint32_t i = 0; i < w->projectile_count; ++i)
     s.nan = s.nan || body_has_nan(w, w->projectiles[i]);
   return s;

@@ -82,16 +82,24 @@ static bool divide_bonds(const bk_mesh_tree* tree, uint32_t leaf, const bk_mesh_
     // its triangles. Else they are clipped against the neighbour's.
     double own_area = bk_contact_side_area(&near), bond_area = tree->bonds[j].area;
     bool covered = fabs(own_area - bond_area) <= 1e-9 * bond_area;
+    // A flat face the neighbour covers only in part (a neighbour refined
+    // before) whose side is one convex polygon (a cell's face): each piece's
+    // triangles in its plane are clipped against that polygon.
     bk_plane plane = {{0, 0, 0}, 0};
-    bool flat = covered && bk_contact_side_plane(&near, tolerance, &plane) &&
+    bool near_flat = bk_contact_side_plane(&near, tolerance, &plane);
+    bool flat = covered && near_flat &&
                 fabs(bk_contact_side_on_plane(&own, plane, tolerance).area - own_area) <= 1e-9 * own_area;
+    bk_contact_outline outline = {0};
+    bool outlined = !flat && near_flat && bk_contact_outline_make(&other, plane, tolerance, &outline);
     double total = 0.0;
     for (uint32_t p = 0; p < pieces->leaf_count; ++p) {
-      d->parts[p] = flat      ? bk_contact_side_on_plane(&sides[p], plane, tolerance)
-                    : covered ? bk_contact_side_parts_of(&sides[p], &near, tolerance)
-                              : bk_contact_sides_measure(&sides[p], &other, tolerance);
+      d->parts[p] = flat       ? bk_contact_side_on_plane(&sides[p], plane, tolerance)
+                    : outlined ? bk_contact_outline_clip(&sides[p], &outline, plane, tolerance)
+                    : covered  ? bk_contact_side_parts_of(&sides[p], &near, tolerance)
+                               : bk_contact_sides_measure(&sides[p], &other, tolerance);
       total += d->parts[p].area;
     }
+    bk_contact_outline_free(&outline);
     bk_contact_sides_free(&near);
     bk_contact_sides_free(&other);
     // Slivers of area from rounding at a face's rim are no contact.

@@ -8,14 +8,6 @@
 
 #include "mesh_contact.h"
 
-// A triangle's plane and box, measured once.
-typedef struct tri_info {
-  bk_vec3 p[3];
-  bk_vec3 normal; // unit
-  double offset;  // normal . p = offset
-  bk_aabb box;
-} tri_info;
-
 static bool boxes_touch(bk_aabb a, bk_aabb b, double tolerance);
 
 // An interior triangle whose box touches `within`, measured (else false).
@@ -107,22 +99,29 @@ static void overlap_add(const tri_info* a, const tri_info* b, double* area, bk_v
     n = clip_left((const double(*)[2])poly[cur], n, p, q, poly[1 - cur]);
     cur = 1 - cur;
   }
-  if (n < 3) return;
+  double a_area = 0.0;
+  bk_vec3 centroid = {0};
+  if (!bk_polygon_lift((const double(*)[2])poly[cur], n, o, u, v, &a_area, &centroid)) return;
+  *area += a_area;
+  *moment = bk_v3_add(*moment, bk_v3_scale(centroid, a_area));
+}
+
+bool bk_polygon_lift(const double (*points)[2], uint32_t n, bk_vec3 origin, bk_vec3 u, bk_vec3 v,
+                     double* area, bk_vec3* centroid) {
   double twice = 0.0, cx = 0.0, cy = 0.0;
-  for (uint32_t i = 0; i < n; ++i) {
-    const double* p = poly[cur][i];
-    const double* q = poly[cur][i + 1 == n ? 0 : i + 1];
+  for (uint32_t i = 0; n >= 3 && i < n; ++i) {
+    const double* p = points[i];
+    const double* q = points[i + 1 == n ? 0 : i + 1];
     double cross = p[0] * q[1] - q[0] * p[1];
     twice += cross;
     cx += (p[0] + q[0]) * cross;
     cy += (p[1] + q[1]) * cross;
   }
-  if (!(twice > 0.0)) return;
-  double a_area = 0.5 * twice;
-  bk_vec3 centroid =
-      bk_v3_add(o, bk_v3_add(bk_v3_scale(u, cx / (3.0 * twice)), bk_v3_scale(v, cy / (3.0 * twice))));
-  *area += a_area;
-  *moment = bk_v3_add(*moment, bk_v3_scale(centroid, a_area));
+  if (!(twice > 0.0)) return false;
+  *area = 0.5 * twice;
+  *centroid =
+      bk_v3_add(origin, bk_v3_add(bk_v3_scale(u, cx / (3.0 * twice)), bk_v3_scale(v, cy / (3.0 * twice))));
+  return true;
 }
 
 static bk_contact_measure finish(double area, bk_vec3 moment, bk_vec3 normal) {

@@ -5,6 +5,19 @@
 
 #include "bk_fracture.h"
 
+/// A triangle's plane and box, measured once.
+typedef struct tri_info {
+  bk_vec3 p[3];
+  bk_vec3 normal; // unit
+  double offset;  // normal . p = offset
+  bk_aabb box;
+} tri_info;
+
+/// A polygon's area (> 0 when counter-clockwise) and centroid in the plane
+/// frame (origin, u, v), lifted back into space; false when it has none.
+bool bk_polygon_lift(const double (*points)[2], uint32_t n, bk_vec3 origin, bk_vec3 u, bk_vec3 v,
+                     double* area, bk_vec3* centroid);
+
 /// One mesh's interior triangles near a region, with their planes and boxes.
 typedef struct bk_contact_side {
   void* tris; // tri_info (mesh_contact.c)
@@ -38,3 +51,19 @@ bool bk_contact_side_plane(const bk_contact_side* side, double tolerance, bk_pla
 /// (within tolerance), facing its normal.
 bk_contact_measure bk_contact_side_on_plane(const bk_contact_side* a, bk_plane plane, double tolerance);
 void bk_contact_sides_free(bk_contact_side* side);
+
+/// A flat side's outline, when its triangles make one convex polygon
+/// (contact_outline.c): counter-clockwise seen from `plane`'s normal side.
+typedef struct bk_contact_outline {
+  bk_vec3 origin, u, v; // the plane's frame
+  double (*points)[2];
+  uint32_t count;
+  double lo[2], hi[2]; // its box
+} bk_contact_outline;
+/// False when the triangles' boundary is not one convex loop.
+bool bk_contact_outline_make(const bk_contact_side* side, bk_plane plane, double tolerance,
+                             bk_contact_outline* out);
+/// The part of `a`'s triangles in the plane (facing its normal) inside the outline.
+bk_contact_measure bk_contact_outline_clip(const bk_contact_side* a, const bk_contact_outline* outline,
+                                           bk_plane plane, double tolerance);
+void bk_contact_outline_free(bk_contact_outline* outline);

@@ -102,21 +102,7 @@ bk_breakable_id bk_runtime_add_breakable(bk_runtime* rt, const bk_breakable_def*
 
   // The BCRB graph: bonds incident to each leaf (CSR), hit points by area.
   uint32_t leaves = tree->leaf_count, bonds = tree->bond_count;
-  b->adjacency_start = bk_calloc(leaves + 1u, sizeof(uint32_t));
-  b->adjacency = bk_alloc(sizeof(uint32_t) * (2u * bonds + 1u));
-  for (uint32_t i = 0; i < bonds; ++i) {
-    b->adjacency_start[tree->bonds[i].leaf_a + 1]++;
-    b->adjacency_start[tree->bonds[i].leaf_b + 1]++;
-  }
-  for (uint32_t i = 0; i < leaves; ++i)
-    b->adjacency_start[i + 1] += b->adjacency_start[i];
-  uint32_t* fill = bk_alloc(sizeof(uint32_t) * (leaves + 1u));
-  memcpy(fill, b->adjacency_start, sizeof(uint32_t) * leaves);
-  for (uint32_t i = 0; i < bonds; ++i) {
-    b->adjacency[fill[tree->bonds[i].leaf_a]++] = i;
-    b->adjacency[fill[tree->bonds[i].leaf_b]++] = i;
-  }
-  bk_free(fill);
+  rt_breakable_build_adjacency(b);
   b->bond_hp = bk_alloc(sizeof(double) * (bonds + 1u));
   b->bond_hp_initial = bk_alloc(sizeof(double) * (bonds + 1u));
   b->bond_broken = bk_calloc(bonds + 1u, 1);
@@ -155,6 +141,28 @@ const bk_mesh_tree* bk_runtime_breakable_tree(const bk_runtime* rt, bk_breakable
   return b ? b->tree : NULL;
 }
 
+void rt_breakable_build_adjacency(rt_breakable* b) {
+  const bk_mesh_tree* tree = b->tree;
+  uint32_t leaves = tree->leaf_count, bonds = tree->bond_count;
+  bk_free(b->adjacency_start);
+  bk_free(b->adjacency);
+  b->adjacency_start = bk_calloc(leaves + 1u, sizeof(uint32_t));
+  b->adjacency = bk_alloc(sizeof(uint32_t) * (2u * bonds + 1u));
+  for (uint32_t i = 0; i < bonds; ++i) {
+    b->adjacency_start[tree->bonds[i].leaf_a + 1]++;
+    b->adjacency_start[tree->bonds[i].leaf_b + 1]++;
+  }
+  for (uint32_t i = 0; i < leaves; ++i)
+    b->adjacency_start[i + 1] += b->adjacency_start[i];
+  uint32_t* fill = bk_alloc(sizeof(uint32_t) * (leaves + 1u));
+  memcpy(fill, b->adjacency_start, sizeof(uint32_t) * leaves);
+  for (uint32_t i = 0; i < bonds; ++i) {
+    b->adjacency[fill[tree->bonds[i].leaf_a]++] = i;
+    b->adjacency[fill[tree->bonds[i].leaf_b]++] = i;
+  }
+  bk_free(fill);
+}
+
 bool rt_refine_def_validate(const bk_refine_def* d, bk_error* err) {
   const bk_result invalid = BK_ERROR_INVALID_ARGUMENT;
   if (d->pattern != BK_PATTERN_RADIAL && d->pattern != BK_PATTERN_VORONOI && d->pattern != BK_PATTERN_PLANES)
@@ -171,6 +179,21 @@ bool rt_refine_def_validate(const bk_refine_def* d, bk_error* err) {
     return bk_error_set_code(err, invalid, "breakable: refine.radial_falloff must be in [0, 1.4] (got %g)",
                              d->radial_falloff);
   return true;
+}
+
+// The runtime's own copy of a refined breakable's tree (refine.c): its
+// arrays, and the meshes of the nodes refinement made (the first
+// shared_nodes nodes' meshes are the caller's).
+void rt_breakable_free_tree(rt_breakable* b) {
+  bk_mesh_tree* t = b->own_tree;
+  if (!t) return;
+  for (uint32_t i = b->shared_nodes; i < t->node_count; ++i)
+    bk_mesh_free(&t->nodes[i].mesh);
+  bk_free(t->nodes);
+  bk_free(t->leaf_nodes);
+  bk_free(t->bonds);
+  bk_free(t);
+  b->own_tree = NULL;
 }
 
 void rt_breakable_free(rt_breakable* b) {

@@ -27,18 +27,6 @@ static void own_tree(rt_breakable* b) {
   b->tree = t;
 }
 
-void rt_breakable_free_tree(rt_breakable* b) {
-  bk_mesh_tree* t = b->own_tree;
-  if (!t) return;
-  for (uint32_t i = b->shared_nodes; i < t->node_count; ++i)
-    bk_mesh_free(&t->nodes[i].mesh);
-  bk_free(t->nodes);
-  bk_free(t->leaf_nodes);
-  bk_free(t->bonds);
-  bk_free(t);
-  b->own_tree = NULL;
-}
-
 // What the refined leaf's bonds were: the neighbour (new numbering), the
 // fraction of hit points left, broken.
 typedef struct old_bond {
@@ -61,28 +49,6 @@ static uint8_t* spread_leaves_u8(const uint8_t* from, uint32_t old_count, uint32
   memcpy(to, from, leaf);
   memcpy(to + leaf + k, from + leaf + 1, old_count - leaf - 1);
   return to;
-}
-
-static void rebuild_adjacency(rt_breakable* b) {
-  const bk_mesh_tree* tree = b->tree;
-  uint32_t leaves = tree->leaf_count, bonds = tree->bond_count;
-  bk_free(b->adjacency_start);
-  bk_free(b->adjacency);
-  b->adjacency_start = bk_calloc(leaves + 1u, sizeof(uint32_t));
-  b->adjacency = bk_alloc(sizeof(uint32_t) * (2u * bonds + 1u));
-  for (uint32_t i = 0; i < bonds; ++i) {
-    b->adjacency_start[tree->bonds[i].leaf_a + 1]++;
-    b->adjacency_start[tree->bonds[i].leaf_b + 1]++;
-  }
-  for (uint32_t i = 0; i < leaves; ++i)
-    b->adjacency_start[i + 1] += b->adjacency_start[i];
-  uint32_t* fill = bk_alloc(sizeof(uint32_t) * (leaves + 1u));
-  memcpy(fill, b->adjacency_start, sizeof(uint32_t) * leaves);
-  for (uint32_t i = 0; i < bonds; ++i) {
-    b->adjacency[fill[tree->bonds[i].leaf_a]++] = i;
-    b->adjacency[fill[tree->bonds[i].leaf_b]++] = i;
-  }
-  bk_free(fill);
 }
 
 // Hit points of the bonds the splice changed or added: a divided bond's
@@ -283,7 +249,7 @@ static bool land(bk_runtime* rt, rt_refine_job* job) {
     if (ok) {
       renumber(rt, job->breakable, &info);
       refresh_bonds(b, &info, olds_bond, olds, count);
-      rebuild_adjacency(b);
+      rt_breakable_build_adjacency(b);
     }
     bk_free(olds_bond);
     bk_free(olds);
@@ -295,6 +261,8 @@ static bool land(bk_runtime* rt, rt_refine_job* job) {
   }
   rt->refined_leaves++;
   record_refined(rt, job->breakable, &info);
+  rt->refined[rt->refined_count - 1].prepared = job->prepared; // the caller's now
+  job->prepared = NULL;
   apply_waiting_hits(rt, job->breakable, job, info.leaf, info.leaf_count);
   return true;
 }
@@ -302,9 +270,6 @@ static bool land(bk_runtime* rt, rt_refine_job* job) {
 uint32_t bk_runtime_refine(bk_runtime* rt) {
   uint32_t call = ++rt->refine_calls;
   rt->refine_marked = 0;
-  // Jobs not due yet go to the workers (the oldest first).
-  for (uint32_t i = 0; i < rt->refine_job_count; ++i)
-    if (rt->refine_jobs[i]->due_call > call) rt_refine_start(rt, rt->refine_jobs[i]);
   uint32_t landed = 0;
   for (uint32_t i = 0; i < rt->refine_job_count; ++i) {
     rt_refine_job* job = rt->refine_jobs[i];
@@ -312,12 +277,13 @@ uint32_t bk_runtime_refine(bk_runtime* rt) {
     rt_refine_finish(rt, job);
     landed += land(rt, job);
     rt->refine_jobs[i] = NULL; // landing later jobs must not find it
-    rt_refine_job_free(job);
+    rt_refine_job_free(rt, job);
   }
   uint32_t kept = 0;
   for (uint32_t i = 0; i < rt->refine_job_count; ++i)
     if (rt->refine_jobs[i]) rt->refine_jobs[kept++] = rt->refine_jobs[i];
   rt->refine_job_count = kept;
+  rt_refine_start(rt, call); // jobs not due yet go to the workers, freed by the landing
   return landed;
 }
 

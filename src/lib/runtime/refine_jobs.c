@@ -48,6 +48,46 @@ static bool hit_refines(const bk_runtime* rt, const rt_breakable* b, uint32_t le
   return damage > b->material.refine_strength * cross_section;
 }
 
+// The point of triangle abc nearest to p (by its regions: vertices, edges,
+// face).
+static bk_vec3 triangle_nearest(bk_vec3 p, bk_vec3 a, bk_vec3 b, bk_vec3 c) {
+  bk_vec3 ab = bk_v3_sub(b, a), ac = bk_v3_sub(c, a), ap = bk_v3_sub(p, a);
+  double d1 = bk_v3_dot(ab, ap), d2 = bk_v3_dot(ac, ap);
+  if (d1 <= 0.0 && d2 <= 0.0) return a;
+  bk_vec3 bp = bk_v3_sub(p, b);
+  double d3 = bk_v3_dot(ab, bp), d4 = bk_v3_dot(ac, bp);
+  if (d3 >= 0.0 && d4 <= d3) return b;
+  double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) return bk_v3_add(a, bk_v3_scale(ab, d1 / (d1 - d3)));
+  bk_vec3 cp = bk_v3_sub(p, c);
+  double d5 = bk_v3_dot(ab, cp), d6 = bk_v3_dot(ac, cp);
+  if (d6 >= 0.0 && d5 <= d6) return c;
+  double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) return bk_v3_add(a, bk_v3_scale(ac, d2 / (d2 - d6)));
+  double va = d3 * d6 - d5 * d4;
+  if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0)
+    return bk_v3_add(b, bk_v3_scale(bk_v3_sub(c, b), (d4 - d3) / ((d4 - d3) + (d5 - d6))));
+  double denominator = va + vb + vc;
+  if (!(denominator > 0.0)) return a; // no area
+  return bk_v3_add(a, bk_v3_add(bk_v3_scale(ab, vb / denominator), bk_v3_scale(ac, vc / denominator)));
+}
+
+// The radial pattern grows its pieces from the impact inside the source: a
+// hit beside the fragment (on a neighbour, or on its box beside it) starts
+// from the fragment's surface point nearest to it. Found on the worker.
+static bk_vec3 surface_nearest(const bk_mesh* mesh, bk_vec3 p) {
+  bk_vec3 best = p;
+  double best_d = INFINITY;
+  for (uint32_t t = 0; t < mesh->triangle_count; ++t) {
+    bk_vec3 q = triangle_nearest(p, mesh->positions[bk_mesh_tri_position(mesh, t, 0)],
+                                 mesh->positions[bk_mesh_tri_position(mesh, t, 1)],
+                                 mesh->positions[bk_mesh_tri_position(mesh, t, 2)]);
+    double d = bk_v3_length(bk_v3_sub(q, p));
+    if (d < best_d) best_d = d, best = q;
+  }
+  return best;
+}
+
 static void mark(bk_runtime* rt, uint32_t breakable_index, uint32_t leaf, bk_vec3 local) {
   rt_breakable* b = &rt->breakables[breakable_index];
   const bk_mesh_tree* tree = b->tree;
@@ -63,12 +103,14 @@ static void mark(bk_runtime* rt, uint32_t breakable_index, uint32_t leaf, bk_vec
   def.pattern = b->refine.pattern;
   def.pieces = b->refine.pieces;
   def.seed = job_seed(tree->desc.seed, node);
-  def.impact = local;
+  def.impact = local; // moved onto the fragment's surface on the worker
   def.radial_falloff = b->refine.radial_falloff;
   def.texture_scale = tree->desc.texture_scale;
   def.aspect_bias = tree->desc.aspect_bias;
   def.threads = 1; // one worker per fragment: the game keeps the other core
   job->def = def;
+  job->prepare = rt->def.refine_prepare;
+  job->context = rt->def.context;
   if (rt->refine_job_count == rt->refine_job_capacity) {
     rt->refine_job_capacity = bk_grow_capacity(rt->refine_job_capacity, rt->refine_job_count + 1);
     rt->refine_jobs = bk_realloc(rt->refine_jobs, sizeof(rt_refine_job*) * rt->refine_job_capacity);
@@ -98,39 +140,84 @@ void rt_refine_hit_cluster(bk_runtime* rt, uint32_t slot, bk_vec3 local, double 
   }
 }
 
-static void* job_work(void* arg) {
-  rt_refine_job* job = arg;
+// A fragment the radial pattern cannot seed (too thin where it was hit) is
+// divided evenly instead.
+static void job_work(rt_refine_job* job) {
+  if (job->def.pattern == BK_PATTERN_RADIAL) job->def.impact = surface_nearest(&job->mesh, job->def.impact);
   job->ok = bk_mesh_fracture_leaf(&job->mesh, job->tree_bounds, &job->def, &job->pieces, &job->err);
-  return NULL;
-}
-
-void rt_refine_start(bk_runtime* rt, rt_refine_job* job) {
-  if (job->built || job->threaded || rt->refine_threads >= rt->def.refine_threads) return;
-  pthread_t* thread = bk_alloc(sizeof(pthread_t));
-  if (pthread_create(thread, NULL, job_work, job) != 0) {
-    bk_free(thread); // no thread: the landing call does the work
-    return;
+  if (!job->ok && job->def.pattern == BK_PATTERN_RADIAL) {
+    job->def.pattern = BK_PATTERN_VORONOI;
+    job->ok = bk_mesh_fracture_leaf(&job->mesh, job->tree_bounds, &job->def, &job->pieces, &job->err);
   }
-  job->thread = thread;
-  job->threaded = true;
-  rt->refine_threads++;
-}
-
-void rt_refine_finish(bk_runtime* rt, rt_refine_job* job) {
-  if (job->built) return;
-  if (job->threaded) {
-    pthread_join(*(pthread_t*)job->thread, NULL);
-    bk_free(job->thread);
-    job->thread = NULL;
-    job->threaded = false;
-    rt->refine_threads--;
-  } else {
-    job_work(job);
-  }
+  if (job->ok && job->prepare) job->prepared = job->prepare(&job->pieces, job->context);
   job->built = true;
 }
 
-void rt_refine_job_free(rt_refine_job* job) {
+/// Jobs one worker thread builds in turn.
+typedef struct rt_refine_batch {
+  rt_refine_job** jobs;
+  uint32_t count;
+  uint32_t refs; // jobs not freed yet
+  bool joined;
+  pthread_t thread;
+} rt_refine_batch;
+
+static void* batch_work(void* arg) {
+  rt_refine_batch* batch = arg;
+  for (uint32_t i = 0; i < batch->count; ++i)
+    job_work(batch->jobs[i]);
+  return NULL;
+}
+
+void rt_refine_start(bk_runtime* rt, uint32_t call) {
+  // The jobs waiting to be built, oldest first, shared out among the free
+  // workers in runs (each worker builds its run in order).
+  uint32_t waiting = 0;
+  for (uint32_t i = 0; i < rt->refine_job_count; ++i) {
+    const rt_refine_job* job = rt->refine_jobs[i];
+    waiting += job->due_call > call && !job->batch && !job->built;
+  }
+  uint32_t free_workers =
+      rt->def.refine_threads > rt->refine_threads ? rt->def.refine_threads - rt->refine_threads : 0;
+  uint32_t batches = waiting < free_workers ? waiting : free_workers;
+  uint32_t at = 0;
+  for (uint32_t k = 0; k < batches; ++k) {
+    uint32_t size = waiting / batches + (k < waiting % batches);
+    rt_refine_batch* batch = bk_calloc(1, sizeof *batch);
+    batch->jobs = bk_alloc(sizeof(rt_refine_job*) * size);
+    while (batch->count < size) {
+      rt_refine_job* job = rt->refine_jobs[at++];
+      if (job->due_call > call && !job->batch && !job->built) batch->jobs[batch->count++] = job;
+    }
+    if (pthread_create(&batch->thread, NULL, batch_work, batch) != 0) {
+      bk_free(batch->jobs); // no thread: the landing call does the work
+      bk_free(batch);
+      continue;
+    }
+    for (uint32_t i = 0; i < batch->count; ++i)
+      batch->jobs[i]->batch = batch;
+    batch->refs = batch->count;
+    rt->refine_threads++;
+  }
+}
+
+void rt_refine_finish(bk_runtime* rt, rt_refine_job* job) {
+  rt_refine_batch* batch = job->batch;
+  if (batch && !batch->joined) {
+    pthread_join(batch->thread, NULL);
+    batch->joined = true;
+    rt->refine_threads--;
+  }
+  if (!job->built) job_work(job);
+}
+
+void rt_refine_job_free(const bk_runtime* rt, rt_refine_job* job) {
+  if (job->prepared && rt->def.refine_discard) rt->def.refine_discard(job->prepared, rt->def.context);
+  rt_refine_batch* batch = job->batch;
+  if (batch && --batch->refs == 0) {
+    bk_free(batch->jobs);
+    bk_free(batch);
+  }
   bk_mesh_tree_free(&job->pieces);
   bk_free(job->hits);
   bk_free(job);
@@ -144,8 +231,8 @@ void rt_refine_cancel(bk_runtime* rt, uint32_t breakable_index) {
       rt->refine_jobs[kept++] = job;
       continue;
     }
-    if (job->threaded) rt_refine_finish(rt, job); // its worker reads the leaf's mesh
-    rt_refine_job_free(job);
+    if (job->batch) rt_refine_finish(rt, job); // its worker reads the leaf's mesh
+    rt_refine_job_free(rt, job);
   }
   rt->refine_job_count = kept;
 }

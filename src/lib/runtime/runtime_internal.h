@@ -62,8 +62,11 @@ typedef struct rt_refine_job {
   bk_aabb tree_bounds;
   bk_fracture_def def;
   bk_mesh_tree pieces; // the result
-  bool built, ok, threaded;
-  void* thread; // pthread_t, when on a worker
+  void* prepared;      // refine_prepare's, until handed over in the event
+  void* (*prepare)(const bk_mesh_tree* pieces, void* context); // the def's, read on the worker
+  void* context;
+  bool built, ok;
+  struct rt_refine_batch* batch; // the worker building it (refine_jobs.c), or NULL
   bk_error err;
 } rt_refine_job;
 
@@ -218,17 +221,21 @@ void rt_refine_hit_cluster(bk_runtime* rt, uint32_t slot, bk_vec3 local, double 
 static inline bool rt_bond_waits(const rt_breakable* b, const bk_bond* bd) {
   return b->leaf_refining && (b->leaf_refining[bd->leaf_a] || b->leaf_refining[bd->leaf_b]);
 }
+/// Builds a breakable's graph from its tree: the bonds incident to each leaf (CSR).
+void rt_breakable_build_adjacency(rt_breakable* b);
 /// Frees a breakable's own tree (the meshes it made, never the caller's).
 void rt_breakable_free_tree(rt_breakable* b);
 /// Checks a refine def; err names the field ("breakable: refine.pieces ...").
 bool rt_refine_def_validate(const bk_refine_def* def, bk_error* err);
 /// Waits for and frees every job (of one breakable, or all: UINT32_MAX).
 void rt_refine_cancel(bk_runtime* rt, uint32_t breakable_index);
-/// Starts a job's work on a worker when one is free (refine_jobs.c).
-void rt_refine_start(bk_runtime* rt, rt_refine_job* job);
+/// Shares the jobs not due at `call` and not started out among the free
+/// workers (refine_jobs.c).
+void rt_refine_start(bk_runtime* rt, uint32_t call);
 /// Finishes a job's work (joins its worker, or does it here).
 void rt_refine_finish(bk_runtime* rt, rt_refine_job* job);
-void rt_refine_job_free(rt_refine_job* job);
+/// Frees a job (what refine_prepare made for it and was not handed over goes to refine_discard).
+void rt_refine_job_free(const bk_runtime* rt, rt_refine_job* job);
 /// Marks a bond broken and records it (position: world; velocity: of the body there).
 void rt_break_bond(bk_runtime* rt, uint32_t slot, uint32_t bond, bk_vec3 position, bk_vec3 velocity,
                    bk_break_cause cause);
