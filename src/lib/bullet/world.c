@@ -147,6 +147,7 @@ bk_world* bk_world_create(const bk_world_def* def, bk_error* err) {
     return NULL;
   }
   w->def = d;
+  w->hull_margin = bk_physics_hull_margin(w->physics); // read by the refinement workers
   w->contact_capacity = 65536;
   w->contacts = bk_alloc(sizeof(bk_contact) * w->contact_capacity);
   if (d.ground) {
@@ -161,9 +162,11 @@ bk_world* bk_world_create(const bk_world_def* def, bk_error* err) {
 
 void bk_world_destroy(bk_world* w) {
   if (!w) return;
-  // Destroying the physics world releases every body and shape in it.
-  bk_physics_destroy(w->physics);
+  // The runtime first: it waits for its refinement workers, which prepare
+  // hulls for this world. Destroying the physics world then releases every
+  // body and shape in it.
   bk_runtime_destroy(w->runtime);
+  bk_physics_destroy(w->physics);
   for (uint32_t i = 0; i < w->body_capacity; ++i)
     bk_free(w->bodies[i].colliders);
   for (uint32_t i = 0; i < w->breakable_count; ++i) {

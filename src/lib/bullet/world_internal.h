@@ -117,6 +117,7 @@ typedef struct world_budget {
 struct bk_world {
   bk_world_def def;
   bk_physics* physics;
+  double hull_margin; // the physics world's, for hulls prepared on refinement workers
   bk_runtime* runtime;
   bk_shape_id ground;
   bk_body_id ground_body;

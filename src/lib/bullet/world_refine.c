@@ -28,8 +28,8 @@ typedef struct refine_hulls {
 
 void* bk_world_refine_prepare(const bk_mesh_tree* pieces, void* context) {
   const bk_world* w = context;
-  if (!w->physics || pieces->node_count < 2) return NULL;
-  double margin = bk_physics_hull_margin(w->physics);
+  if (pieces->node_count < 2) return NULL;
+  double margin = w->hull_margin; // set once the physics world exists; never changes
   uint32_t count = pieces->node_count - 1;
   refine_hulls* r = bk_alloc(sizeof *r + sizeof(bk_hull_prepared) * count);
   r->count = count;
