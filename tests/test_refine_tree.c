@@ -119,6 +119,54 @@ static void test_refine(bk_shape shape, bk_fracture_pattern source_pattern,
   bk_mesh_tree_free(&tree);
 }
 
+// Contacts measured ahead (as a refinement worker does) splice the same
+// bytes as contacts measured at the splice; a neighbour changed since (here:
+// refined first) is measured again at the splice.
+static void test_measured_ahead(void) {
+  bk_mesh_tree here = build(BK_SHAPE_WALL, BK_PATTERN_VORONOI, 12);
+  bk_mesh_tree ahead = build(BK_SHAPE_WALL, BK_PATTERN_VORONOI, 12);
+  const uint32_t leaf = 5;
+  bk_fracture_def def = bk_default_fracture_def();
+  def.pattern = BK_PATTERN_RADIAL;
+  def.pieces = 16;
+  def.impact = bk_mesh_tree_leaf(&here, leaf)->bounds.min;
+  bk_error err = {0};
+  // The neighbours, as a worker would capture them before another
+  // refinement changes one of them.
+  bk_piece_neighbour neighbours[64];
+  uint32_t count = 0, changed = UINT32_MAX;
+  for (uint32_t j = 0; j < ahead.bond_count && count < 64; ++j) {
+    const bk_bond* b = &ahead.bonds[j];
+    if (b->leaf_a != leaf && b->leaf_b != leaf) continue;
+    uint32_t other = b->leaf_a == leaf ? b->leaf_b : b->leaf_a;
+    if (other > leaf && changed == UINT32_MAX) changed = other; // keeps `leaf`'s number when refined
+    neighbours[count++] =
+        (bk_piece_neighbour){ahead.leaf_nodes[other], bk_mesh_tree_leaf(&ahead, other)->mesh, b->area};
+  }
+  ENSURE(count >= 2 && changed != UINT32_MAX);
+  bk_mesh_tree pieces_here = {0}, pieces_ahead = {0};
+  ENSURE(bk_mesh_fracture_leaf(&bk_mesh_tree_leaf(&here, leaf)->mesh, here.nodes[0].bounds, &def,
+                               &pieces_here, &err));
+  ENSURE(bk_mesh_fracture_leaf(&bk_mesh_tree_leaf(&ahead, leaf)->mesh, ahead.nodes[0].bounds, &def,
+                               &pieces_ahead, &err));
+  bk_piece_contacts contacts = {0};
+  bk_mesh_measure_piece_contacts(&bk_mesh_tree_leaf(&ahead, leaf)->mesh, ahead.nodes[0].bounds, &pieces_ahead,
+                                 neighbours, count, &contacts);
+  ENSURE(contacts.neighbour_count == count && contacts.piece_count == pieces_ahead.leaf_count);
+  // One neighbour refined meanwhile, in both trees alike.
+  refine(&here, changed, BK_PATTERN_VORONOI, 6);
+  refine(&ahead, changed, BK_PATTERN_VORONOI, 6);
+  ENSURE_MSG(bk_mesh_tree_splice(&here, leaf, &pieces_here, NULL, &err), "%s", err.message);
+  ENSURE_MSG(bk_mesh_tree_splice_measured(&ahead, leaf, &pieces_ahead, &contacts, NULL, &err), "%s",
+             err.message);
+  ENSURE(trees_same_bytes(&here, &ahead));
+  check_tree(&ahead);
+  check_bonds_brute_force(&ahead, 1e-9);
+  bk_piece_contacts_free(&contacts);
+  bk_mesh_tree_free(&here);
+  bk_mesh_tree_free(&ahead);
+}
+
 // A splice that does not fit its leaf leaves everything as it was.
 static void test_refused(void) {
   bk_mesh_tree tree = build(BK_SHAPE_WALL, BK_PATTERN_VORONOI, 8);
@@ -148,6 +196,7 @@ int main(void) {
   noise = 0.02; // curved cut faces: each bond is many small tilted contacts
   test_refine(BK_SHAPE_TORUS, BK_PATTERN_VORONOI, BK_PATTERN_RADIAL);
   noise = 0.0;
+  test_measured_ahead();
   test_refused();
   printf("refine tree ok\n");
   return 0;

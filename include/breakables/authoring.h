@@ -680,6 +680,14 @@ void bk_mesh_tree_compute_bonds(bk_mesh_tree* tree);
 
 // ---------------------------------------------------------------- refinement
 
+/// A contact between two meshes, or between a piece and a neighbour: its
+/// area, centroid and normal (see bk_mesh_contact).
+typedef struct bk_contact_measure {
+  double area;
+  bk_vec3 centroid;
+  bk_vec3 normal; ///< unit, from a to b (area-weighted)
+} bk_contact_measure;
+
 /// Fractures one leaf's mesh again, for bk_mesh_tree_splice: as
 /// bk_mesh_tree_build does a source, but with every node's moments about the
 /// origin of the tree the leaf is in (bk_mesh_tree_origin, derived from that
@@ -709,6 +717,30 @@ typedef struct bk_splice_info {
   uint32_t bonds_divided; ///< bonds of the refined leaf with its neighbours, divided among its pieces
 } bk_splice_info;
 
+/// A neighbour of a leaf being refined, as it was when its pieces were made.
+typedef struct bk_piece_neighbour {
+  uint32_t node;    ///< its node in the tree
+  bk_mesh mesh;     ///< its mesh (borrowed: a node's mesh never changes)
+  double bond_area; ///< the area of its bond with the leaf
+} bk_piece_neighbour;
+
+/// How a leaf's pieces touch its neighbours, measured ahead of the splice.
+typedef struct bk_piece_contacts {
+  uint32_t neighbour_count, piece_count;
+  uint32_t* nodes;           ///< per neighbour, its node
+  double* bond_areas;        ///< per neighbour, its bond's area then
+  bk_contact_measure* parts; ///< neighbour_count x piece_count
+} bk_piece_contacts;
+
+/// Measures how the pieces of a leaf (bk_mesh_fracture_leaf of its mesh)
+/// touch each neighbour's face, as bk_mesh_tree_splice would: where the
+/// pieces are made (on a worker: it reads only its arguments), so the splice
+/// need not. Free with bk_piece_contacts_free.
+void bk_mesh_measure_piece_contacts(const bk_mesh* leaf_mesh, bk_aabb tree_bounds, const bk_mesh_tree* pieces,
+                                    const bk_piece_neighbour* neighbours, uint32_t count,
+                                    bk_piece_contacts* out);
+void bk_piece_contacts_free(bk_piece_contacts* contacts);
+
 /// Grows a tree where it broke: leaf `leaf` becomes an inner node whose
 /// subtree is `pieces` (made by bk_mesh_fracture_leaf from that leaf's
 /// mesh and the tree's root bounds; its root stands for the leaf, its other
@@ -724,17 +756,17 @@ typedef struct bk_splice_info {
 /// of the leaf touches no piece.
 bool bk_mesh_tree_splice(bk_mesh_tree* tree, uint32_t leaf, bk_mesh_tree* pieces, bk_splice_info* info,
                          bk_error* err);
+/// bk_mesh_tree_splice with the pieces' contacts measured ahead: a bond
+/// whose neighbour's node and area are still those measured takes its
+/// parts from `contacts` (may be NULL); the others are measured here.
+bool bk_mesh_tree_splice_measured(bk_mesh_tree* tree, uint32_t leaf, bk_mesh_tree* pieces,
+                                  const bk_piece_contacts* contacts, bk_splice_info* info, bk_error* err);
 
 /// The contact of two closed meshes, measured as the bonds are, pair by
 /// pair of triangles: interior (cap) triangles of `a` and `b` in one plane
 /// (within `tolerance`), facing opposite ways, clipped against each other.
 /// Area 0 when they do not touch. O(triangles of a x triangles of b) within
 /// their bounds' overlap: a brute-force check of a tree's bonds.
-typedef struct bk_contact_measure {
-  double area;
-  bk_vec3 centroid;
-  bk_vec3 normal; ///< unit, from a to b (area-weighted)
-} bk_contact_measure;
 bk_contact_measure bk_mesh_contact(const bk_mesh* a, const bk_mesh* b, double tolerance);
 
 /// Statistics for reports and tests.

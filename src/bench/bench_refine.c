@@ -121,7 +121,8 @@ static void refine_settings(bk_breakable_def* def, const bk_mesh_tree* tree, uin
 typedef struct speed_result {
   double land_ms[MAX_HITS];  ///< the calling thread's time in the step (call) that landed each hit's pieces
   double start_ms[MAX_HITS]; ///< and in the step that started it (latency 1)
-  uint32_t steps[MAX_HITS];  ///< steps from the hit (1: its own) until its pieces had bodies; 0: never
+  uint32_t steps[MAX_HITS];  ///< steps from the hit (1: its own) to the one that landed its pieces; 0: never
+  bool hit_landed[MAX_HITS]; ///< the hit refined a fragment (a hit below the threshold refines none)
   uint32_t landed, refined;  ///< hits whose refinement landed; fragments refined in all
   /// In the step that made the pieces' bodies: the world's break handling
   /// and body creation (fracture_ms: the split, and the hulls of the nodes
@@ -161,12 +162,14 @@ static bool speed_world(const speed_load* load, uint32_t latency, speed_result* 
     bk_world_stats st = bk_world_get_stats(world);
     for (uint32_t h = 0; h < hit; ++h) {
       if (step == hit_step[h]) out->start_ms[h] = st.refine_ms;
-      if (!landed[h] && st.refined_leaves > at_hit[h].refined_leaves) {
-        landed[h] = true;
+      // Its pieces are in the simulation from the step that lands them: the
+      // fragment's body covers them, and the split that follows in that
+      // step makes bodies of those the hit knocked loose.
+      // (Before the next hit: a hit below the threshold refines nothing, and
+      // the next one's landing is not its.)
+      if (!landed[h] && step < hit_step[h] + SPEED_HIT_GAP && st.refined_leaves > at_hit[h].refined_leaves) {
+        landed[h] = out->hit_landed[h] = true;
         out->land_ms[out->landed++] = st.refine_ms;
-      }
-      // Its pieces are bodies once a body split after the landing and no split waits.
-      if (landed[h] && !out->steps[h] && st.break_events > at_hit[h].break_events && st.pending_splits == 0) {
         out->steps[h] = step - hit_step[h] + 1;
         out->bodies_ms[h] = st.fracture_ms;
         out->step_ms[h] = st.fracture_ms + st.refine_ms;
@@ -232,6 +235,7 @@ static bool speed_runtime(const speed_load* load, uint32_t latency, speed_result
       // One hit refines one arc; its pieces are clusters when the split made some.
       uint32_t h = out->landed;
       out->land_ms[out->landed++] = spent;
+      if (h < hit) out->hit_landed[h] = true;
       if (h < hit && created) {
         out->steps[h] = step - hit_step[h] + 1;
         out->bodies_ms[h] = split_ms;
@@ -314,7 +318,7 @@ static speed_summary summarize(const speed_result* r, uint32_t hits) {
   uint32_t made = 0;
   for (uint32_t h = 0; h < hits; ++h) {
     s.steps_max = r->steps[h] > s.steps_max ? r->steps[h] : s.steps_max;
-    s.never += r->steps[h] == 0;
+    s.never += r->hit_landed[h] && r->steps[h] == 0; // refined, and its pieces never had bodies
     if (r->steps[h]) bodies[made] = r->bodies_ms[h], work[made++] = r->step_ms[h];
   }
   percentiles(bodies, made, s.bodies);
@@ -447,7 +451,9 @@ bool bench_section_refine(const bench* b) {
       "the hit's step; *bodies ms*: in the step that made the pieces' bodies, the world's break handling "
       "and body creation (`fracture_ms`: the split, and the hulls of the nodes the new bodies use), or "
       "the `bk_runtime_split` call; *step work*: the two together in that step, p99; *steps to bodies*: "
-      "from the hit (its own step the first) until its pieces had bodies and no split waited. The last "
+      "from the hit (its own step the first) to the step that landed its pieces (from then they are in "
+      "the simulation: the fragment's body covers them, and that step's split makes bodies of those the "
+      "hit knocked loose; in the runtime alone, to the step whose split made clusters of them). The last "
       "row is the worker's work alone: `bk_mesh_fracture_leaf` on each hit arc as the runtime calls it "
       "(one thread). CPU time, not the clock: the landing call waits for the worker, which in a game "
       "running at 60 Hz has had a frame. Target (issue 34): at most 2 ms of work a step at p99 (*step "

@@ -43,21 +43,27 @@ typedef struct divided {
   uint32_t part_count;       // pieces with area > 0
 } divided;
 
-// Measures how each piece touches the face of each of the leaf's bonds.
-static bool divide_bonds(const bk_mesh_tree* tree, uint32_t leaf, const bk_mesh_tree* pieces, divided** out,
-                         uint32_t* out_count, bk_error* err) {
+// The parts measured ahead for this bond's neighbour (its node, its bond's
+// area unchanged since), or NULL.
+static const bk_contact_measure* measured(const bk_piece_contacts* contacts, uint32_t node, double area,
+                                          uint32_t pieces) {
+  for (uint32_t i = 0; contacts && i < contacts->neighbour_count; ++i)
+    if (contacts->nodes[i] == node && contacts->bond_areas[i] == area && contacts->piece_count == pieces)
+      return &contacts->parts[(size_t)i * pieces];
+  return NULL;
+}
+
+// How each piece touches the face of each of the leaf's bonds: measured
+// ahead (`contacts`), or here.
+static bool divide_bonds(const bk_mesh_tree* tree, uint32_t leaf, const bk_mesh_tree* pieces,
+                         const bk_piece_contacts* contacts, divided** out, uint32_t* out_count,
+                         bk_error* err) {
   const bk_mesh_tree_node* node = bk_mesh_tree_leaf(tree, leaf);
-  bk_aabb root = tree->nodes[0].bounds;
-  double tolerance = 1e-9 * bk_v3_length(bk_v3_sub(root.max, root.min)) + 1e-300;
   uint32_t count = 0;
   for (uint32_t j = 0; j < tree->bond_count; ++j)
     count += tree->bonds[j].leaf_a == leaf || tree->bonds[j].leaf_b == leaf;
   divided* list = bk_calloc(count + 1u, sizeof(divided));
-  bk_contact_side* sides = bk_calloc(pieces->leaf_count, sizeof(bk_contact_side));
-  for (uint32_t p = 0; p < pieces->leaf_count; ++p)
-    bk_contact_side_gather(&bk_mesh_tree_leaf(pieces, p)->mesh, node->bounds, tolerance, &sides[p]);
-  bk_contact_side own = {0};
-  bk_contact_side_gather(&node->mesh, node->bounds, tolerance, &own);
+  bk_piece_faces faces = {0};
   uint32_t at = 0;
   bool ok = true;
   for (uint32_t j = 0; j < tree->bond_count && ok; ++j) {
@@ -67,54 +73,22 @@ static bool divide_bonds(const bk_mesh_tree* tree, uint32_t leaf, const bk_mesh_
     d->bond = j;
     d->neighbour = b->leaf_a == leaf ? b->leaf_b : b->leaf_a;
     d->parts = bk_calloc(pieces->leaf_count, sizeof(bk_contact_measure));
-    // The neighbour's triangles on this face: those facing the leaf's own
-    // (both sides taken where the two leaves' boxes meet).
     const bk_mesh_tree_node* neighbour = bk_mesh_tree_leaf(tree, d->neighbour);
-    bk_contact_side other = {0}, near = {0};
-    bk_contact_side_gather(&neighbour->mesh, node->bounds, tolerance, &other);
-    bk_contact_side_subset(&own, neighbour->bounds, tolerance, &near);
-    bk_contact_side_keep_facing(&other, &near, tolerance);
-    bk_contact_side_keep_facing(&near, &other, tolerance);
-    // When the leaf's side of the face is all in contact (its area is the
-    // bond's: cell patterns share faces exactly), a piece's contact is its
-    // triangles that are pieces of that side's: those in its plane when it
-    // is flat and no other triangle of the leaf is there, else those inside
-    // its triangles. Else they are clipped against the neighbour's.
-    double own_area = bk_contact_side_area(&near), bond_area = tree->bonds[j].area;
-    bool covered = fabs(own_area - bond_area) <= 1e-9 * bond_area;
-    // A flat face the neighbour covers only in part (a neighbour refined
-    // before) whose side is one convex polygon (a cell's face): each piece's
-    // triangles in its plane are clipped against that polygon.
-    bk_plane plane = {{0, 0, 0}, 0};
-    bool near_flat = bk_contact_side_plane(&near, tolerance, &plane);
-    bool flat = covered && near_flat &&
-                fabs(bk_contact_side_on_plane(&own, plane, tolerance).area - own_area) <= 1e-9 * own_area;
-    bk_contact_outline outline = {0};
-    bool outlined = !flat && near_flat && bk_contact_outline_make(&other, plane, tolerance, &outline);
-    double total = 0.0;
-    for (uint32_t p = 0; p < pieces->leaf_count; ++p) {
-      d->parts[p] = flat       ? bk_contact_side_on_plane(&sides[p], plane, tolerance)
-                    : outlined ? bk_contact_outline_clip(&sides[p], &outline, plane, tolerance)
-                    : covered  ? bk_contact_side_parts_of(&sides[p], &near, tolerance)
-                               : bk_contact_sides_measure(&sides[p], &other, tolerance);
-      total += d->parts[p].area;
+    const bk_contact_measure* ahead =
+        measured(contacts, tree->leaf_nodes[d->neighbour], b->area, pieces->leaf_count);
+    if (ahead) {
+      memcpy(d->parts, ahead, sizeof(bk_contact_measure) * pieces->leaf_count);
+    } else {
+      if (!faces.sides) bk_piece_faces_make(&node->mesh, tree->nodes[0].bounds, pieces, &faces);
+      bk_piece_faces_measure(&faces, &neighbour->mesh, b->area, d->parts);
     }
-    bk_contact_outline_free(&outline);
-    bk_contact_sides_free(&near);
-    bk_contact_sides_free(&other);
-    // Slivers of area from rounding at a face's rim are no contact.
-    for (uint32_t p = 0; p < pieces->leaf_count; ++p) {
-      if (!(d->parts[p].area > 1e-9 * total)) d->parts[p].area = 0.0;
+    for (uint32_t p = 0; p < pieces->leaf_count; ++p)
       d->part_count += d->parts[p].area > 0.0;
-    }
     if (!d->part_count)
       ok = bk_error_set(err, "refine: bond %u of leaf %u (with leaf %u) touches none of its pieces", j, leaf,
                         d->neighbour);
   }
-  for (uint32_t p = 0; p < pieces->leaf_count; ++p)
-    bk_contact_sides_free(&sides[p]);
-  bk_free(sides);
-  bk_contact_sides_free(&own);
+  bk_piece_faces_free(&faces);
   *out = list;
   *out_count = at;
   return ok;
@@ -147,6 +121,11 @@ static bk_bond part_bond(const bk_bond* old, const divided* d, uint32_t piece, d
 
 bool bk_mesh_tree_splice(bk_mesh_tree* tree, uint32_t leaf, bk_mesh_tree* pieces, bk_splice_info* info,
                          bk_error* err) {
+  return bk_mesh_tree_splice_measured(tree, leaf, pieces, NULL, info, err);
+}
+
+bool bk_mesh_tree_splice_measured(bk_mesh_tree* tree, uint32_t leaf, bk_mesh_tree* pieces,
+                                  const bk_piece_contacts* contacts, bk_splice_info* info, bk_error* err) {
   if (info) memset(info, 0, sizeof *info);
   if (!tree || !pieces || leaf >= tree->leaf_count)
     return bk_error_set(err, "refine: leaf %u is not a leaf of the tree", leaf);
@@ -162,7 +141,7 @@ bool bk_mesh_tree_splice(bk_mesh_tree* tree, uint32_t leaf, bk_mesh_tree* pieces
                         volume);
   divided* list = NULL;
   uint32_t list_count = 0;
-  if (!divide_bonds(tree, leaf, pieces, &list, &list_count, err)) {
+  if (!divide_bonds(tree, leaf, pieces, contacts, &list, &list_count, err)) {
     free_divided(list, list_count);
     return false;
   }

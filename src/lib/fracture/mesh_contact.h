@@ -67,3 +67,20 @@ bool bk_contact_outline_make(const bk_contact_side* side, bk_plane plane, double
 bk_contact_measure bk_contact_outline_clip(const bk_contact_side* a, const bk_contact_outline* outline,
                                            bk_plane plane, double tolerance);
 void bk_contact_outline_free(bk_contact_outline* outline);
+
+/// A refined leaf's pieces' sides and its own, gathered once to measure
+/// each of its bonds' faces (piece_contacts.c).
+typedef struct bk_piece_faces {
+  bk_contact_side* sides; // per piece
+  uint32_t piece_count;
+  bk_contact_side own;
+  bk_aabb leaf_bounds;
+  double tolerance;
+} bk_piece_faces;
+void bk_piece_faces_make(const bk_mesh* leaf_mesh, bk_aabb tree_bounds, const bk_mesh_tree* pieces,
+                         bk_piece_faces* out);
+/// Each piece's contact with the face of the leaf's bond of `bond_area`
+/// with `neighbour` (slivers of area from rounding dropped) into parts.
+void bk_piece_faces_measure(bk_piece_faces* faces, const bk_mesh* neighbour, double bond_area,
+                            bk_contact_measure* parts);
+void bk_piece_faces_free(bk_piece_faces* faces);

@@ -245,7 +245,7 @@ static bool land(bk_runtime* rt, rt_refine_job* job) {
                      .broken = b->bond_broken[j]};
     }
     own_tree(b);
-    ok = bk_mesh_tree_splice(b->own_tree, leaf, &job->pieces, &info, &job->err);
+    ok = bk_mesh_tree_splice_measured(b->own_tree, leaf, &job->pieces, &job->contacts, &info, &job->err);
     if (ok) {
       renumber(rt, job->breakable, &info);
       refresh_bonds(b, &info, olds_bond, olds, count);

@@ -109,6 +109,16 @@ static void mark(bk_runtime* rt, uint32_t breakable_index, uint32_t leaf, bk_vec
   def.aspect_bias = tree->desc.aspect_bias;
   def.threads = 1; // one worker per fragment: the game keeps the other core
   job->def = def;
+  // Its neighbours as they are now (their meshes never change): the worker
+  // measures how the pieces touch each one's face, so the landing need not.
+  job->neighbours =
+      bk_alloc(sizeof(bk_piece_neighbour) * (b->adjacency_start[leaf + 1] - b->adjacency_start[leaf] + 1u));
+  for (uint32_t k = b->adjacency_start[leaf]; k < b->adjacency_start[leaf + 1]; ++k) {
+    const bk_bond* bd = &tree->bonds[b->adjacency[k]];
+    uint32_t other = bd->leaf_a == leaf ? bd->leaf_b : bd->leaf_a;
+    job->neighbours[job->neighbour_count++] = (bk_piece_neighbour){
+        .node = tree->leaf_nodes[other], .mesh = bk_mesh_tree_leaf(tree, other)->mesh, .bond_area = bd->area};
+  }
   job->prepare = rt->def.refine_prepare;
   job->context = rt->def.context;
   if (rt->refine_job_count == rt->refine_job_capacity) {
@@ -149,6 +159,9 @@ static void job_work(rt_refine_job* job) {
     job->def.pattern = BK_PATTERN_VORONOI;
     job->ok = bk_mesh_fracture_leaf(&job->mesh, job->tree_bounds, &job->def, &job->pieces, &job->err);
   }
+  if (job->ok)
+    bk_mesh_measure_piece_contacts(&job->mesh, job->tree_bounds, &job->pieces, job->neighbours,
+                                   job->neighbour_count, &job->contacts);
   if (job->ok && job->prepare) job->prepared = job->prepare(&job->pieces, job->context);
   job->built = true;
 }
@@ -219,6 +232,8 @@ void rt_refine_job_free(const bk_runtime* rt, rt_refine_job* job) {
     bk_free(batch);
   }
   bk_mesh_tree_free(&job->pieces);
+  bk_piece_contacts_free(&job->contacts);
+  bk_free(job->neighbours);
   bk_free(job->hits);
   bk_free(job);
 }

@@ -61,8 +61,11 @@ typedef struct rt_refine_job {
   bk_mesh mesh; // the leaf's (borrowed: a node's mesh never changes)
   bk_aabb tree_bounds;
   bk_fracture_def def;
-  bk_mesh_tree pieces; // the result
-  void* prepared;      // refine_prepare's, until handed over in the event
+  bk_piece_neighbour* neighbours; // the leaf's bonded neighbours when marked
+  uint32_t neighbour_count;
+  bk_mesh_tree pieces;        // the result
+  bk_piece_contacts contacts; // how the pieces touch the neighbours' faces
+  void* prepared;             // refine_prepare's, until handed over in the event
   void* (*prepare)(const bk_mesh_tree* pieces, void* context); // the def's, read on the worker
   void* context;
   bool built, ok;
