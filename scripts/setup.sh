@@ -37,6 +37,8 @@ PACKAGES=(
   assimp-testmodels
   # the glTF export's optional vertex compression (EXT_meshopt_compression)
   libmeshoptimizer-dev
+  # the runtime's state hash (XXH3, header only: nothing to link)
+  libxxhash-dev
   # de_DE's locale source, compiled by test_obj to check OBJ numbers under a decimal comma
   locales
   xvfb

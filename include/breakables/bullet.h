@@ -598,6 +598,15 @@ typedef struct bk_world_stats {
 
 bk_world_stats bk_world_get_stats(const bk_world* world);
 
+/// The precision bk_world_state_hash rounds bodies' positions (m), rotation
+/// components, and velocities (m/s, rad/s) to.
+#define BK_WORLD_HASH_PRECISION 1e-6
+/// 64 bits over the runtime's state hash (bk_runtime_state_hash), the step
+/// count, every breakable body (cluster id, budget tier, transform and
+/// velocities rounded to BK_WORLD_HASH_PRECISION) and the projectiles in
+/// flight: two worlds given the same calls hash alike.
+uint64_t bk_world_state_hash(const bk_world* world);
+
 /// A breakable body for drawing: which mesh-tree nodes it shows, where.
 typedef struct bk_body_view {
   bk_breakable_id breakable;

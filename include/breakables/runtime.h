@@ -538,6 +538,16 @@ typedef struct bk_runtime_stats {
 
 bk_runtime_stats bk_runtime_get_stats(const bk_runtime* runtime);
 
+/// 64 bits over the destruction state: every breakable's tree as it stands
+/// (a refined one's grown shape and bonds), material, bonds' hit points and
+/// breaks, anchors; every cluster's id and leaves; the splits and
+/// refinements waiting, with their hits. Two runtimes given the same calls
+/// have the same hash, on any machine and compiler that computes the same
+/// doubles (XXH3 over the fields in a fixed order, little endian; a double
+/// by its bits, -0 as +0). It does not cover user data, events not cleared
+/// or where bodies are (bk_world_state_hash adds those).
+uint64_t bk_runtime_state_hash(const bk_runtime* runtime);
+
 #ifdef __cplusplus
 }
 #endif

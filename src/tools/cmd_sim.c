@@ -17,7 +17,8 @@ static const char* const sim_usage =
     "                      [--no-stress] [--stress-scale X] [--drop KG] [--drop-radius M] [--drop-at STEP]\n"
     "                      [--budget-ms X] [--budget-fidelity S] [--budget-fidelity-factor F]\n"
     "                      [--copies N] [--max-memory MIB] [--refine] [--refine-pieces N]\n"
-    "                      [--export-obj FILE.obj] [--export-gltf FILE.glb|FILE.gltf] [--json]\n"
+    "                      [--export-obj FILE.obj] [--export-gltf FILE.glb|FILE.gltf] [--hash-every N] "
+    "[--json]\n"
     "\n"
     "Runs a scene headless at a fixed 60 Hz: builds (or loads from the cache) the\n"
     "scene's mesh tree, fires K projectiles at the object at regular intervals\n"
@@ -89,8 +90,11 @@ static const char* const sim_options =
     "                   leaves_final (the fragments of every object's tree at the end: the\n"
     "                   pieces plus what refinement added), refine_ms_p99 and refine_ms_max\n"
     "                   (each step's refinement, CPU time of the thread: starting and landing\n"
-    "                   the pieces; the fracture runs on a worker, their hulls are made with\n"
-    "                   the bodies, in break_ms)\n"
+    "                   the pieces; the fracture, the bond division and the pieces' hulls run\n"
+    "                   on a worker), state_hash and world_hash (bk_runtime_state_hash and\n"
+    "                   bk_world_state_hash at the end, 16 hex digits)\n"
+    "  --hash-every N   print 'step S state_hash H world_hash W' every N steps, 1..1000000\n"
+    "                   (on stderr with --json)\n"
     "  -h, --help       show this help\n"
     "\n"
     "Mesh trees are cached in $BREAKABLES_CACHE_DIR (else $XDG_CACHE_HOME/breakables,\n"
@@ -238,7 +242,7 @@ static bool export_first_tree(const loaded_scene* s, const char* obj_path, const
 }
 
 int cmd_sim(int argc, char** argv) {
-  uint64_t shots = 3, steps = 300;
+  uint64_t shots = 3, steps = 300, hash_every = 0;
   double speed = 0.0;
   bool json = false, shots_given = false;
   const char* obj_path = NULL;
@@ -268,10 +272,10 @@ int cmd_sim(int argc, char** argv) {
       flag = false;
     }
     if (flag) continue;
-    static const char* const names[] = {"--shots",      "--frailty",         "--density",
-                                        "--steps",      "--speed",           "--budget-fidelity-factor",
-                                        "--copies",     "--budget-fidelity", "--export-obj",
-                                        "--export-gltf"};
+    static const char* const names[] = {"--shots",       "--frailty",         "--density",
+                                        "--steps",       "--speed",           "--budget-fidelity-factor",
+                                        "--copies",      "--budget-fidelity", "--export-obj",
+                                        "--export-gltf", "--hash-every"};
     const char* value = NULL;
     int which = take_option("sim", argc, argv, &i, names, (int)(sizeof names / sizeof *names), &value);
     if (which == -2) return 2;
@@ -280,7 +284,9 @@ int cmd_sim(int argc, char** argv) {
       return 2;
     }
     scene_options* o = &args.options;
-    if (strcmp(arg, "--export-obj") == 0) {
+    if (strcmp(arg, "--hash-every") == 0) {
+      if (!option_u64("sim", arg, value, 1, 1000000, &hash_every)) return 2;
+    } else if (strcmp(arg, "--export-obj") == 0) {
       obj_path = value;
     } else if (strcmp(arg, "--export-gltf") == 0) {
       gltf_path = value;
@@ -418,7 +424,15 @@ int cmd_sim(int argc, char** argv) {
     }
     if (step >= settled_from) settled_sum += now.physics_cpu_ms;
     if (now.stress_iterations) stress_ms[stress_steps++] = now.stress_ms;
+    // The state every N steps: stderr with --json, whose stdout is one object.
+    if (hash_every && (step + 1) % hash_every == 0)
+      fprintf(json ? stderr : stdout, "step %llu state_hash %016llx world_hash %016llx\n",
+              (unsigned long long)(step + 1),
+              (unsigned long long)bk_runtime_state_hash(bk_world_runtime(loaded.world)),
+              (unsigned long long)bk_world_state_hash(loaded.world));
   }
+  uint64_t state_hash = bk_runtime_state_hash(bk_world_runtime(loaded.world));
+  uint64_t world_hash = bk_world_state_hash(loaded.world);
   bk_world_stats final = bk_world_get_stats(loaded.world);
   // Walks every manifold: read once here, not in the per-step world stats.
   bk_physics_stats physics = bk_physics_get_stats(bk_world_physics(loaded.world));
@@ -491,10 +505,12 @@ int cmd_sim(int argc, char** argv) {
            BK_APP_JSON_NUMBER("%.6g", near.momentum), BK_APP_JSON_NUMBER("%.6g", near.net_momentum));
     printf("\"break_ms_p50\": %s, \"break_ms_p99\": %s, \"break_wait_steps_max\": %llu, "
            "\"settled_physics_ms\": %s, \"refined_leaves\": %u, \"leaves_final\": %u, "
-           "\"refine_ms_p99\": %s, \"refine_ms_max\": %s}\n",
+           "\"refine_ms_p99\": %s, \"refine_ms_max\": %s, \"state_hash\": \"%016llx\", \"world_hash\": "
+           "\"%016llx\"}\n",
            BK_APP_JSON_NUMBER("%.4f", break_median), BK_APP_JSON_NUMBER("%.4f", break_p99),
            (unsigned long long)wait_max, BK_APP_JSON_NUMBER("%.4f", settled_ms), final.refined_leaves,
-           leaves_final, BK_APP_JSON_NUMBER("%.4f", refine_p99), BK_APP_JSON_NUMBER("%.4f", refine_max));
+           leaves_final, BK_APP_JSON_NUMBER("%.4f", refine_p99), BK_APP_JSON_NUMBER("%.4f", refine_max),
+           (unsigned long long)state_hash, (unsigned long long)world_hash);
   } else {
     if (loaded.copies > 1) printf("%u copies %.3g m apart, ", loaded.copies, loaded.copy_spacing);
     printf("%s: %u fragments, %u shots over %llu steps (%.1f s)\n", scene->name, pieces, fired,
@@ -528,6 +544,8 @@ int cmd_sim(int argc, char** argv) {
       printf("  refined %u fragments: %u -> %u; refinement ms p99 %.3f max %.3f (CPU)\n",
              final.refined_leaves, pieces, leaves_final, refine_p99, refine_max);
     printf("  mass error %.2e%s\n", mass_error, final.nan ? ", NaN detected" : "");
+    printf("  state hash %016llx, world hash %016llx\n", (unsigned long long)state_hash,
+           (unsigned long long)world_hash);
     print_patterns(&loaded, false);
     if (obj_path && exported) printf("  exported %s\n", obj_path);
     if (gltf_path && exported) printf("  exported %s\n", gltf_path);

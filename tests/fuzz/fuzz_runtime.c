@@ -575,6 +575,9 @@ static void op_pull(session* s, reader* r) {
 }
 
 static void op_query(session* s, reader* r) {
+  // The state hash reads the state: asked twice, the same.
+  uint64_t hash = bk_runtime_state_hash(s->rt);
+  if (bk_runtime_state_hash(s->rt) != hash) bk_fuzz_fail("state_hash: two answers in a row differ");
   bk_cluster_id c = pick_cluster(s, r);
   bk_cluster_info info = {0};
   bool live = false;
