@@ -293,6 +293,30 @@ static void test_removed_while_refining(void) {
   free(b);
 }
 
+// A body the caller's physics lost (a transform not finite) between the hit
+// and the landing takes none of the waiting damage: its breaks would be
+// nowhere (as a hit on it breaks nothing). The pieces still land.
+static void test_lost_body_takes_no_waiting_damage(void) {
+  bk_mesh_tree tree = wall_tree(16);
+  setup s = {.latency = 1, .threads = 0, .per_call = 4, .pieces = 24, .refine = true};
+  bodies* b = calloc(1, sizeof *b);
+  bk_runtime* rt = make_runtime(b, s);
+  bk_breakable_def def = wall_def(&tree, s);
+  bk_breakable_id id = bk_runtime_add_breakable(rt, &def, NULL);
+  take_created(rt, b);
+  bk_runtime_damage_at(rt, hit_point, 400.0);
+  uint32_t broken = bk_runtime_broken_bonds(rt, NULL, 0);
+  bk_cluster_id whole = bk_runtime_leaf_cluster(rt, id, 0);
+  b->state[whole.index].transform.position.x = NAN;
+  bk_runtime_refine(rt);
+  ENSURE(bk_runtime_refine(rt) > 0);
+  ENSURE_MSG(bk_runtime_broken_bonds(rt, NULL, 0) == broken, "%u bonds broke at the landing",
+             bk_runtime_broken_bonds(rt, NULL, 0) - broken);
+  bk_runtime_destroy(rt);
+  bk_mesh_tree_free(&tree);
+  free(b);
+}
+
 static void test_bad_settings(void) {
   bk_mesh_tree tree = wall_tree(8);
   bodies* b = calloc(1, sizeof *b);
@@ -338,6 +362,7 @@ int main(void) {
   test_refines_and_is_exact();
   test_outcome_and_determinism();
   test_removed_while_refining();
+  test_lost_body_takes_no_waiting_damage();
   test_bad_settings();
   printf("refine ok\n");
   return 0;

@@ -172,6 +172,15 @@ static const rt_refine_job* job_of_leaf(const bk_runtime* rt, uint32_t index, ui
   return NULL;
 }
 
+// A body the caller's physics has lost (a transform not finite) takes no
+// waiting damage, as it takes no hit (damage.c): its breaks would be nowhere.
+static bool body_lost(const bk_runtime* rt, uint32_t slot) {
+  bk_body_state state = rt_body_state(rt, slot);
+  bk_quat q = state.transform.rotation;
+  return !bk_v3_is_finite(state.transform.position) ||
+         !(isfinite(q.x) && isfinite(q.y) && isfinite(q.z) && isfinite(q.w));
+}
+
 // The waiting hits on the bonds of leaves [leaf, leaf + count): each bond
 // once; one whose other leaf waits for its own pieces takes only the hits
 // that one's job has not (it takes those when it lands).
@@ -187,7 +196,7 @@ static void apply_waiting_hits(bk_runtime* rt, uint32_t index, const rt_refine_j
       bool inside = other >= leaf && other < leaf + count;
       if ((inside && other < l) || b->bond_broken[bond]) continue;
       uint32_t slot = b->leaf_cluster[l];
-      if (slot == UINT32_MAX || b->leaf_cluster[other] != slot) continue;
+      if (slot == UINT32_MAX || b->leaf_cluster[other] != slot || body_lost(rt, slot)) continue;
       const rt_refine_job* other_job =
           !inside && b->leaf_refining[other] ? job_of_leaf(rt, index, other) : NULL;
       for (uint32_t h = 0; h < job->hit_count; ++h) {
