@@ -142,17 +142,13 @@ static uint32_t clip_left(const double (*in)[2], uint32_t n, const double a[2], 
 
 bk_contact_measure bk_contact_outline_clip(const bk_contact_side* a, const bk_contact_outline* outline,
                                            bk_plane plane, double tolerance) {
-  bk_contact_measure result = {0};
   const tri_info* t = a->tris;
   uint32_t room = outline->count + 4u;
   double(*buffer[2])[2] = {bk_alloc(sizeof(double[2]) * room), bk_alloc(sizeof(double[2]) * room)};
   double area = 0.0;
   bk_vec3 moment = {0}, normal = {0};
   for (uint32_t i = 0; i < a->count; ++i) {
-    bool on = bk_v3_dot(t[i].normal, plane.normal) > 0.0;
-    for (int k = 0; k < 3 && on; ++k)
-      on = fabs(bk_plane_distance(plane, t[i].p[k])) <= tolerance;
-    if (!on) continue;
+    if (!bk_tri_on_plane(&t[i], plane, tolerance)) continue;
     uint32_t n = 3, cur = 0;
     for (int k = 0; k < 3; ++k) {
       bk_vec3 d = bk_v3_sub(t[i].p[k], outline->origin);
@@ -184,11 +180,7 @@ bk_contact_measure bk_contact_outline_clip(const bk_contact_side* a, const bk_co
   }
   bk_free(buffer[0]);
   bk_free(buffer[1]);
-  if (!(area > 0.0)) return result;
-  result.area = area;
-  result.centroid = bk_v3_scale(moment, 1.0 / area);
-  result.normal = bk_v3_normalize(normal);
-  return result;
+  return bk_contact_finish(area, moment, normal);
 }
 
 void bk_contact_outline_free(bk_contact_outline* outline) {

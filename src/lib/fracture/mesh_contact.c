@@ -124,7 +124,7 @@ bool bk_polygon_lift(const double (*points)[2], uint32_t n, bk_vec3 origin, bk_v
   return true;
 }
 
-static bk_contact_measure finish(double area, bk_vec3 moment, bk_vec3 normal) {
+bk_contact_measure bk_contact_finish(double area, bk_vec3 moment, bk_vec3 normal) {
   bk_contact_measure out = {0};
   if (!(area > 0.0)) return out;
   out.area = area;
@@ -201,7 +201,7 @@ bk_contact_measure bk_contact_sides_measure(const bk_contact_side* a, const bk_c
       normal = bk_v3_add(normal, bk_v3_scale(ta[i].normal, area - before));
     }
   }
-  return finish(area, moment, normal);
+  return bk_contact_finish(area, moment, normal);
 }
 
 double bk_contact_side_area(const bk_contact_side* side) {
@@ -245,7 +245,7 @@ bk_contact_measure bk_contact_side_parts_of(const bk_contact_side* a, const bk_c
       break;
     }
   }
-  return finish(area, moment, normal);
+  return bk_contact_finish(area, moment, normal);
 }
 
 bool bk_contact_side_plane(const bk_contact_side* side, double tolerance, bk_plane* plane) {
@@ -269,17 +269,14 @@ bk_contact_measure bk_contact_side_on_plane(const bk_contact_side* a, bk_plane p
   double area = 0.0;
   bk_vec3 moment = {0}, normal = {0};
   for (uint32_t i = 0; i < a->count; ++i) {
-    bool on = bk_v3_dot(t[i].normal, plane.normal) > 0.0;
-    for (int k = 0; k < 3 && on; ++k)
-      on = fabs(bk_plane_distance(plane, t[i].p[k])) <= tolerance;
-    if (!on) continue;
+    if (!bk_tri_on_plane(&t[i], plane, tolerance)) continue;
     double part = tri_area(&t[i]);
     bk_vec3 centroid = bk_v3_scale(bk_v3_add(t[i].p[0], bk_v3_add(t[i].p[1], t[i].p[2])), 1.0 / 3.0);
     area += part;
     moment = bk_v3_add(moment, bk_v3_scale(centroid, part));
     normal = bk_v3_add(normal, bk_v3_scale(t[i].normal, part));
   }
-  return finish(area, moment, normal);
+  return bk_contact_finish(area, moment, normal);
 }
 
 bk_contact_measure bk_mesh_contact(const bk_mesh* a, const bk_mesh* b, double tolerance) {

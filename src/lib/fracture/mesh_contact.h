@@ -18,6 +18,19 @@ typedef struct tri_info {
 bool bk_polygon_lift(const double (*points)[2], uint32_t n, bk_vec3 origin, bk_vec3 u, bk_vec3 v,
                      double* area, bk_vec3* centroid);
 
+/// Whether a triangle lies in a plane (its corners within tolerance of it),
+/// facing the plane's normal side.
+static inline bool bk_tri_on_plane(const tri_info* t, bk_plane plane, double tolerance) {
+  bool on = bk_v3_dot(t->normal, plane.normal) > 0.0;
+  for (int k = 0; k < 3 && on; ++k)
+    on = fabs(bk_plane_distance(plane, t->p[k])) <= tolerance;
+  return on;
+}
+
+/// A contact from its sums: area, area-weighted centroid and normal (zero
+/// when there is no area).
+bk_contact_measure bk_contact_finish(double area, bk_vec3 moment, bk_vec3 normal);
+
 /// One mesh's interior triangles near a region, with their planes and boxes.
 typedef struct bk_contact_side {
   void* tris; // tri_info (mesh_contact.c)
