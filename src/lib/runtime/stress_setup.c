@@ -425,13 +425,17 @@ uint64_t rt_stress_setup_step(rt_stress* s) {
   while (!made && free_count > COARSEST_NODES && s->next_group < s->group_levels &&
          s->level_count < RT_STRESS_LEVELS_MAX) {
     const uint32_t* group = &s->group_keys[(size_t)s->next_group++ * (s->node_count ? s->node_count : 1u)];
+    // A fixed node's key is never read (coarsening merges them all into
+    // one), and its member is not a fragment of any group.
     for (uint32_t i = 0; i < fine->node_count; ++i)
-      key[i] = group[s->member[i]];
+      key[i] = fine->fixed[i] ? 0u : group[s->member[i]];
     double* coarse_mass = NULL;
     made = coarsen(fine, s->level_mass, key, coarse, &coarse_mass);
     if (!made) continue;
+    // Each coarse node's fragment: a member of its group (the merged fixed
+    // node's is a fixed node's, never read).
     for (uint32_t i = 0; i < fine->node_count; ++i)
-      if (!fine->fixed[i]) key[coarse->coarse_of[i]] = s->member[i];
+      key[coarse->coarse_of[i]] = s->member[i];
     memcpy(s->member, key, sizeof(uint32_t) * coarse->node_count);
     if (s->level_mass != s->mass) bk_free(s->level_mass);
     s->level_mass = coarse_mass;
