@@ -2,7 +2,7 @@
 # Builds the libFuzzer harnesses of tests/fuzz (clang, ASan+UBSan) in
 # build-fuzz and runs each for SECONDS (default 60), one after the other.
 #
-#   scripts/fuzz.sh [SECONDS] [HARNESS...]     harnesses: fuzz_obj fuzz_mtree fuzz_bonds fuzz_fracture fuzz_gltf fuzz_import fuzz_seeds fuzz_runtime
+#   scripts/fuzz.sh [SECONDS] [HARNESS...]     harnesses: fuzz_obj fuzz_mtree fuzz_bonds fuzz_fracture fuzz_gltf fuzz_import fuzz_seeds fuzz_runtime fuzz_journal fuzz_recording fuzz_state
 #
 # Each harness starts from its committed seeds and regressions
 # (tests/fuzz/corpus/<harness>, tests/fuzz/regressions/<harness>), which it only
@@ -16,7 +16,7 @@ set -euo pipefail
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$repo"
 
-all_harnesses=(fuzz_obj fuzz_mtree fuzz_bonds fuzz_fracture fuzz_gltf fuzz_import fuzz_seeds fuzz_runtime)
+all_harnesses=(fuzz_obj fuzz_mtree fuzz_bonds fuzz_fracture fuzz_gltf fuzz_import fuzz_seeds fuzz_runtime fuzz_journal fuzz_recording fuzz_state)
 seconds="${1:-60}"
 if [[ $# -gt 0 ]]; then shift; fi
 if ! [[ "$seconds" =~ ^[0-9]+$ ]] || ((10#$seconds < 1)); then

@@ -39,6 +39,8 @@ PACKAGES=(
   libmeshoptimizer-dev
   # the runtime's state hash (XXH3, header only: nothing to link)
   libxxhash-dev
+  # the destruction stream's compression (sim --serve, breakables serve)
+  libzstd-dev
   # de_DE's locale source, compiled by test_obj to check OBJ numbers under a decimal comma
   locales
   xvfb

@@ -183,7 +183,8 @@ static void test_sim(void) {
   for (size_t i = 0; i < sizeof options / sizeof *options; ++i)
     ENSURE_MSG(strstr(r->out, options[i]) != NULL, "sim help does not describe %s", options[i]);
   expect_error("sim --scene castle", 2, "unknown scene 'castle'");
-  expect_error("sim --steps 0", 2, "--steps '0' is out of range (1..1000000)");
+  expect_error("sim --steps 0", 2, "--steps 0 needs --load-state (the state to report)");
+  expect_error("sim --steps 1000001", 2, "--steps '1000001' is out of range (0..1000000)");
   expect_error("sim --volley 0", 2, "--volley '0' is out of range (1..10000000)");
   expect_error("sim --frailty nan", 2, "--frailty 'nan' is not a decimal number (1e-6..1e6)");
   expect_error("sim --density -5", 2, "--density '-5' is out of range (1..1e5)");
@@ -417,7 +418,7 @@ static void test_number_options(void) {
       {"sim --seed ' 1'", "breakables sim: --seed ' 1' is not a whole number (0..18446744073709551615)"},
       {"sim --shots 1001", "--shots '1001' is out of range (0..1000)"},
       {"sim --shots -1", "--shots '-1' is not a whole number (0..1000)"},
-      {"sim --steps ' 5'", "--steps ' 5' is not a whole number (1..1000000)"},
+      {"sim --steps ' 5'", "--steps ' 5' is not a whole number (0..1000000)"},
       {"sim --volley 1e3", "--volley '1e3' is not a whole number (1..10000000)"},
       {"sim --speed 0.09", "--speed '0.09' is out of range (0.1..2000)"},
       {"sim --speed 2000.5", "--speed '2000.5' is out of range (0.1..2000)"},

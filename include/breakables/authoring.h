@@ -848,6 +848,16 @@ bool bk_mesh_tree_save(const bk_mesh_tree* tree, const char* path, bk_error* err
 /// bk_mesh_tree_validate does ("tree.mtree: corrupt: bond 3 (leaves 1 and
 /// 4): area 0 is not positive"). On failure *out stays zeroed and err says what is wrong.
 bool bk_mesh_tree_load(const char* path, bk_mesh_tree* out, bk_error* err);
+/// The .mtree file's bytes in memory (what bk_mesh_tree_save writes): *data
+/// is allocated with the library's allocator (bk_free it). `name` prefixes
+/// error messages.
+bool bk_mesh_tree_save_memory(const bk_mesh_tree* tree, const char* name, uint8_t** data, size_t* size,
+                              bk_error* err);
+/// Loads a tree from .mtree bytes in memory, with every check of
+/// bk_mesh_tree_load; `name` prefixes error messages. On failure *out stays
+/// zeroed.
+bool bk_mesh_tree_load_memory(const void* data, size_t size, const char* name, bk_mesh_tree* out,
+                              bk_error* err);
 
 // ---------------------------------------------------------------- glTF export
 

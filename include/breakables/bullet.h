@@ -607,6 +607,58 @@ bk_world_stats bk_world_get_stats(const bk_world* world);
 /// flight: two worlds given the same calls hash alike.
 uint64_t bk_world_state_hash(const bk_world* world);
 
+/// Bytes bk_world_save_state would write for the world as it is now.
+size_t bk_world_state_size(const bk_world* world);
+/// Writes the world's state into out[0..capacity): the runtime's
+/// (bk_runtime_save_state), the step count, every breakable body (cluster,
+/// tier, transform, velocities) and the projectiles in flight. Returns the
+/// bytes written, or 0 with err set.
+size_t bk_world_save_state(const bk_world* world, void* out, size_t capacity, bk_error* err);
+/// Replaces the world's state with a saved one (the same breakables and trees,
+/// as bk_runtime_load_state checks; refused in one line and nothing changes
+/// otherwise). Every body and projectile is made again where it was saved:
+/// bk_world_state_hash then equals the saved world's. Bullet's contact caches
+/// and solver warm start are not saved, so steps after a load drift from the
+/// saved run's by rounding (the destruction state stays the same until a
+/// contact differs).
+bool bk_world_load_state(bk_world* world, const void* data, size_t size, bk_error* err);
+
+// ---------------------------------------------------------------- following
+
+/// A server-authoritative game sends its world's destruction to watching
+/// clients as two byte strings a step: its runtime's journal (every hit,
+/// break, split, removal and refinement; see bk_runtime_journal) and the
+/// motion of its moving bodies. A client world holding the same breakables
+/// (the same scene, or a saved state loaded: bk_world_load_state) applies
+/// both and is not stepped itself: it has the same clusters, bonds and
+/// runtime state hash as the server after every step, and its bodies are
+/// where the server's are, to the motion's precision (positions as floats:
+/// 0.01 mm at 100 m; rotations to 3e-5 rad).
+/// The journal switch of the world's runtime (off by default; switch it on
+/// once the scene is set up: adding a breakable cannot be followed).
+bk_result bk_world_set_journal(bk_world* world, bool journal);
+/// The runtime's journal since the last clear (see bk_runtime_journal).
+const void* bk_world_journal(const bk_world* world, size_t* size);
+void bk_world_clear_journal(bk_world* world);
+/// Applies a leader's journal to the world's runtime (bk_runtime_apply_journal)
+/// and makes, removes and grows bodies as its calls did; the break events
+/// (bk_world_break_events) are then the journal's. False with err naming
+/// the entry when it does not apply (the worlds diverged: load a state).
+bool bk_world_apply_journal(bk_world* world, const void* data, size_t size, bk_error* err);
+/// Room bk_world_motion needs now (an upper bound).
+size_t bk_world_motion_size(const bk_world* world);
+/// Writes the place of every body that is new or has moved (by more than a
+/// micrometre or 1e-6 rad) since the last call placed it, about 22 bytes a
+/// body, and remembers those places: call it once a step and send what it
+/// writes to every client (one that joins later gets the world's state, in
+/// which every body is where it is). Returns the bytes written, or 0 when
+/// capacity is below bk_world_motion_size.
+size_t bk_world_motion(bk_world* world, void* out, size_t capacity);
+/// Places the bodies a leader's motion names (each drawn moving from where
+/// it was: bk_body_view interpolates). Malformed bytes move nothing; a body
+/// of a cluster this world does not have is skipped and reported (false).
+bool bk_world_apply_motion(bk_world* world, const void* data, size_t size, bk_error* err);
+
 /// A breakable body for drawing: which mesh-tree nodes it shows, where.
 typedef struct bk_body_view {
   bk_breakable_id breakable;

@@ -190,8 +190,11 @@ typedef struct bk_runtime_def {
   /// tree's node splice.first_node + j - 1. Default NULL
   void* (*refine_prepare)(const bk_mesh_tree* pieces, void* context);
   void (*refine_discard)(void* prepared, void* context); ///< default NULL
-  bk_body_state_fn* body_state;                          ///< required
-  void* context;                                         ///< passed to body_state
+  /// Keep a journal of every call that changes the destruction state
+  /// (bk_runtime_journal), for another runtime to follow; default false
+  bool journal;
+  bk_body_state_fn* body_state; ///< required
+  void* context;                ///< passed to body_state
 } bk_runtime_def;
 
 bk_runtime_def bk_default_runtime_def(void);
@@ -547,6 +550,61 @@ bk_runtime_stats bk_runtime_get_stats(const bk_runtime* runtime);
 /// by its bits, -0 as +0). It does not cover user data, events not cleared
 /// or where bodies are (bk_world_state_hash adds those).
 uint64_t bk_runtime_state_hash(const bk_runtime* runtime);
+
+// ---------------------------------------------------------------- save and load
+
+/// Bytes bk_runtime_save_state would write for the runtime as it is now.
+size_t bk_runtime_state_size(const bk_runtime* runtime);
+/// Writes the destruction state (what bk_runtime_state_hash covers, plus a
+/// refined breakable's grown tree and the refinements waiting) into
+/// out[0..capacity), versioned and checksummed: returns the bytes written, or
+/// 0 with err set ("state: buffer of N bytes is too small, the state needs M";
+/// out's bytes are then unspecified).
+/// The stress solver's warm start is not saved: a loaded runtime's stress
+/// solves start cold. User data and events not cleared are not state.
+size_t bk_runtime_save_state(const bk_runtime* runtime, void* out, size_t capacity, bk_error* err);
+/// Replaces the destruction state with a saved one. The runtime must hold the
+/// same breakables in the same slots with the same trees as when saved
+/// (checked: source hash, node/leaf/bond counts), else refused in one line
+/// naming what differs, and nothing changes (all-or-nothing; a damaged or
+/// hostile state is refused the same way). On success bk_runtime_state_hash
+/// equals the saved runtime's, the refinements waiting are made again, every
+/// event is cleared and the clusters are new: the caller's bodies are stale,
+/// and it makes a body for every cluster of bk_runtime_clusters (at the
+/// transforms it saved with them; bk_world_load_state does this itself).
+/// A load is not a journal entry (bk_runtime_journal): a follower loads the
+/// same state to follow on.
+bool bk_runtime_load_state(bk_runtime* runtime, const void* data, size_t size, bk_error* err);
+
+// ---------------------------------------------------------------- journal
+
+/// The journal: a compact byte record of every call that changed the
+/// destruction state, in order, which a second runtime holding the same
+/// breakables (a watching client, a replay) applies to reach the same state
+/// hash after each call, with no damage of its own. It records the hits as
+/// the damage formula took them (cluster, the point in the tree frame, the
+/// impulse: 36 bytes or so, each breaking any number of bonds), the
+/// fracture commands applied (the stress stage's breaks), the splits, the
+/// refinement calls, cluster and breakable removals and material changes.
+/// Adding a breakable cannot be followed this way (a follower needs the
+/// tree): the entry it writes makes bk_runtime_apply_journal refuse, and
+/// the follower needs a saved state. The entries, byte by byte:
+/// docs/embedding.md, "Following a runtime".
+bk_result bk_runtime_set_journal(bk_runtime* runtime, bool journal);
+bool bk_runtime_journal_enabled(const bk_runtime* runtime);
+/// The journal since the last clear (size bytes; valid until the runtime's
+/// next call that changes state), or NULL and 0 when empty.
+const void* bk_runtime_journal(const bk_runtime* runtime, size_t* size);
+/// Empties the journal: call it once the bytes are sent or kept.
+void bk_runtime_clear_journal(bk_runtime* runtime);
+/// Applies another runtime's journal, entry by entry. The bytes are checked
+/// whole first (a malformed journal changes nothing); an entry that does
+/// not apply (its cluster is not live here, its bond is broken already: the
+/// two runtimes have diverged) stops there with err naming the entry, the
+/// entries before it applied. Results: as the calls recorded make them
+/// (broken bonds, created and removed clusters, refined leaves); a hit's
+/// events are placed where this runtime's bodies are.
+bool bk_runtime_apply_journal(bk_runtime* runtime, const void* data, size_t size, bk_error* err);
 
 #ifdef __cplusplus
 }

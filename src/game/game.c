@@ -9,6 +9,8 @@
 #include "commands.h"
 #include "game.h"
 #include "game_budget.h"
+#include "game_save.h"
+#include "game_stream.h"
 #include "hud.h"
 #include "interpolate.h"
 #include "model_surface.h"
@@ -26,6 +28,7 @@ static const char* const play_usage =
     "                  [--drop-radius M] [--drop-at FRAME] [--max-memory MIB] [--budget-ms X]\n"
     "                  [--record DIR] [--record-every K] [--camera X,Y,Z]\n"
     "                  [--scale S] [--units mm|cm|m|in] [--refine] [--refine-pieces N]\n"
+    "                  [--record-input F.bkrec | --replay F.bkrec]\n"
     "\n"
     "The demo game: shoot projectiles at breakable objects and tune them live.\n"
     "\n"
@@ -79,6 +82,7 @@ bool game_load_scene(app_game* g, uint32_t index, bk_error* err) {
     g->looks[i] = app_renderer_material(g->renderer, object->look ? object->look : object->material);
   }
   grown_trees_reset(&g->grown, g->scene.trees, g->scene.tree_count);
+  game_replay_loaded(&g->replay, &g->scene, index, &g->options);
   // A user's model with a texture or colour of its own shows them on its
   // surface, its cut faces the chosen material's.
   app_model_surface surface = {0};
@@ -96,7 +100,8 @@ bool game_load_scene(app_game* g, uint32_t index, bk_error* err) {
   g->accumulator = 0.0;
   g->shots = 0;
   game_retired_reset(g);
-  return true;
+  // serve: the watchers are sent its start; watch: the server is connected.
+  return game_stream_loaded(&g->stream, g->scene.world, err);
 }
 
 void game_unload_scene(app_game* g) {
@@ -108,16 +113,20 @@ void game_unload_scene(app_game* g) {
 }
 
 void game_fire(app_game* g, bk_vec3 from, bk_vec3 direction) {
+  // A replay's shots are the recording's, a watcher's the server's.
+  if (game_replay_playing(&g->replay) || game_stream_watching(&g->stream)) return;
   bk_projectile_def shot = {.position = from,
                             .velocity = bk_v3_scale(bk_v3_normalize(direction), g->projectile_speed),
                             .radius = g->projectile_radius,
                             .mass = g->projectile_mass};
   bk_world_fire(g->scene.world, &shot, NULL);
+  game_replay_fired(&g->replay, &shot);
   g->shots++;
 }
 
 bool game_drop_weight(app_game* g, bk_vec3 from, bk_vec3 direction) {
   bk_world* world = g->scene.world;
+  if (game_replay_playing(&g->replay) || game_stream_watching(&g->stream)) return false;
   bk_vec3 forward = bk_v3_normalize(direction);
   bk_ray_hit hit = {0};
   if (!bk_physics_ray_cast(bk_world_physics(world), from, bk_v3_add(from, bk_v3_scale(forward, 1000.0)),
@@ -130,6 +139,7 @@ bool game_drop_weight(app_game* g, bk_vec3 from, bk_vec3 direction) {
   bk_vec3 under = bk_v3_sub(hit.point, bk_v3_scale(across, 0.02));
   if (!app_top_surface(world, under, 100.0, false, &surface)) return false;
   if (!app_drop_weight(world, surface, g->weight_kg, g->weight_radius, NULL)) return false;
+  game_replay_weight(&g->replay, surface, g->weight_kg, g->weight_radius);
   g->weights++;
   return true;
 }
@@ -141,7 +151,8 @@ static app_debris_look debris_look(void* game, bk_breakable_id id) {
 }
 
 static void step_world(app_game* g) {
-  bk_world_step(g->scene.world);
+  game_stream_world_step(&g->stream, g->scene.world); // sent to watchers; a watcher applies the server's
+  game_replay_step(&g->replay, &g->scene);
   game_collect_retired(g);
   // A big hit breaks hundreds of bonds at once, and so does a structure
   // giving way: the pool spreads its capped dust and chips evenly over them.
@@ -203,6 +214,9 @@ static void key_callback(GLFWwindow* window, int key, int scancode, int action, 
   if (key == GLFW_KEY_H) g->show_hulls = !g->show_hulls;
   if (key == GLFW_KEY_L) g->show_budget = !g->show_budget;
   if (key == GLFW_KEY_F1) g->show_panel = !g->show_panel;
+  // Between steps (the worker waited before the events were polled).
+  if (key == GLFW_KEY_F5) game_save_state(g, game_panel_busy());
+  if (key == GLFW_KEY_F9) game_load_state(g, game_panel_busy(), game_load_scene);
   // 1-9 are the first nine scenes and 0 the tenth, in the keyboard's order.
   int scene_key = key == GLFW_KEY_0 ? 9 : key >= GLFW_KEY_1 && key <= GLFW_KEY_9 ? key - GLFW_KEY_1 : -1;
   if (scene_key >= 0 && (uint32_t)scene_key < scene_count()) {
@@ -282,9 +296,36 @@ static void record_history(app_game* g, double frame_ms) {
   g->history_at++;
 }
 
-int cmd_play(int argc, char** argv) {
+// The frame's recorded changes, or a replay's events due and the scenes it
+// loads; false (err set) when one of those fails to load.
+static bool replay_frame(app_game* g, bk_error* err) {
+  game_replay_frame_io io = {.pending_steps = g->pending_steps};
+  for (game_replay_frame(&g->replay, &g->scene, g->eye, &io); io.load;
+       game_replay_frame(&g->replay, &g->scene, g->eye, &io)) {
+    g->options = io.options;
+    if (!game_load_scene(g, io.index, err)) return false;
+  }
+  g->pending_steps = io.pending_steps;
+  g->shots += io.shots, g->weights += io.weights;
+  if (io.ended) glfwSetWindowShouldClose(g->window, GLFW_TRUE); // the recording is over
+  return true;
+}
+
+// Before the frame's steps: serve welcomes watchers; watch takes the frames
+// that arrived, its steps the server's (a new start: the scene built anew).
+static bool stream_frame(app_game* g, bk_error* err) {
+  while (game_stream_frame(&g->stream, g->scene.world, g->paused, &g->pending_steps))
+    if (!game_load_scene(g, g->scene_index, err)) return false;
+  if (game_stream_watching(&g->stream)) g->alpha = 1.0; // the server's last place, not between steps
+  return true;
+}
+
+// play, serve and watch: the same game, the last two with the stream.
+static int run_game(int argc, char** argv, game_stream_mode mode) {
   window_options wo = {.width = 1280, .height = 720};
   app_game* g = bk_calloc(1, sizeof *g);
+  g->stream = default_game_stream(mode);
+  const char* command = game_stream_command(&g->stream);
   scene_args args = default_scene_args("showcase");
   // Chips under 20 cm^3 leave after 10 s: a long session stays bounded.
   args.options.retire_volume = 2e-5;
@@ -298,13 +339,22 @@ int cmd_play(int argc, char** argv) {
     parsed = parse_window_option("play", argc, argv, &i, &wo);
     if (parsed == 0) continue;
     if (parsed == 2) return bk_free(g), 2;
+    parsed = game_replay_parse(argc, argv, &i, &g->replay);
+    if (parsed == 0) continue;
+    if (parsed == 2) return bk_free(g), 2;
+    parsed = game_stream_parse(argc, argv, &i, &g->stream);
+    if (parsed == 0) continue;
+    if (parsed == 2) return bk_free(g), 2;
     parsed = parse_record_option("play", argc, argv, &i, &g->record);
     if (parsed == 0) continue;
     if (parsed == 2) return bk_free(g), 2;
     if (strcmp(arg, "-h") == 0 || strcmp(arg, "--help") == 0) {
-      fputs(play_usage, stdout);
-      scene_args_help("play", 24, 96, stdout);
+      const char* usage = game_stream_usage(&g->stream);
+      fputs(usage ? usage : play_usage, stdout);
+      scene_args_help(command, 24, 96, stdout);
       fputs(play_options, stdout);
+      if (!game_stream_watching(&g->stream)) fputs(game_replay_help, stdout);
+      game_stream_help(&g->stream, stdout);
       return bk_free(g), 0;
     } else if (strcmp(arg, "--hide-panel") == 0) {
       hide_panel = true;
@@ -315,8 +365,8 @@ int cmd_play(int argc, char** argv) {
     } else if (strcmp(arg, "--overlay") == 0 && i + 1 < argc) {
       if (!game_set_overlay(g, argv[++i])) return bk_free(g), 2;
     } else {
-      fprintf(stderr,
-              "breakables play: unknown option or missing value '%s' (see 'breakables play --help')\n", arg);
+      fprintf(stderr, "breakables %s: unknown option or missing value '%s' (see 'breakables %s --help')\n",
+              command, arg, command);
       return bk_free(g), 2;
     }
   }
@@ -339,10 +389,16 @@ int cmd_play(int argc, char** argv) {
     return bk_free(g), 2;
   }
   g->options.material = material;
+  int stream_setup = game_stream_setup(&g->stream, argc, argv, wo.frames); // watch: its address, no changes
+  if (stream_setup) return bk_free(g), stream_setup;
+  // A replay's scene and options.
+  int replay_setup = game_replay_setup(&g->replay, argc, argv, mesh, &scene_index, &g->options);
+  if (replay_setup) return bk_free(g), replay_setup;
 
   void* window = NULL;
   if (!window_open("Breakables", &wo, &window, &g->renderer, &err)) {
     fprintf(stderr, "breakables play: %s\n", err.message);
+    recording_free(&g->replay.rec); // a replay's, read
     return bk_free(g), 1;
   }
   g->window = window;
@@ -356,11 +412,12 @@ int cmd_play(int argc, char** argv) {
   glfwSetMouseButtonCallback(g->window, mouse_callback);
   g->ui = ui_create(g->window);
   if (!game_load_scene(g, scene_index, &err)) {
-    fprintf(stderr, "breakables play: %s\n", err.message);
+    fprintf(stderr, "breakables %s: %s\n", command, err.message);
     game_unload_scene(g);
     particles_free(&g->particles);
     if (g->ui) ui_destroy();
     window_close(window, g->renderer);
+    recording_free(&g->replay.rec);
     return bk_free(g), 1;
   }
   uint32_t bodies_start = bk_world_body_count(g->scene.world);
@@ -375,7 +432,8 @@ int cmd_play(int argc, char** argv) {
   unsigned gl_error = 0;
   uint32_t frame = 0, fired = 0, jobs = 0;
   int status = 0;
-  while (!glfwWindowShouldClose(g->window) && (wo.frames == 0 || frame < wo.frames)) {
+  while (!glfwWindowShouldClose(g->window) && (wo.frames == 0 || frame < wo.frames) &&
+         !game_stream_ended(&g->stream)) {
     double now = glfwGetTime();
     // Scripted runs advance exactly one physics step per frame, so they are
     // reproducible whatever the machine's speed.
@@ -392,6 +450,8 @@ int cmd_play(int argc, char** argv) {
     handle_input(g, dt);
     // A reload creates a Bullet world: not while the panel's sweep steps
     // worlds on its thread (bullet.h: one thread at a time), so it waits.
+    // Scene switches: the recording's (the server's) only.
+    if (game_replay_playing(&g->replay) || game_stream_watching(&g->stream)) g->reload = false;
     if (g->reload && !game_panel_busy()) {
       g->reload = false;
       uint32_t next = g->next_scene >= 0 ? (uint32_t)g->next_scene : g->scene_index;
@@ -411,12 +471,13 @@ int cmd_play(int argc, char** argv) {
            frame >= (fired + 1) * span / (wo.autofire + 1)) {
       bk_projectile_def shot = scene_shot(g->scene.scene, fired++, g->projectile_speed);
       bk_world_fire(g->scene.world, &shot, NULL);
+      game_replay_fired(&g->replay, &shot);
     }
     if (g->drop.kg > 0.0 && frame == g->drop.at) {
       bk_vec3 surface = {0.0, 0.0, 0.0};
       if (scene_drop_point(&g->scene, &surface) &&
           app_drop_weight(g->scene.world, surface, g->drop.kg, g->drop.radius, NULL))
-        g->weights++;
+        g->weights++, game_replay_weight(&g->replay, surface, g->drop.kg, g->drop.radius);
       else
         fprintf(stderr, "breakables play: --drop: no surface of the first object to set the weight on\n");
     }
@@ -435,8 +496,12 @@ int cmd_play(int argc, char** argv) {
     if (error && !gl_error) gl_error = error;
     if (g->ui) {
       ui_begin_frame();
-      if (g->show_panel) game_panel(g);
+      // A replay's changes are recorded ones (a watcher's, the server's).
+      if (g->show_panel && !game_replay_playing(&g->replay) && !game_stream_watching(&g->stream))
+        game_panel(g);
       if (!g->hide_hud) hud_draw(g->hud_seconds);
+      if (!g->hide_hud) game_stream_hud(&g->stream);
+      if (!g->hide_hud) game_save_hud(g);
       ui_end_frame();
     }
 
@@ -455,14 +520,23 @@ int cmd_play(int argc, char** argv) {
     }
     if (g->pending_steps == 4) g->accumulator = 0.0; // far behind: drop time rather than spiral
     g->alpha = g->accumulator / fixed;
-    bk_world_set_focus(g->scene.world, g->eye); // the physics budget spares what is near the camera
+    if (!replay_frame(g, &err)) { // the camera as the budget's focus; a recording's changes, or a replay's
+      fprintf(stderr, "breakables play: replay: %s\n", err.message);
+      status = 1;
+      break;
+    }
+    if (!stream_frame(g, &err)) {
+      fprintf(stderr, "breakables %s: %s\n", command, err.message);
+      status = 1;
+      break;
+    }
     if (worker)
       worker_start(worker, run_steps, g);
     else
       run_steps(g);
     jobs++;
 
-    bool last_frame = wo.frames && frame + 1 == wo.frames;
+    bool last_frame = (wo.frames && frame + 1 == wo.frames) || game_stream_ended(&g->stream);
     if (last_frame && game_panel_busy()) { // a scripted benchmark run shows the sweep's result
       glfwSwapBuffers(g->window);
       continue;
@@ -489,7 +563,7 @@ int cmd_play(int argc, char** argv) {
     last_physics_sum += g->steps_ms;
   }
   bk_world_stats s = bk_world_get_stats(g->scene.world);
-  if (wo.frames)
+  if (wo.frames && !game_stream_watching(&g->stream)) // a watcher's line is the stream's
     printf("frames %u, bodies %u (from %u), fragments free %u, mean frame ms %.2f (last second %.2f), "
            "physics ms %.2f (last second %.2f), shots %u, weights %u, gl errors %s\n",
            frame, s.bodies, bodies_start, s.fragments_free, frame ? frame_ms_sum / frame : 0.0,
@@ -501,6 +575,8 @@ int cmd_play(int argc, char** argv) {
     printf("refined %u fragments: the first object's %u -> %u\n", s.refined_leaves,
            g->scene.trees[0].leaf_count, tree ? tree->leaf_count : 0);
   }
+  if (!game_replay_finish(&g->replay, &g->scene)) status = 1;
+  if (!game_stream_finish(&g->stream, g->scene.world)) status = 1;
   if (gl_error) {
     fprintf(stderr, "breakables play: OpenGL error 0x%x while rendering\n", gl_error);
     status = 1;
@@ -513,3 +589,7 @@ int cmd_play(int argc, char** argv) {
   bk_free(g);
   return status;
 }
+
+int cmd_play(int argc, char** argv) { return run_game(argc, argv, GAME_PLAY); }
+int cmd_serve(int argc, char** argv) { return run_game(argc, argv, GAME_SERVE); }
+int cmd_watch(int argc, char** argv) { return run_game(argc, argv, GAME_WATCH); }

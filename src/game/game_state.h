@@ -3,6 +3,8 @@
 
 #include <GLFW/glfw3.h>
 
+#include "game_replay.h"
+#include "game_stream.h"
 #include "grown_trees.h"
 #include "particles.h"
 #include "recorder.h"
@@ -55,6 +57,8 @@ typedef struct app_game {
   double hud_seconds;   ///< since the game started, for the hint's fade
   bool start_benchmark; ///< run the panel's runtime sweep at start (--benchmark)
   app_recorder record;  ///< a scripted run's frames as pictures (--record)
+  game_replay replay;   ///< the run recorded (--record-input) or played back (--replay)
+  game_stream stream;   ///< serve: the steps sent to watchers; watch: the server's steps followed
   app_particles particles;
   double physics_ms, break_ms;
   float frame_history[BK_HISTORY], physics_history[BK_HISTORY], break_history[BK_HISTORY];

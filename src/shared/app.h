@@ -35,6 +35,8 @@ bool app_load_model(const char* spec, const char* node, bk_mesh* out, bk_import_
 int parse_model_units_option(const char* command, int argc, char** argv, int* i);
 /// Back to scale 1 and no --units (for tests running several command lines).
 void app_reset_model_units(void);
+/// What --scale and --units set: the scale, and the unit's name (NULL: none given).
+void app_model_units(double* scale, const char** units);
 /// Scales a model file's mesh as --scale and --units ask (--units ignored,
 /// with a warning, when info says the file gives its unit) and warns on
 /// stderr when it is outside 1 cm..100 m across.

@@ -45,6 +45,11 @@ void app_reset_model_units(void) {
   model_units_name = NULL;
 }
 
+void app_model_units(double* scale, const char** units) {
+  *scale = model_scale;
+  *units = model_units_name;
+}
+
 bool app_model_size_note(const bk_mesh* mesh, char* out, size_t size) {
   bk_aabb box = bk_mesh_bounds(mesh);
   bk_vec3 d = bk_v3_sub(box.max, box.min);

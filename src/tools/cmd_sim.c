@@ -8,6 +8,9 @@
 #include "fracture_patterns.h"
 #include "scene_args.h"
 #include "sim_measure.h"
+#include "sim_record.h"
+#include "sim_state.h"
+#include "sim_stream.h"
 
 static const char* const sim_usage =
     "usage: breakables sim [--scene NAME | --mesh PATH] [--material NAME] [--pattern NAME] [--pieces N]\n"
@@ -17,6 +20,10 @@ static const char* const sim_usage =
     "                      [--no-stress] [--stress-scale X] [--drop KG] [--drop-radius M] [--drop-at STEP]\n"
     "                      [--budget-ms X] [--budget-fidelity S] [--budget-fidelity-factor F]\n"
     "                      [--copies N] [--max-memory MIB] [--refine] [--refine-pieces N]\n"
+    "                      [--record F.bkrec [--record-no-hashes] | --replay F.bkrec]\n"
+    "                      [--save-state F.bkstate [--at STEP]] [--load-state F.bkstate]\n"
+    "                      [--serve ADDR:PORT [--watchers N] [--realtime] [--send-every K]\n"
+    "                      | --watch ADDR:PORT] [--stream-wait MS]\n"
     "                      [--export-obj FILE.obj] [--export-gltf FILE.glb|FILE.gltf] [--hash-every N] "
     "[--json]\n"
     "\n"
@@ -107,8 +114,26 @@ int cmd_sim(int argc, char** argv) {
   const char* obj_path = NULL;
   const char* gltf_path = NULL;
   scene_args args = default_scene_args("wall");
+  sim_record record = sim_record_default();
+  sim_stream stream = default_sim_stream();
+  sim_state state = sim_state_default();
   for (int i = 1; i < argc; ++i) {
     const char* arg = argv[i];
+    int streamed = sim_stream_parse(argc, argv, &i, &stream);
+    if (streamed != 1) {
+      if (streamed == 2) return 2;
+      continue;
+    }
+    int saved = sim_state_parse(argc, argv, &i, &state);
+    if (saved != 1) {
+      if (saved == 2) return 2;
+      continue;
+    }
+    int recorded = sim_record_parse(argc, argv, &i, &record);
+    if (recorded != 1) {
+      if (recorded == 2) return 2;
+      continue;
+    }
     int shared = scene_args_parse("sim", argc, argv, &i, &args);
     if (shared == 0) continue;
     if (shared == 2) return 2;
@@ -117,6 +142,9 @@ int cmd_sim(int argc, char** argv) {
     if (strcmp(arg, "-h") == 0 || strcmp(arg, "--help") == 0) {
       fputs(sim_usage, stdout);
       scene_args_help("sim", 19, 88, stdout);
+      fputs(sim_record_help, stdout);
+      fputs(sim_state_help, stdout);
+      sim_stream_help(stdout);
       fputs(sim_options, stdout);
       return 0;
     } else if (strcmp(arg, "--json") == 0) {
@@ -154,7 +182,7 @@ int cmd_sim(int argc, char** argv) {
       shots_given = true;
     } else if (strcmp(arg, "--steps") == 0) {
       // A million steps is 4.6 simulated hours, two timings of 8 bytes each.
-      if (!option_u64("sim", arg, value, 1, 1000000, &steps)) return 2;
+      if (!option_u64("sim", arg, value, 0, 1000000, &steps)) return 2; // 0: only with --load-state
     } else if (strcmp(arg, "--speed") == 0) {
       // From a lob to twice a rifle bullet; continuous collision detection
       // keeps even the fastest from passing through a thin wall.
@@ -183,6 +211,12 @@ int cmd_sim(int argc, char** argv) {
       if (!option_double("sim", arg, value, 1.0, 1e5, &o->density)) return 2;
     }
   }
+  // A replay takes the scene, its options and the steps from its file.
+  int setup = sim_record_setup(&record, argc, argv, &args, &steps, &shots);
+  if (setup) return setup;
+  int state_code = sim_state_check(&state, steps);
+  if (state_code) return state_code;
+  if (state.load_path && !shots_given) shots = 0; // the state has its shots
   const char* scene_name = args.scene_name;
   const char* mesh = args.mesh;
   const char* material = args.material;
@@ -205,10 +239,15 @@ int cmd_sim(int argc, char** argv) {
   // The files to write, checked before the run, as fracture checks its own:
   // names the writers take, places to write them, and no file lost (the
   // model read, or the other export).
-  const app_file inputs[] = {{"--mesh", mesh, NULL, false}};
-  const app_file outputs[] = {{"--export-obj", obj_path, ".obj", true},
-                              {"--export-gltf", gltf_path, ".glb .gltf", true}};
-  if (!app_check_files(inputs, 1, outputs, 2, &err)) {
+  const app_file inputs[] = {{"--mesh", mesh, NULL, false},
+                             {"--replay", record.replay_path, NULL, false},
+                             {"--load-state", state.load_path, NULL, false}};
+  const app_file outputs[] = {{"--record", record.record_path, ".bkrec", false},
+                              {"--export-obj", obj_path, ".obj", true},
+                              {"--export-gltf", gltf_path, ".glb .gltf", true},
+                              {"--save-state", state.save_path, ".bkstate", false}};
+  if (!app_check_files(inputs, 3, outputs, 4, &err)) {
+    sim_record_free(&record);
     fprintf(stderr, "breakables sim: %s\n", err.message);
     return 1;
   }
@@ -221,11 +260,27 @@ int cmd_sim(int argc, char** argv) {
       fprintf(stderr, "breakables sim: %s\n", err.message);
     else
       fprintf(stderr, "breakables sim: %s: %s\n", scene->name, err.message);
+    sim_record_free(&record);
     return 1;
   }
   // The budget keeps what is near the eye fully simulated (with copies,
   // the one in the middle, or the two either side of it).
   bk_world_set_focus(loaded.world, loaded.scene->eye);
+  if (!sim_state_load(&state, loaded.world) || !sim_state_after(&state, loaded.world, 0)) {
+    loaded_scene_destroy(&loaded), sim_record_free(&record);
+    return 1;
+  }
+  sim_record_start(&record, &loaded, mesh, &options);
+  // A watcher follows the server's run instead of making its own.
+  if (stream.watch) {
+    int code = sim_watch_run(&stream, &loaded, json);
+    loaded_scene_destroy(&loaded), sim_record_free(&record);
+    return code;
+  }
+  if (stream.serve && !sim_serve_start(&stream, &loaded)) {
+    loaded_scene_destroy(&loaded), sim_record_free(&record);
+    return 1;
+  }
   bk_world_stats initial = bk_world_get_stats(loaded.world);
   double* rest_heights = sim_heights_of(&loaded);
   double* step_ms = bk_alloc(sizeof(double) * steps);
@@ -255,19 +310,26 @@ int cmd_sim(int argc, char** argv) {
                                     : "no surface of the first object to set the weight on");
         free(step_ms), free(physics_ms), free(break_ms), free(stress_ms), free(rest_heights);
         bk_free(refine_ms), bk_free(rotations);
-        loaded_scene_destroy(&loaded);
+        loaded_scene_destroy(&loaded), sim_record_free(&record);
         return 1;
       }
       drop_set = true;
+      sim_record_weight(&record, step, drop_point, drop.kg, drop.radius);
     }
     // Shots at regular intervals, leaving time after the last one.
     uint64_t span = volley && volley < steps ? volley : steps;
     uint32_t hits = 0;
     while (fired < shots && step >= (fired + 1) * span / (shots + 1))
-      hits += loaded_scene_fire(&loaded, fired++, speed); // fitted to a user's model, at every copy
+      hits += sim_record_fire(&record, &loaded, step, fired++, speed); // at every copy, recorded
+    // A replay's shots and weights.
+    uint32_t replayed = sim_record_step(&record, &loaded, step);
+    hits += replayed, fired += replayed / (loaded.copies ? loaded.copies : 1);
     bk_world_stats before = bk_world_get_stats(loaded.world);
     bk_world_step(loaded.world);
+    sim_state_after(&state, loaded.world, step + 1);
     fidelity_step(&fidelity, loaded.world, step, hits);
+    sim_record_after(&record, &loaded, step);
+    if (stream.serve) sim_serve_step(&stream, &loaded, step + 1, step + 1 == steps);
     bk_world_stats now = bk_world_get_stats(loaded.world);
     step_ms[step] = now.step_ms;
     physics_ms[step] = now.physics_ms;
@@ -292,6 +354,7 @@ int cmd_sim(int argc, char** argv) {
   }
   uint64_t state_hash = bk_runtime_state_hash(bk_world_runtime(loaded.world));
   uint64_t world_hash = bk_world_state_hash(loaded.world);
+  if (stream.serve) sim_serve_finish(&stream, steps, state_hash, world_hash);
   bk_world_stats final = bk_world_get_stats(loaded.world);
   // Walks every manifold: read once here, not in the per-step world stats.
   bk_physics_stats physics = bk_physics_get_stats(bk_world_physics(loaded.world));
@@ -362,6 +425,9 @@ int cmd_sim(int argc, char** argv) {
            BK_APP_JSON_NUMBER("%.6g", debris.mass), BK_APP_JSON_NUMBER("%.6g", debris.momentum),
            BK_APP_JSON_NUMBER("%.6g", debris.net_momentum), BK_APP_JSON_NUMBER("%.6g", near.mass),
            BK_APP_JSON_NUMBER("%.6g", near.momentum), BK_APP_JSON_NUMBER("%.6g", near.net_momentum));
+    sim_record_json(&record, stdout);
+    sim_state_json(&state, stdout);
+    if (stream.serve) sim_serve_json(&stream, stdout, final.bonds_broken, steps);
     printf("\"break_ms_p50\": %s, \"break_ms_p99\": %s, \"break_wait_steps_max\": %llu, "
            "\"settled_physics_ms\": %s, \"refined_leaves\": %u, \"leaves_final\": %u, "
            "\"refine_ms_p99\": %s, \"refine_ms_max\": %s, \"state_hash\": \"%016llx\", \"world_hash\": "
@@ -416,6 +482,7 @@ int cmd_sim(int argc, char** argv) {
   free(rest_heights);
   bk_free(refine_ms);
   bk_free(rotations);
+  bool recorded_ok = sim_record_finish(&record, steps);
   loaded_scene_destroy(&loaded);
-  return final.nan || !exported ? 1 : 0;
+  return final.nan || !exported || !recorded_ok || state.failed ? 1 : 0;
 }

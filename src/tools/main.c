@@ -18,6 +18,8 @@ static const char* const usage_head =
 #ifdef BK_WITH_GAME
 static const char* const usage_game =
     "  play       the demo game (the default when no command is given)\n"
+    "  serve      the game as a server: its destruction streamed to watchers over TCP\n"
+    "  watch      a window following a server's game (serve or sim --serve)\n"
     "  editor     preview the fragments of a mesh, pull them apart, export them\n";
 #else
 static const char* const usage_game = "";
@@ -31,6 +33,8 @@ static const char* const usage_tools =
 
 #ifdef BK_WITH_GAME
 static int play(int argc, char** argv) { return cmd_play(argc, argv); }
+static int serve(int argc, char** argv) { return cmd_serve(argc, argv); }
+static int watch(int argc, char** argv) { return cmd_watch(argc, argv); }
 static int editor(int argc, char** argv) { return cmd_editor(argc, argv); }
 #else
 static int no_game(const char* command) {
@@ -43,6 +47,16 @@ static int play(int argc, char** argv) {
   (void)argc;
   (void)argv;
   return no_game("play");
+}
+static int serve(int argc, char** argv) {
+  (void)argc;
+  (void)argv;
+  return no_game("serve");
+}
+static int watch(int argc, char** argv) {
+  (void)argc;
+  (void)argv;
+  return no_game("watch");
 }
 static int editor(int argc, char** argv) {
   (void)argc;
@@ -63,6 +77,8 @@ int main(int argc, char** argv) {
   // No command, or only options: the game.
   if (argc < 2 || argv[1][0] == '-') return play(argc, argv);
   if (strcmp(argv[1], "play") == 0) return play(argc - 1, argv + 1);
+  if (strcmp(argv[1], "serve") == 0) return serve(argc - 1, argv + 1);
+  if (strcmp(argv[1], "watch") == 0) return watch(argc - 1, argv + 1);
   if (strcmp(argv[1], "editor") == 0) return editor(argc - 1, argv + 1);
   if (strcmp(argv[1], "fracture") == 0) return cmd_fracture(argc - 1, argv + 1);
   if (strcmp(argv[1], "sim") == 0) return cmd_sim(argc - 1, argv + 1);

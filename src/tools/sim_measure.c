@@ -46,6 +46,10 @@ double* sim_heights_of(const loaded_scene* s) {
   for (uint32_t c = 0; c < copies; ++c) {
     for (uint32_t i = 0; i < s->tree_count; ++i) {
       uint32_t n = bk_world_fragment_centroids(s->world, loaded_scene_id(s, c, i), centroids, total);
+      // A loaded state's tree may have grown already (--load-state): its
+      // first leaves stand for the scene's (the heights of refined ones are
+      // then their first piece's).
+      if (n > s->trees[i].leaf_count) n = s->trees[i].leaf_count;
       for (uint32_t l = 0; l < n; ++l)
         heights[at + l] = centroids[l].y;
       at += s->trees[i].leaf_count;

@@ -319,3 +319,27 @@ bool bk_physics_body_pinned(const bk_physics* w, bk_body_id body) {
   const BodySlot* s = w ? w->body(body) : nullptr;
   return s && s->pinned;
 }
+
+// The exact rotation matrix of a body (world_state.c): a quaternion read
+// from it and set again comes back through float rounding a little off, so
+// a saved world keeps the matrix itself.
+extern "C" void bk_physics_body_basis(const bk_physics* w, bk_body_id body, double out[9]) {
+  const BodySlot* s = w ? w->body(body) : nullptr;
+  for (int k = 0; k < 9; ++k)
+    out[k] = k % 4 == 0 ? 1.0 : 0.0;
+  if (!s) return;
+  const btMatrix3x3& m = s->body->getCenterOfMassTransform().getBasis();
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c)
+      out[3 * r + c] = m[r][c];
+}
+
+extern "C" void bk_physics_body_set_basis(bk_physics* w, bk_body_id body, const double m[9]) {
+  BodySlot* s = w ? w->body(body) : nullptr;
+  if (!s) return;
+  btTransform t = s->body->getCenterOfMassTransform();
+  t.getBasis().setValue((btScalar)m[0], (btScalar)m[1], (btScalar)m[2], (btScalar)m[3], (btScalar)m[4],
+                        (btScalar)m[5], (btScalar)m[6], (btScalar)m[7], (btScalar)m[8]);
+  s->body->setCenterOfMassTransform(t);
+  if (!s->parked) w->world.updateSingleAabb(s->body);
+}

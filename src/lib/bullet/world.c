@@ -237,6 +237,7 @@ bk_breakable_id bk_world_add_breakable(bk_world* w, const bk_world_breakable_def
                                            .hull_fits = NULL,
                                            .node_count = 0};
   bk_world_prepare_hulls(w, index); // every node's, as node_count is 0
+  w->breakables[index].source_nodes = w->breakables[index].node_count;
   bool made = bk_world_apply_results(w, err);
   bk_world_refresh_live(w);
   return made ? id : null_id;

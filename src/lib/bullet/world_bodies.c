@@ -201,6 +201,11 @@ static bool build_body(bk_world* w, const bk_cluster_created* created, uint64_t 
   return !bk_body_is_null(wbody->body);
 }
 
+bool bk_world_make_body(bk_world* w, const bk_cluster_created* created, uint64_t loose_since, bk_error* err) {
+  w->live_dirty = true;
+  return build_body(w, created, loose_since, err);
+}
+
 void bk_world_release_body(bk_world* w, uint32_t index) {
   world_body* wbody = &w->bodies[index];
   if (!wbody->alive) return;
@@ -280,10 +285,14 @@ bool bk_world_apply_results(bk_world* w, bk_error* err) {
 }
 
 void bk_world_collect_breaks(bk_world* w) {
+  bk_world_copy_breaks(w);
+  bk_runtime_clear_events(w->runtime); // hits and loads only break bonds: nothing else is waiting
+}
+
+void bk_world_copy_breaks(bk_world* w) {
   uint32_t count = bk_runtime_broken_bonds(w->runtime, NULL, 0);
   reserve((void**)&w->broken, &w->broken_capacity, count, sizeof(bk_bond_break));
   bk_runtime_broken_bonds(w->runtime, w->broken, w->broken_capacity);
-  bk_runtime_clear_events(w->runtime); // hits and loads only break bonds: nothing else is waiting
   reserve((void**)&w->events, &w->event_capacity, w->event_count + count, sizeof(bk_break_event));
   for (uint32_t i = 0; i < count; ++i) {
     const bk_bond_break* b = &w->broken[i];

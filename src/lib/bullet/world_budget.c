@@ -259,6 +259,19 @@ static void restore(bk_world* w, uint32_t index) {
   w->budget.restorations++;
 }
 
+void bk_world_budget_set_tier(bk_world* w, uint32_t index, bk_budget_tier tier) {
+  world_body* wb = &w->bodies[index];
+  bk_cluster_info info = {0};
+  if (tier >= BK_TIER_RETIRED || !bk_runtime_cluster(w->runtime, wb->cluster, &info)) return;
+  while (wb->tier > tier)
+    restore(w, index);
+  while (wb->tier < tier) {
+    uint32_t was = wb->tier;
+    demote(w, index, &info);
+    if (wb->tier == was) break;
+  }
+}
+
 bk_retired_body bk_world_retired_record(const bk_world* w, uint32_t index, const bk_cluster_info* info) {
   bk_body_id body = w->bodies[index].body;
   return (bk_retired_body){.breakable = info->breakable,

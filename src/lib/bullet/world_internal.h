@@ -19,7 +19,8 @@ typedef struct world_breakable {
   // Nodes the arrays above hold (their hulls made): the tree's node count,
   // which grows as fragments are refined (world_refine.c)
   uint32_t node_count;
-  bool grown; // refined: some nodes' hulls may be HULL_LATER
+  bool grown;            // refined: some nodes' hulls may be HULL_LATER
+  uint32_t source_nodes; // the caller's tree's node count (a grown tree's first nodes)
 } world_breakable;
 
 /// hull_fits of a node a refinement added whose hull is not made yet
@@ -58,6 +59,8 @@ typedef struct world_body {
   uint64_t shaken;       // last step a moving body pressed on it while it was frozen
   double pressed;        // normal impulse (N s) dynamic bodies pressed on it in the last step, frozen
   uint32_t area;         // 1 + the settle area it is merged into (world_settle.c); 0: not merged
+  bk_transform sent;     // where bk_world_motion last placed it (world_follow.c)
+  bool sent_valid;       // it has been placed (false: a new body)
 } world_body;
 
 /// Settled pieces of one cell, parked behind one static compound (world_settle.c).
@@ -189,12 +192,32 @@ void bk_world_prepare_hulls(bk_world* world, uint32_t breakable_index);
 /// of the trees that grew (the new nodes' hulls are made when a body first
 /// needs them), so that the split that follows can make bodies of them.
 void bk_world_refine(bk_world* world);
+/// Takes the runtime's refined events: grows the per-node arrays of the
+/// trees that grew and makes the new nodes' hulls from what the workers
+/// prepared (leaves the runtime's events as they are).
+void bk_world_take_refined(bk_world* world);
+/// Appends the runtime's broken bonds to the world's break events, leaving
+/// the runtime's events as they are (bk_world_collect_breaks clears them).
+void bk_world_copy_breaks(bk_world* world);
 /// Applies what the runtime's last call reported, in order: each removed
 /// cluster's body goes, then the bodies of the clusters made from it.
 /// Returns false (err set) if a body could not be made.
 bool bk_world_apply_results(bk_world* world, bk_error* err);
 /// Appends the runtime's last broken bonds to the world's break events.
 void bk_world_collect_breaks(bk_world* world);
+/// Makes the body of a created cluster where its record says (as a split
+/// does); `loose_since` as bk_world_apply_results gives it. False (err set)
+/// when the physics refused it.
+bool bk_world_make_body(bk_world* world, const bk_cluster_created* created, uint64_t loose_since,
+                        bk_error* err);
+/// A body's rotation as the physics keeps it, a 3x3 matrix by rows
+/// (physics_bodies.cpp), and set back exactly (a quaternion is not: its
+/// round trip through the matrix rounds).
+void bk_physics_body_basis(const bk_physics* physics, bk_body_id body, double out[9]);
+void bk_physics_body_set_basis(bk_physics* physics, bk_body_id body, const double basis[9]);
+/// Moves a body to a budget tier (below BK_TIER_RETIRED) one tier at a time,
+/// as the budget does (world_budget.c).
+void bk_world_budget_set_tier(bk_world* world, uint32_t index, bk_budget_tier tier);
 /// Removes a cluster's body and compound.
 void bk_world_release_body(bk_world* world, uint32_t index);
 /// Where the tree frame of a cluster is in the world now.

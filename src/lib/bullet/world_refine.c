@@ -63,22 +63,13 @@ static void take_hulls(bk_world* w, world_breakable* wb, const bk_leaf_refined* 
   }
 }
 
-void bk_world_refine(bk_world* w) {
-  // Nothing marked, nothing to land: the step had no refinement (0 ms).
-  bool pending = bk_runtime_get_stats(w->runtime).refine_pending > 0;
-  double start = thread_cpu_ms();
-  bk_runtime_refine(w->runtime);
-  // The refinements are taken before bk_world_collect_breaks clears the
-  // runtime's events (they come only from bk_runtime_refine, so none is
-  // lost): the bonds the waiting hits broke become break events as a
-  // hit's do.
+void bk_world_take_refined(bk_world* w) {
   uint32_t count = bk_runtime_refined_leaves(w->runtime, NULL, 0);
   if (count > w->refined_capacity) {
     w->refined_capacity = bk_grow_capacity(w->refined_capacity, count);
     w->refined = bk_realloc(w->refined, sizeof(bk_leaf_refined) * w->refined_capacity);
   }
   bk_runtime_refined_leaves(w->runtime, w->refined, w->refined_capacity);
-  bk_world_collect_breaks(w);
   for (uint32_t i = 0; i < count; ++i) {
     uint32_t index = w->refined[i].breakable.index;
     // The new nodes' places, for every refinement of the breakable at once
@@ -89,6 +80,21 @@ void bk_world_refine(bk_world* w) {
       take_hulls(w, &w->breakables[index], &w->refined[i]);
     }
     bk_free(w->refined[i].prepared);
+    w->refined[i].prepared = NULL;
   }
-  w->refine_ms = pending || count ? thread_cpu_ms() - start : 0.0;
+}
+
+void bk_world_refine(bk_world* w) {
+  // Nothing marked, nothing to land: the step had no refinement (0 ms).
+  bool pending = bk_runtime_get_stats(w->runtime).refine_pending > 0;
+  double start = thread_cpu_ms();
+  bk_runtime_refine(w->runtime);
+  // The refinements are taken before bk_world_collect_breaks clears the
+  // runtime's events (they come only from bk_runtime_refine, so none is
+  // lost): the bonds the waiting hits broke become break events as a
+  // hit's do.
+  bool refined = bk_runtime_refined_leaves(w->runtime, NULL, 0) > 0;
+  bk_world_take_refined(w);
+  bk_world_collect_breaks(w);
+  w->refine_ms = pending || refined ? thread_cpu_ms() - start : 0.0;
 }

@@ -8,15 +8,6 @@
 
 #include "bk_geom.h"
 
-/// The .mtree file's bytes in memory (what bk_mesh_tree_save writes): *data
-/// is allocated (bk_free it). `name` prefixes error messages.
-bool bk_mesh_tree_save_memory(const bk_mesh_tree* tree, const char* name, uint8_t** data, size_t* size,
-                              bk_error* err);
-/// Loads a tree from .mtree bytes in memory, with every check of
-/// bk_mesh_tree_load; `name` prefixes error messages.
-bool bk_mesh_tree_load_memory(const void* data, size_t size, const char* name, bk_mesh_tree* out,
-                              bk_error* err);
-
 /// Winding number of a closed mesh around a point (sum of signed solid
 /// angles, Van Oosterom-Strackee): ~1 inside, ~0 outside, 1/2 on the
 /// surface. With tri_component, only the triangles labelled `component` count.

@@ -89,6 +89,7 @@ bk_breakable_id bk_runtime_add_breakable(bk_runtime* rt, const bk_breakable_def*
   rt_breakable* b = &rt->breakables[index];
   memset(b, 0, sizeof *b);
   b->tree = tree;
+  b->source = tree;
   b->generation = generation;
   b->alive = true;
   b->user_data = def->user_data;
@@ -133,6 +134,7 @@ bk_breakable_id bk_runtime_add_breakable(bk_runtime* rt, const bk_breakable_def*
   c->user_data = def->user_data;
   rt_cluster_finish(rt, slot);
   rt_record_created(rt, slot, (bk_cluster_id){0, 0}, transform, NULL);
+  rt_journal_breakable(rt, index, true);
   return (bk_breakable_id){index, b->generation};
 }
 
@@ -218,6 +220,7 @@ void rt_breakable_free(rt_breakable* b) {
 bk_result bk_runtime_remove_breakable(bk_runtime* rt, bk_breakable_id id) {
   rt_breakable* b = rt_find_breakable(rt, id);
   if (!b) return BK_ERROR_STALE_ID;
+  rt_journal_breakable(rt, id.index, false);
   rt_refine_cancel(rt, id.index);
   for (uint32_t slot = 0; slot < rt->cluster_count; ++slot)
     if (rt->clusters[slot].alive && rt->clusters[slot].breakable == id.index) rt_remove_cluster(rt, slot);
@@ -268,6 +271,7 @@ bk_result bk_runtime_set_material(bk_runtime* rt, bk_breakable_id id, const bk_m
   set_material(b, material);
   if (density_changed) refresh_masses(rt, id.index);
   rt_stress_material_changed(rt, id.index); // new loads or limits: check the bonds again
+  rt_journal_material(rt, id.index);
   return BK_OK;
 }
 
@@ -276,6 +280,7 @@ bk_result bk_runtime_set_frailty(bk_runtime* rt, bk_breakable_id id, double frai
   if (!b) return BK_ERROR_STALE_ID;
   if (!(frailty >= 0.0) || !isfinite(frailty)) return BK_ERROR_INVALID_ARGUMENT;
   b->material.frailty = frailty;
+  rt_journal_material(rt, id.index);
   return BK_OK;
 }
 
@@ -287,6 +292,7 @@ bk_result bk_runtime_set_density(bk_runtime* rt, bk_breakable_id id, double dens
   b->material.density = density;
   refresh_masses(rt, id.index);
   rt_stress_material_changed(rt, id.index);
+  rt_journal_material(rt, id.index);
   return BK_OK;
 }
 
@@ -297,6 +303,7 @@ bk_result bk_runtime_set_bond_strength(bk_runtime* rt, bk_breakable_id id, doubl
     return BK_ERROR_INVALID_ARGUMENT;
   rescale_bonds(b, bond_strength);
   b->material.bond_strength = bond_strength;
+  rt_journal_material(rt, id.index);
   return BK_OK;
 }
 

@@ -65,17 +65,13 @@ void rt_break_bond_by_hit(bk_runtime* rt, uint32_t slot, uint32_t bond) {
   rt_break_bond(rt, slot, bond, world_point, velocity, BK_BREAK_DAMAGE);
 }
 
-static void damage_cluster(bk_runtime* rt, uint32_t slot, bk_vec3 point, double impulse) {
+void rt_damage_local(bk_runtime* rt, uint32_t slot, bk_vec3 local, double impulse) {
   rt_cluster* c = &rt->clusters[slot];
   rt_breakable* b = &rt->breakables[c->breakable];
   const bk_mesh_tree* tree = b->tree;
   bk_body_state state = rt_body_state(rt, slot);
   bk_transform tree_to_world = rt_tree_to_world(c, &state);
-  bk_vec3 local = bk_transform_point(bk_transform_inverse(tree_to_world), point);
-  // A body the caller's physics has lost (NaN or overflowed state) puts the
-  // hit nowhere: every distance would be NaN, read as s_min, and every bond
-  // would break.
-  if (!bk_v3_is_finite(local)) return;
+  rt_journal_hit(rt, slot, local, impulse);
   double s_min = rt->def.damage_min_distance;
   // Fragments this hit refines, and those already waiting for their
   // pieces, take its damage when their pieces land.
@@ -98,6 +94,18 @@ static void damage_cluster(bk_runtime* rt, uint32_t slot, bk_vec3 point, double 
     }
   }
   if (broke) rt_queue_split(rt, slot);
+}
+
+static void damage_cluster(bk_runtime* rt, uint32_t slot, bk_vec3 point, double impulse) {
+  rt_cluster* c = &rt->clusters[slot];
+  bk_body_state state = rt_body_state(rt, slot);
+  bk_transform tree_to_world = rt_tree_to_world(c, &state);
+  bk_vec3 local = bk_transform_point(bk_transform_inverse(tree_to_world), point);
+  // A body the caller's physics has lost (NaN or overflowed state) puts the
+  // hit nowhere: every distance would be NaN, read as s_min, and every bond
+  // would break.
+  if (!bk_v3_is_finite(local)) return;
+  rt_damage_local(rt, slot, local, impulse);
 }
 
 void bk_runtime_damage_at(bk_runtime* rt, bk_vec3 point, double impulse) {

@@ -25,6 +25,7 @@ uint32_t bk_runtime_apply_fracture_commands(bk_runtime* rt, const bk_fracture_co
     const bk_fracture_command* command = &commands[i];
     if (!command_valid(rt, command)) continue;
     uint32_t slot = command->cluster.index;
+    rt_journal_break(rt, slot, command->bond, command->cause);
     rt_break_bond(rt, slot, command->bond, command->position, command->velocity, command->cause);
     if (command->cause == BK_BREAK_STRESS) rt->stress_bonds_broken++;
     rt_queue_split(rt, slot); // once per cluster: the queue keeps its first place

@@ -113,14 +113,7 @@ static void renumber(bk_runtime* rt, uint32_t index, const bk_splice_info* info)
   // The stress stage's per-leaf and per-bond state is made again at its
   // next solve (stress_leaves.c), and every cluster of the breakable solved
   // again from rest.
-  bk_free(b->leaf_centroid);
-  bk_free(b->leaf_volume);
-  bk_free(b->leaf_motion);
-  bk_free(b->bond_stress);
-  b->leaf_centroid = NULL;
-  b->leaf_volume = NULL;
-  b->leaf_motion = NULL;
-  b->bond_stress = NULL;
+  rt_stress_forget_leaves(b);
   for (uint32_t slot = 0; slot < rt->cluster_count; ++slot) {
     rt_cluster* c = &rt->clusters[slot];
     if (!c->alive || c->breakable != index) continue;
@@ -277,6 +270,7 @@ static bool land(bk_runtime* rt, rt_refine_job* job) {
 }
 
 uint32_t bk_runtime_refine(bk_runtime* rt) {
+  rt_journal_refine(rt);
   uint32_t call = ++rt->refine_calls;
   rt->refine_marked = 0;
   uint32_t landed = 0;

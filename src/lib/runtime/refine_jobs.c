@@ -88,17 +88,19 @@ static bk_vec3 surface_nearest(const bk_mesh* mesh, bk_vec3 p) {
   return best;
 }
 
-static void mark(bk_runtime* rt, uint32_t breakable_index, uint32_t leaf, bk_vec3 local) {
+// A job for the leaf of `node` hit at `local`, due at `due_call`, in the
+// list (its neighbours are the caller's to fill in).
+static rt_refine_job* new_job(bk_runtime* rt, uint32_t breakable_index, uint32_t node, bk_vec3 local,
+                              uint32_t due_call, bk_aabb tree_bounds, uint32_t neighbour_capacity) {
   rt_breakable* b = &rt->breakables[breakable_index];
   const bk_mesh_tree* tree = b->tree;
-  uint32_t node = tree->leaf_nodes[leaf];
   rt_refine_job* job = bk_calloc(1, sizeof *job);
   job->breakable = breakable_index;
   job->generation = b->generation;
   job->node = node;
-  job->due_call = rt->refine_calls + 1u + rt->def.refine_latency;
+  job->due_call = due_call;
   job->mesh = tree->nodes[node].mesh;
-  job->tree_bounds = tree->nodes[0].bounds;
+  job->tree_bounds = tree_bounds;
   bk_fracture_def def = bk_default_fracture_def();
   def.pattern = b->refine.pattern;
   def.pieces = b->refine.pieces;
@@ -109,16 +111,7 @@ static void mark(bk_runtime* rt, uint32_t breakable_index, uint32_t leaf, bk_vec
   def.aspect_bias = tree->desc.aspect_bias;
   def.threads = 1; // one worker per fragment: the game keeps the other core
   job->def = def;
-  // Its neighbours as they are now (their meshes never change): the worker
-  // measures how the pieces touch each one's face, so the landing need not.
-  job->neighbours =
-      bk_alloc(sizeof(bk_piece_neighbour) * (b->adjacency_start[leaf + 1] - b->adjacency_start[leaf] + 1u));
-  for (uint32_t k = b->adjacency_start[leaf]; k < b->adjacency_start[leaf + 1]; ++k) {
-    const bk_bond* bd = &tree->bonds[b->adjacency[k]];
-    uint32_t other = bd->leaf_a == leaf ? bd->leaf_b : bd->leaf_a;
-    job->neighbours[job->neighbour_count++] = (bk_piece_neighbour){
-        .node = tree->leaf_nodes[other], .mesh = bk_mesh_tree_leaf(tree, other)->mesh, .bond_area = bd->area};
-  }
+  job->neighbours = bk_alloc(sizeof(bk_piece_neighbour) * (neighbour_capacity + 1u));
   job->prepare = rt->def.refine_prepare;
   job->context = rt->def.context;
   if (rt->refine_job_count == rt->refine_job_capacity) {
@@ -126,9 +119,42 @@ static void mark(bk_runtime* rt, uint32_t breakable_index, uint32_t leaf, bk_vec
     rt->refine_jobs = bk_realloc(rt->refine_jobs, sizeof(rt_refine_job*) * rt->refine_job_capacity);
   }
   rt->refine_jobs[rt->refine_job_count++] = job;
+  uint32_t leaf = tree->nodes[node].leaf_begin;
   if (!b->leaf_refining) b->leaf_refining = bk_calloc(tree->leaf_count, 1);
   b->leaf_refining[leaf] = 1;
+  return job;
+}
+
+static void mark(bk_runtime* rt, uint32_t breakable_index, uint32_t leaf, bk_vec3 local) {
+  rt_breakable* b = &rt->breakables[breakable_index];
+  const bk_mesh_tree* tree = b->tree;
+  rt_refine_job* job = new_job(rt, breakable_index, tree->leaf_nodes[leaf], local,
+                               rt->refine_calls + 1u + rt->def.refine_latency, tree->nodes[0].bounds,
+                               b->adjacency_start[leaf + 1] - b->adjacency_start[leaf]);
+  // Its neighbours as they are now (their meshes never change): the worker
+  // measures how the pieces touch each one's face, so the landing need not.
+  for (uint32_t k = b->adjacency_start[leaf]; k < b->adjacency_start[leaf + 1]; ++k) {
+    const bk_bond* bd = &tree->bonds[b->adjacency[k]];
+    uint32_t other = bd->leaf_a == leaf ? bd->leaf_b : bd->leaf_a;
+    job->neighbours[job->neighbour_count++] = (bk_piece_neighbour){
+        .node = tree->leaf_nodes[other], .mesh = bk_mesh_tree_leaf(tree, other)->mesh, .bond_area = bd->area};
+  }
   rt->refine_marked++;
+}
+
+void rt_refine_restore(bk_runtime* rt, uint32_t breakable_index, uint32_t node, uint32_t due_call,
+                       bk_aabb tree_bounds, const uint32_t* neighbour_nodes, const double* neighbour_areas,
+                       uint32_t neighbour_count, rt_refine_hit* hits, uint32_t hit_count) {
+  const bk_mesh_tree* tree = rt->breakables[breakable_index].tree;
+  rt_refine_job* job =
+      new_job(rt, breakable_index, node, hits[0].local, due_call, tree_bounds, neighbour_count);
+  for (uint32_t k = 0; k < neighbour_count; ++k)
+    job->neighbours[job->neighbour_count++] =
+        (bk_piece_neighbour){.node = neighbour_nodes[k],
+                             .mesh = tree->nodes[neighbour_nodes[k]].mesh,
+                             .bond_area = neighbour_areas[k]};
+  job->hits = hits;
+  job->hit_count = job->hit_capacity = hit_count;
 }
 
 void rt_refine_hit_cluster(bk_runtime* rt, uint32_t slot, bk_vec3 local, double impulse) {

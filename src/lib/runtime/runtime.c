@@ -17,6 +17,7 @@ bk_runtime_def bk_default_runtime_def(void) {
                           .refine_latency = 1,
                           .refine_threads = 1,
                           .max_refinements_per_call = 4,
+                          .journal = false,
                           .body_state = NULL,
                           .context = NULL};
 }
@@ -50,6 +51,7 @@ void bk_runtime_destroy(bk_runtime* rt) {
   rt_refine_cancel(rt, UINT32_MAX); // workers read the trees' meshes
   bk_free(rt->refine_jobs);
   bk_free(rt->refined);
+  bk_free(rt->journal);
   for (uint32_t i = 0; i < rt->cluster_count; ++i) {
     bk_free(rt->clusters[i].leaves);
     bk_free(rt->clusters[i].nodes);
@@ -115,6 +117,7 @@ bk_result bk_runtime_set_cluster_user_data(bk_runtime* rt, bk_cluster_id id, voi
 
 bk_result bk_runtime_remove_cluster(bk_runtime* rt, bk_cluster_id id) {
   if (!rt_find_cluster(rt, id)) return BK_ERROR_STALE_ID;
+  rt_journal_remove(rt, id.index);
   rt_remove_cluster(rt, id.index);
   return BK_OK;
 }

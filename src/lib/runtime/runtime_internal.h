@@ -9,7 +9,8 @@
 /// A breakable: the BCRB graph over its tree's leaves.
 typedef struct rt_breakable {
   const bk_mesh_tree* tree;
-  uint32_t generation; // kept across reuse of the slot
+  const bk_mesh_tree* source; // the caller's (tree is own_tree once refined)
+  uint32_t generation;        // kept across reuse of the slot
   bool alive;
   void* user_data;
   bk_material material; // name points at material_name
@@ -173,6 +174,9 @@ struct bk_runtime {
   bk_leaf_refined* refined; // events since the last clear
   uint32_t refined_count, refined_capacity;
   uint32_t refined_leaves, refine_failed;
+  // The journal (journal.c): the entries since the last clear.
+  uint8_t* journal;
+  size_t journal_size, journal_capacity;
 };
 
 /// The id of a live cluster slot.
@@ -237,6 +241,12 @@ void rt_refine_cancel(bk_runtime* rt, uint32_t breakable_index);
 void rt_refine_start(bk_runtime* rt, uint32_t call);
 /// Finishes a job's work (joins its worker, or does it here).
 void rt_refine_finish(bk_runtime* rt, rt_refine_job* job);
+/// A saved job made again (state_load.c) as mark made it: its leaf's node,
+/// due call, the tree's bounds and neighbours (nodes and bond areas) when it
+/// was marked, and its hits (the first is the marking one). Takes `hits`.
+void rt_refine_restore(bk_runtime* rt, uint32_t breakable_index, uint32_t node, uint32_t due_call,
+                       bk_aabb tree_bounds, const uint32_t* neighbour_nodes, const double* neighbour_areas,
+                       uint32_t neighbour_count, rt_refine_hit* hits, uint32_t hit_count);
 /// Frees a job (what refine_prepare made for it and was not handed over goes to refine_discard).
 void rt_refine_job_free(const bk_runtime* rt, rt_refine_job* job);
 /// Marks a bond broken and records it (position: world; velocity: of the body there).
@@ -246,6 +256,9 @@ void rt_break_bond(bk_runtime* rt, uint32_t slot, uint32_t bond, bk_vec3 positio
 // that fills it (stress.c) is above the core and only reads it.
 /// Frees a cluster's stress state (its system, held leaves and loads).
 void rt_stress_release(rt_cluster* c);
+/// Frees a breakable's per-leaf and per-bond stress state (made again at the
+/// next solve): its leaves or bonds changed.
+void rt_stress_forget_leaves(rt_breakable* b);
 /// Drops a cluster's loads and window.
 void rt_stress_drop_loads(rt_cluster* c);
 /// Clusters whose load has not been solved and checked yet.
@@ -258,3 +271,24 @@ void rt_queue_split(bk_runtime* rt, uint32_t slot);
 bk_body_state rt_body_state(const bk_runtime* rt, uint32_t slot);
 /// Where a cluster's tree frame is in the world, given its body state.
 bk_transform rt_tree_to_world(const rt_cluster* c, const bk_body_state* state);
+// The journal (journal.c): each call that changes the destruction state
+// writes its entry when def.journal is on (nothing otherwise).
+/// A hit as the damage formula takes it: cluster, tree-frame point, impulse.
+void rt_journal_hit(bk_runtime* rt, uint32_t slot, bk_vec3 local, double impulse);
+/// A fracture command applied (cluster, bond, cause).
+void rt_journal_break(bk_runtime* rt, uint32_t slot, uint32_t bond, bk_break_cause cause);
+/// A split with this budget (only when clusters wait for one).
+void rt_journal_split(bk_runtime* rt, uint32_t budget);
+/// A cluster removed by the caller.
+void rt_journal_remove(bk_runtime* rt, uint32_t slot);
+/// A call of bk_runtime_refine.
+void rt_journal_refine(bk_runtime* rt);
+/// A breakable's material as it is now (after any of its setters).
+void rt_journal_material(bk_runtime* rt, uint32_t breakable_index);
+/// A breakable removed, or added (which a follower cannot follow).
+void rt_journal_breakable(bk_runtime* rt, uint32_t breakable_index, bool added);
+/// Damages the bonds of cluster `slot` from a hit at `local` (tree frame):
+/// what a contact's hit does once its point is in the tree frame (damage.c).
+void rt_damage_local(bk_runtime* rt, uint32_t slot, bk_vec3 local, double impulse);
+/// Splits the queued clusters, making at most `budget` new ones (split.c).
+uint32_t rt_split(bk_runtime* rt, uint32_t budget);

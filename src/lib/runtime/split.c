@@ -136,7 +136,12 @@ static uint32_t split_cluster(bk_runtime* w, uint32_t slot, uint32_t components,
 }
 
 uint32_t bk_runtime_split(bk_runtime* w) {
-  uint32_t budget = w->def.max_new_clusters_per_split, done = 0, created = 0;
+  if (w->split_queue_count) rt_journal_split(w, w->def.max_new_clusters_per_split);
+  return rt_split(w, w->def.max_new_clusters_per_split);
+}
+
+uint32_t rt_split(bk_runtime* w, uint32_t budget) {
+  uint32_t done = 0, created = 0;
   while (done < w->split_queue_count && budget >= 2) {
     uint32_t slot = w->split_queue[done++];
     rt_cluster* c = &w->clusters[slot];

@@ -39,3 +39,14 @@ void rt_stress_material_changed(bk_runtime* rt, uint32_t breakable_index) {
     if (c->alive && c->breakable == breakable_index) c->stress_stale = true;
   }
 }
+
+void rt_stress_forget_leaves(rt_breakable* b) {
+  bk_free(b->leaf_centroid);
+  bk_free(b->leaf_volume);
+  bk_free(b->leaf_motion);
+  bk_free(b->bond_stress);
+  b->leaf_centroid = NULL;
+  b->leaf_volume = NULL;
+  b->leaf_motion = NULL;
+  b->bond_stress = NULL;
+}
