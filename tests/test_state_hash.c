@@ -82,6 +82,31 @@ static void test_sim_hashes(void) {
   ENSURE(checked >= 2);
 }
 
+// The trees' bytes too: fracture builds them afresh (no cache), and their
+// hash must be the committed one on every build.
+static void test_tree_hashes(void) {
+  FILE* f = fopen(BK_ASSET_DIR "/../tests/tree_hashes.txt", "r");
+  ENSURE(f != NULL);
+  char line[256];
+  uint32_t checked = 0;
+  while (fgets(line, sizeof line, f)) {
+    char hash[17] = {0};
+    if (line[0] == '#' || sscanf(line, "%16s", hash) != 1) continue;
+    line[strcspn(line, "\n")] = 0;
+    char args[300];
+    snprintf(args, sizeof args, "fracture %s --json", line + 17);
+    run_result* r = run(args);
+    ENSURE_MSG(r->status == 0, "%s: %s", args, r->err);
+    char got[17];
+    json_hex(r->out, "tree_hash", got);
+    ENSURE_MSG(strcmp(got, hash) == 0, "%s: tree_hash %s, expected %s (tests/tree_hashes.txt)", args, got,
+               hash);
+    checked++;
+  }
+  fclose(f);
+  ENSURE(checked >= 4);
+}
+
 static void test_hash_every(void) {
   run_result* r = run("sim --scene wall --steps 120 --hash-every 40 --json");
   ENSURE_MSG(r->status == 0, "%s", r->err);
@@ -97,7 +122,13 @@ static void test_hash_every(void) {
 }
 
 int main(void) {
+  // The scenes' trees are built by this build, not read from a cache
+  // another build wrote.
+  char cache[] = BK_TEST_TMP "/state_hash_cache";
+  ENSURE(system("rm -rf '" BK_TEST_TMP "/state_hash_cache'") == 0);
+  setenv("BREAKABLES_CACHE_DIR", cache, 1);
   test_runtime();
+  test_tree_hashes();
   test_sim_hashes();
   test_hash_every();
   printf("state hash ok\n");

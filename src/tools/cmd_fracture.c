@@ -4,6 +4,9 @@
 #include <string.h>
 #include <unistd.h>
 
+#define XXH_INLINE_ALL
+#include <xxhash.h>
+
 #include "app.h"
 #include "commands.h"
 #include "fracture_patterns.h"
@@ -94,8 +97,9 @@ static void print_usage(void) {
       "                        median_aspect (fragment quality, see below),\n"
       "                        warnings (why fewer pieces were made than asked for,\n"
       "                        cells kept together where a cut face could not be made,\n"
-      "                        which shells overlapped) and\n"
-      "                        export_gltf (the path written, or null)\n"
+      "                        which shells overlapped), export_gltf (the path written,\n"
+      "                        or null) and tree_hash (XXH3 of the tree's .mtree bytes,\n"
+      "                        16 hex digits: the same on every build)\n"
       "  --max-memory MIB      memory the fracture may use, 1..1073741824 MiB (default: the\n"
       "                        available memory); a request estimated to need more is refused\n"
       "  -h, --help            show this help\n",
@@ -164,6 +168,17 @@ typedef struct fracture_result {
   bool written;          ///< every file asked for was written
 } fracture_result;
 
+// XXH3 of the tree's .mtree bytes (what --out writes): the same on every
+// build and machine that builds the same tree, 0 for a tree that cannot be
+// written.
+static uint64_t tree_hash(const bk_mesh_tree* tree) {
+  uint8_t* bytes = NULL;
+  size_t size = 0;
+  uint64_t hash = bk_mesh_tree_save_memory(tree, "tree", &bytes, &size, NULL) ? XXH3_64bits(bytes, size) : 0;
+  bk_free(bytes);
+  return hash;
+}
+
 static void print_json(const fracture_request* r, const fracture_result* f) {
   const bk_mesh_tree* tree = f->tree;
   const bk_mesh_tree_stats* st = &f->stats;
@@ -213,7 +228,7 @@ static void print_json(const fracture_request* r, const fracture_result* f) {
     app_json_string(stdout, r->gltf_path);
   else
     fputs("null", stdout);
-  fputs("}\n", stdout);
+  printf(", \"tree_hash\": \"%016llx\"}\n", (unsigned long long)tree_hash(tree));
 }
 
 static void print_summary(const fracture_request* r, const fracture_result* f) {
@@ -228,6 +243,7 @@ static void print_summary(const fracture_request* r, const fracture_result* f) {
   printf("  %s pattern: %u slivers (%.1f%%), leaf volume p95/p5 %.3g, aspect min %.3f median %.3f\n",
          bk_fracture_pattern_name(r->desc.pattern), q->slivers, 100.0 * q->sliver_fraction,
          q->volume_ratio_p95_p5, q->min_aspect, q->median_aspect);
+  printf("  tree hash %016llx\n", (unsigned long long)tree_hash(tree));
   if (r->out_path && f->written) printf("  saved %s\n", r->out_path);
   if (r->obj_path && f->written) printf("  exported %s\n", r->obj_path);
   if (r->gltf_path && f->written) printf("  exported %s\n", r->gltf_path);
