@@ -514,6 +514,16 @@ static void test_hostile_input(void) {
                 "property float y\nproperty float z\nelement face 4000000000\nproperty list uchar "
                 "int vertex_indices\nend_header\n\0\0\0\0");
   expect_refusal(TMP "counts.ply", &def, "header declares 4000000000 vertex elements");
+  // An element whose name is digits: assimp read it as a count of 2^32 - 1
+  // items and asked for 96 GB; ours refuses the line, so assimp never sees it.
+  write_literal(TMP "digits.ply",
+                "ply\nformat binary_little_endian 1.0\nelement vertex 8\nproperty float x\n"
+                "property float y\nproperty float z\nelement 000000018446744073709551615face 6\n"
+                "property list uchar int vertex_kndices\nend_header\n\0\0\0\0");
+  expect_refusal(TMP "digits.ply", &def, "malformed PLY element line (want 'element NAME COUNT'");
+  write_literal(TMP "three.ply",
+                "ply\nformat ascii 1.0\nelement vertex 3 3\nproperty float x\nend_header\n0\n0\n0\n");
+  expect_refusal(TMP "three.ply", &def, "malformed PLY element line");
   // assimp reads an OFF file's counts from the line after "OFF": a count
   // there must fit the file as well as one on the "OFF" line itself.
   write_literal(TMP "counts.off", "OFF 8\n05000500000 0\n4 6 7 1 0\n");

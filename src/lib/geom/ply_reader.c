@@ -58,6 +58,26 @@ static uint32_t type_size(const char* word, size_t length, bool* is_float) {
 
 // Splits the header (already checked line by line by bk_import_precheck)
 // into elements and properties.
+static bool ply_name_ok(const char* word, size_t length) {
+  if (length == 0 || length > 30 ||
+      !((word[0] >= 'a' && word[0] <= 'z') || (word[0] >= 'A' && word[0] <= 'Z')))
+    return false;
+  for (size_t i = 0; i < length; ++i) {
+    char c = word[i];
+    if (!((c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-'))
+      return false;
+  }
+  return true;
+}
+
+// A count: 1 to 19 digits (what fits a uint64 whatever the digits).
+static bool ply_count_ok(const char* word, size_t length) {
+  if (length == 0 || length > 19) return false;
+  for (size_t i = 0; i < length; ++i)
+    if (word[i] < '0' || word[i] > '9') return false;
+  return true;
+}
+
 static bool parse_header(const char* name, const char* text, size_t size, ply_header* h, bk_error* err) {
   memset(h, 0, sizeof *h);
   const char* end = text + size;
@@ -65,22 +85,31 @@ static bool parse_header(const char* name, const char* text, size_t size, ply_he
     const char* eol = memchr(line, '\n', (size_t)(end - line));
     if (!eol) break;
     char words[4][32] = {{0}};
-    int n = 0;
-    for (const char* c = line; c < eol && n < 4;) {
+    size_t lengths[4] = {0, 0, 0, 0};
+    int n = 0, more = 0; // more: words past the fourth
+    for (const char* c = line; c < eol;) {
       while (c < eol && (*c == ' ' || *c == '\t' || *c == '\r'))
         ++c;
       const char* start = c;
       while (c < eol && *c != ' ' && *c != '\t' && *c != '\r')
         ++c;
-      if (c > start) {
+      if (c > start && n == 4) more++;
+      if (c > start && n < 4) {
         snprintf(words[n], sizeof words[n], "%.*s", (int)(c - start < 31 ? c - start : 31), start);
-        n++;
+        lengths[n++] = (size_t)(c - start);
       }
     }
     if (n >= 2 && strcmp(words[0], "format") == 0) {
       h->binary = strcmp(words[1], "ascii") != 0;
       h->big_endian = strcmp(words[1], "binary_big_endian") == 0;
     } else if (n >= 3 && strcmp(words[0], "element") == 0) {
+      // "element NAME COUNT", exactly: a name of letters, digits and '_'
+      // that starts with a letter, and a count of digits. Anything else
+      // is refused here, never handed on (assimp reads a name of digits
+      // as a count of 2^32 - 1 items).
+      if (n != 3 || more || !ply_name_ok(words[1], lengths[1]) || !ply_count_ok(words[2], lengths[2]))
+        return bk_error_set(err, "%s: malformed PLY element line (want 'element NAME COUNT': %.31s %.31s)",
+                            name, words[1], words[2]);
       if (h->element_count == PLY_MAX_ELEMENTS)
         return bk_error_set(err, "%s: PLY header declares more than %d elements", name, PLY_MAX_ELEMENTS);
       ply_element* e = &h->elements[h->element_count++];
