@@ -165,12 +165,12 @@ static void test_window_joins_late(void) {
   unsigned port = port_base() + 1;
   char script[4096];
   snprintf(script, sizeof script,
-           "$B serve --scene wall --frames 400 --autofire 3 --watchers 1 --listen 127.0.0.1:%u --stream-wait "
+           "$B serve --scene wall --frames 300 --autofire 3 --watchers 1 --listen 127.0.0.1:%u --stream-wait "
            "60000 "
            ">${T}_server.txt 2>${T}_server_err.txt & p1=$!; "
            "$B sim --scene wall --watch 127.0.0.1:%u --stream-wait 60000 --json >${T}_sim.txt "
            "2>${T}_sim_err.txt & p2=$!; "
-           "sleep 4; $B watch 127.0.0.1:%u --scene wall --frames 100000 --stream-wait 60000 >${T}_window.txt "
+           "sleep 2; $B watch 127.0.0.1:%u --scene wall --frames 100000 --stream-wait 60000 >${T}_window.txt "
            "2>${T}_window_err.txt; s=$?; wait $p1 || s=1; wait $p2 || s=1; (exit $s)",
            port, port, port);
   int status = run_script(script);
@@ -185,15 +185,15 @@ static void test_window_joins_late(void) {
   ENSURE_MSG(strstr(server, "(1 joined late)"), "%s", server);
   unsigned long long from = 0, to = 0, agreed = 0;
   watched(window, &from, &to, &agreed);
-  ENSURE_MSG(from > 0 && from < 400 && to == 400 && agreed == 400 - from, "%s", window);
+  ENSURE_MSG(from > 0 && from < 300 && to == 300 && agreed == 300 - from, "%s", window);
 }
 
-// A window follows a sim --serve run of 10 shots as well.
+// A window follows a sim --serve run as well.
 static void test_window_follows_sim(void) {
   unsigned port = port_base() + 3;
   char script[4096];
   snprintf(script, sizeof script,
-           "$B sim --scene wall --shots 10 --steps 240 --volley 200 --serve 127.0.0.1:%u --stream-wait 60000 "
+           "$B sim --scene wall --shots 4 --steps 120 --volley 100 --serve 127.0.0.1:%u --stream-wait 60000 "
            "--json >${T}_sim.txt 2>${T}_sim_err.txt & p1=$!; "
            "$B watch 127.0.0.1:%u --scene wall --frames 100000 --stream-wait 60000 >${T}_window.txt "
            "2>${T}_window_err.txt; s=$?; wait $p1 || s=1; (exit $s)",
@@ -210,7 +210,7 @@ static void test_window_follows_sim(void) {
              window_hash);
   unsigned long long from = 0, to = 0, agreed = 0;
   watched(window, &from, &to, &agreed);
-  ENSURE_MSG(from == 0 && to == 240 && agreed == 240, "%s", window);
+  ENSURE_MSG(from == 0 && to == 120 && agreed == 120, "%s", window);
 }
 
 // A server that loads its scene anew (here a replay's scene event at step

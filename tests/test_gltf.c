@@ -838,14 +838,14 @@ static void test_cli(void) {
       run("fracture --mesh cube --pieces 8 --export-gltf '" BK_TEST_TMP "/cli.glb' --gltf-levels leaves "
           "--json");
   ENSURE_MSG(r->status == 0, "%s", r->err);
-  ENSURE(strstr(r->out, "\"export_gltf\": \"" BK_TEST_TMP "/cli.glb\"}"));
+  ENSURE(strstr(r->out, "\"export_gltf\": \"" BK_TEST_TMP "/cli.glb\", \"tree_hash\": \""));
   bk_mesh_tree tree = {0};
   bk_error err = {{0}};
   ENSURE_MSG(bk_mesh_tree_load_gltf(BK_TEST_TMP "/cli.glb", &tree, &err), "%s", err.message);
   ENSURE(tree.leaf_count == 8);
   bk_mesh_tree_free(&tree);
   r = run("fracture --mesh cube --pieces 2 --json");
-  ENSURE(r->status == 0 && strstr(r->out, "\"export_gltf\": null}"));
+  ENSURE(r->status == 0 && strstr(r->out, "\"export_gltf\": null, \"tree_hash\": \""));
   r = run("fracture --mesh cube --pieces 2 --export-gltf '" BK_TEST_TMP "/cli.gltf'");
   ENSURE(r->status == 0 && strstr(r->out, "exported " BK_TEST_TMP "/cli.gltf"));
   r = run("fracture --mesh cube --pieces 2 --export-gltf '" BK_TEST_TMP "/cli.gltf' --gltf-levels some");
