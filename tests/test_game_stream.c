@@ -3,8 +3,9 @@
 // reach a watching window, which never steps its world and has the server's
 // runtime state hash after every step and at the end, and draws the same
 // broken wall; `sim --watch` follows a game server as well, and a game
-// window joins late from the world's state. Every wait is bounded (the
-// processes' --stream-wait and timeout(1) around the whole run).
+// window joins a `sim --serve` run late, from the world's state; a server
+// that loads its scene anew sends its watchers the new start. Every wait is
+// bounded (the processes' --stream-wait and timeout(1) around the whole run).
 #include <stb_image.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -103,12 +104,12 @@ static double picture_difference(const char* a_path, const char* b_path, int x0,
 }
 
 // A game server with two watchers from the start: a window and sim --watch.
-static void test_watchers_from_the_start(void) {
+static void test_watchers(void) {
   unsigned port = port_base();
   char script[4096];
   snprintf(
       script, sizeof script,
-      "$B serve --scene wall --frames 300 --autofire 3 --watchers 2 --listen 127.0.0.1:%u --stream-wait "
+      "$B serve --scene wall --frames 200 --autofire 3 --watchers 2 --listen 127.0.0.1:%u --stream-wait "
       "60000 "
       "--hide-panel --hide-hud --screenshot ${T}_server.png >${T}_server.txt 2>${T}_server_err.txt & p1=$!; "
       "$B watch 127.0.0.1:%u --scene wall --frames 100000 --stream-wait 60000 --hide-hud "
@@ -125,12 +126,12 @@ static void test_watchers_from_the_start(void) {
   char server_hash[17], window_hash[17], sim_hash[17];
   state_hash_of(server, "serve: ", server_hash);
   state_hash_of(window, "watch: ", window_hash);
-  ENSURE(server_steps(server) == 300 && strstr(server, "shots 3,"));
+  ENSURE(server_steps(server) == 200 && strstr(server, "shots 3,"));
   ENSURE_MSG(strcmp(server_hash, window_hash) == 0, "server %s, window %s", server_hash, window_hash);
   // Every step's hash compared and agreed, from the first to the last.
   unsigned long long from = 0, to = 0, agreed = 0;
   watched(window, &from, &to, &agreed);
-  ENSURE_MSG(from == 0 && to == 300 && agreed == 300, "%s", window);
+  ENSURE_MSG(from == 0 && to == 200 && agreed == 200, "%s", window);
   ENSURE(count_lines_of(window) == 1); // the watcher's one line
   // sim --watch follows the game server too.
   const char* at = strstr(sim, "\"state_hash\": \"");
@@ -138,7 +139,7 @@ static void test_watchers_from_the_start(void) {
   memcpy(sim_hash, at + strlen("\"state_hash\": \""), 16);
   sim_hash[16] = 0;
   ENSURE_MSG(strcmp(server_hash, sim_hash) == 0, "server %s, sim --watch %s", server_hash, sim_hash);
-  ENSURE(strstr(sim, "\"hash_checks\": 300,") && strstr(sim, "\"joined_at_step\": 0,"));
+  ENSURE(strstr(sim, "\"hash_checks\": 200,") && strstr(sim, "\"joined_at_step\": 0,"));
   // The shots broke the wall (bonds broken), and the watching window draws
   // it as the server does: the wall's upper part (its hole; the projectile
   // lies below it) the same in both pictures, to the light's dust.
@@ -159,45 +160,20 @@ static void test_watchers_from_the_start(void) {
   ENSURE_MSG(whole > 4.0 * difference && whole > 4.0, "the unbroken wall differs by %.2f only", whole);
 }
 
-// A window that joins a game server late (with sim --watch there from the
-// start) gets the world's state and follows from there.
-static void test_window_joins_late(void) {
-  unsigned port = port_base() + 1;
-  char script[4096];
-  snprintf(script, sizeof script,
-           "$B serve --scene wall --frames 300 --autofire 3 --watchers 1 --listen 127.0.0.1:%u --stream-wait "
-           "60000 "
-           ">${T}_server.txt 2>${T}_server_err.txt & p1=$!; "
-           "$B sim --scene wall --watch 127.0.0.1:%u --stream-wait 60000 --json >${T}_sim.txt "
-           "2>${T}_sim_err.txt & p2=$!; "
-           "sleep 2; $B watch 127.0.0.1:%u --scene wall --frames 100000 --stream-wait 60000 >${T}_window.txt "
-           "2>${T}_window_err.txt; s=$?; wait $p1 || s=1; wait $p2 || s=1; (exit $s)",
-           port, port, port);
-  int status = run_script(script);
-  const char* server = read_file("server");
-  const char* window = read_file("window");
-  ENSURE_MSG(status == 0, "status %d\nserver: %s%s\nwindow: %s%s\nsim: %s", status, server,
-             read_file("server_err"), window, read_file("window_err"), read_file("sim_err"));
-  char server_hash[17], window_hash[17];
-  state_hash_of(server, "serve: ", server_hash);
-  state_hash_of(window, "watch: ", window_hash);
-  ENSURE_MSG(strcmp(server_hash, window_hash) == 0, "server %s, window %s", server_hash, window_hash);
-  ENSURE_MSG(strstr(server, "(1 joined late)"), "%s", server);
-  unsigned long long from = 0, to = 0, agreed = 0;
-  watched(window, &from, &to, &agreed);
-  ENSURE_MSG(from > 0 && from < 300 && to == 300 && agreed == 300 - from, "%s", window);
-}
-
-// A window follows a sim --serve run as well.
+// A window follows a sim --serve run as well, joining it late (after a
+// sim --watch from the start): it gets the world's state and follows from
+// there.
 static void test_window_follows_sim(void) {
   unsigned port = port_base() + 3;
   char script[4096];
-  snprintf(script, sizeof script,
-           "$B sim --scene wall --shots 4 --steps 120 --volley 100 --serve 127.0.0.1:%u --stream-wait 60000 "
-           "--json >${T}_sim.txt 2>${T}_sim_err.txt & p1=$!; "
-           "$B watch 127.0.0.1:%u --scene wall --frames 100000 --stream-wait 60000 >${T}_window.txt "
-           "2>${T}_window_err.txt; s=$?; wait $p1 || s=1; (exit $s)",
-           port, port);
+  snprintf(
+      script, sizeof script,
+      "$B sim --scene wall --shots 4 --steps 240 --volley 200 --realtime --serve 127.0.0.1:%u "
+      "--stream-wait 60000 --json >${T}_sim.txt 2>${T}_sim_err.txt & p1=$!; "
+      "$B sim --scene wall --watch 127.0.0.1:%u --stream-wait 60000 >/dev/null 2>${T}_first_err.txt & p2=$!; "
+      "sleep 1.5; $B watch 127.0.0.1:%u --scene wall --frames 100000 --stream-wait 60000 >${T}_window.txt "
+      "2>${T}_window_err.txt; s=$?; wait $p1 || s=1; wait $p2 || s=1; (exit $s)",
+      port, port, port);
   int status = run_script(script);
   const char* sim = read_file("sim");
   const char* window = read_file("window");
@@ -210,7 +186,7 @@ static void test_window_follows_sim(void) {
              window_hash);
   unsigned long long from = 0, to = 0, agreed = 0;
   watched(window, &from, &to, &agreed);
-  ENSURE_MSG(from == 0 && to == 120 && agreed == 120, "%s", window);
+  ENSURE_MSG(from > 0 && from < 240 && to == 240 && agreed == 240 - from, "%s", window);
 }
 
 // A server that loads its scene anew (here a replay's scene event at step
@@ -224,7 +200,7 @@ static void write_reloading(const char* base, const char* path, const char* scen
   rec.has_hashes = false; // the run changes: nothing recorded to compare
   recording_scene again = rec.scenes[rec.events[0].scene];
   snprintf(again.name, sizeof again.name, "%s", scene);
-  recording_add_scene(&rec, 150, &again);
+  recording_add_scene(&rec, 80, &again);
   // In step order: the scene event before the later shots.
   recording_event e = rec.events[rec.event_count - 1];
   uint32_t i = rec.event_count - 1;
@@ -239,14 +215,14 @@ static void test_server_reloads(void) {
   unsigned port = port_base() + 4;
   char script[4096], base[512], path[512];
   snprintf(base, sizeof base, "%s/game_stream_base.bkrec", BK_TEST_TMP);
-  snprintf(script, sizeof script, "$B sim --scene wall --shots 6 --steps 300 --record %s >/dev/null 2>&1",
+  snprintf(script, sizeof script, "$B sim --scene wall --shots 4 --steps 160 --record %s >/dev/null 2>&1",
            base);
   ENSURE(run_script(script) == 0);
   for (int other = 0; other < 2; ++other) {
     snprintf(path, sizeof path, "%s/game_stream_reload.bkrec", BK_TEST_TMP);
     write_reloading(base, path, other ? "tower" : "wall");
     snprintf(script, sizeof script,
-             "$B serve --replay %s --frames 300 --watchers 1 --listen 127.0.0.1:%u --stream-wait 60000 "
+             "$B serve --replay %s --frames 160 --watchers 1 --listen 127.0.0.1:%u --stream-wait 60000 "
              ">${T}_server.txt 2>${T}_server_err.txt & p1=$!; "
              "$B watch 127.0.0.1:%u --scene wall --frames 100000 --stream-wait 60000 >${T}_window.txt "
              "2>${T}_window_err.txt; s=$?; wait $p1 || s=9; (exit $s)",
@@ -274,8 +250,7 @@ static void test_server_reloads(void) {
     // The steps since the new start; every step's hash agreed, before it too.
     unsigned long long from = 0, to = 0, agreed = 0;
     watched(window, &from, &to, &agreed);
-    ENSURE_MSG(server_steps(server) == 150 && from == 0 && to == 150 && agreed == 300, "%s%s", server,
-               window);
+    ENSURE_MSG(server_steps(server) == 80 && from == 0 && to == 80 && agreed == 160, "%s%s", server, window);
   }
 }
 
@@ -327,8 +302,7 @@ int main(void) {
     return 1;
   }
   test_refusals();
-  test_watchers_from_the_start();
-  test_window_joins_late();
+  test_watchers();
   test_window_follows_sim();
   test_server_reloads();
   return 0;
