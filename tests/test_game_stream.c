@@ -41,7 +41,8 @@ static int run_script(const char* script) {
   snprintf(path, sizeof path, "%s/game_stream_status.txt", BK_TEST_TMP);
   remove(path);
   snprintf(command, sizeof command,
-           "B='%s'; T='%s/game_stream'; export B T; timeout 300 xvfb-run -a -s '-screen 0 1280x720x24' sh -c "
+           "B='%s'; T='%s/game_stream'; W='--width 640 --height 360'; export B T W; timeout 300 xvfb-run -a "
+           "-s '-screen 0 1280x720x24' sh -c "
            "'%s; echo $? >${T}_status.txt'",
            BK_BREAKABLES_EXE, BK_TEST_TMP, script);
   ENSURE(system(command) != -1);
@@ -109,10 +110,10 @@ static void test_watchers(void) {
   char script[4096];
   snprintf(
       script, sizeof script,
-      "$B serve --scene wall --frames 200 --autofire 3 --watchers 2 --listen 127.0.0.1:%u --stream-wait "
+      "$B serve $W --scene wall --frames 200 --autofire 3 --watchers 2 --listen 127.0.0.1:%u --stream-wait "
       "60000 "
       "--hide-panel --hide-hud --screenshot ${T}_server.png >${T}_server.txt 2>${T}_server_err.txt & p1=$!; "
-      "$B watch 127.0.0.1:%u --scene wall --frames 100000 --stream-wait 60000 --hide-hud "
+      "$B watch $W 127.0.0.1:%u --scene wall --frames 100000 --stream-wait 60000 --hide-hud "
       "--screenshot ${T}_window.png >${T}_window.txt 2>${T}_window_err.txt & p2=$!; "
       "$B sim --scene wall --watch 127.0.0.1:%u --stream-wait 60000 --json >${T}_sim.txt "
       "2>${T}_sim_err.txt; s=$?; wait $p1 || s=1; wait $p2 || s=1; (exit $s)",
@@ -147,13 +148,13 @@ static void test_watchers(void) {
   char a[512], b[512];
   snprintf(a, sizeof a, "%s/game_stream_server.png", BK_TEST_TMP);
   snprintf(b, sizeof b, "%s/game_stream_window.png", BK_TEST_TMP);
-  double difference = picture_difference(a, b, 390, 200, 930, 440);
+  double difference = picture_difference(a, b, 195, 100, 465, 220);
   ENSURE_MSG(difference < 4.0, "the window's wall differs from the server's by %.2f", difference);
   // ... where the wall before the shots differs: the region shows the hole.
-  ENSURE(run_script("$B play --scene wall --frames 2 --hide-panel --hide-hud --screenshot ${T}_whole.png "
+  ENSURE(run_script("$B play $W --scene wall --frames 2 --hide-panel --hide-hud --screenshot ${T}_whole.png "
                     ">/dev/null 2>&1") == 0);
   snprintf(b, sizeof b, "%s/game_stream_whole.png", BK_TEST_TMP);
-  double whole = picture_difference(a, b, 390, 200, 930, 440);
+  double whole = picture_difference(a, b, 195, 100, 465, 220);
   printf("wall region: mean difference %.2f of 255 between the server's and the window's pictures, %.2f "
          "between the server's and the unbroken wall's\n",
          difference, whole);
@@ -171,7 +172,7 @@ static void test_window_follows_sim(void) {
       "$B sim --scene wall --shots 4 --steps 240 --volley 200 --realtime --serve 127.0.0.1:%u "
       "--stream-wait 60000 --json >${T}_sim.txt 2>${T}_sim_err.txt & p1=$!; "
       "$B sim --scene wall --watch 127.0.0.1:%u --stream-wait 60000 >/dev/null 2>${T}_first_err.txt & p2=$!; "
-      "sleep 1.5; $B watch 127.0.0.1:%u --scene wall --frames 100000 --stream-wait 60000 >${T}_window.txt "
+      "sleep 1.5; $B watch $W 127.0.0.1:%u --scene wall --frames 100000 --stream-wait 60000 >${T}_window.txt "
       "2>${T}_window_err.txt; s=$?; wait $p1 || s=1; wait $p2 || s=1; (exit $s)",
       port, port, port);
   int status = run_script(script);
@@ -222,9 +223,9 @@ static void test_server_reloads(void) {
     snprintf(path, sizeof path, "%s/game_stream_reload.bkrec", BK_TEST_TMP);
     write_reloading(base, path, other ? "tower" : "wall");
     snprintf(script, sizeof script,
-             "$B serve --replay %s --frames 160 --watchers 1 --listen 127.0.0.1:%u --stream-wait 60000 "
+             "$B serve $W --replay %s --frames 160 --watchers 1 --listen 127.0.0.1:%u --stream-wait 60000 "
              ">${T}_server.txt 2>${T}_server_err.txt & p1=$!; "
-             "$B watch 127.0.0.1:%u --scene wall --frames 100000 --stream-wait 60000 >${T}_window.txt "
+             "$B watch $W 127.0.0.1:%u --scene wall --frames 100000 --stream-wait 60000 >${T}_window.txt "
              "2>${T}_window_err.txt; s=$?; wait $p1 || s=9; (exit $s)",
              path, port + (unsigned)other, port + (unsigned)other);
     int status = run_script(script);
@@ -281,13 +282,13 @@ static void test_refusals(void) {
                "'%s': status %d, %s", cases[i].args, status, err);
   }
   // A window given another scene than the server's leaves at once; the server plays on.
-  snprintf(
-      script, sizeof script,
-      "$B serve --scene wall --frames 30 --watchers 1 --listen 127.0.0.1:%u --stream-wait 60000 "
-      ">${T}_server.txt 2>${T}_server_err.txt & p1=$!; "
-      "$B watch 127.0.0.1:%u --scene tower --frames 100000 --stream-wait 60000 >${T}_out.txt 2>${T}_err.txt; "
-      "s=$?; wait $p1 || s=9; (exit $s)",
-      port, port);
+  snprintf(script, sizeof script,
+           "$B serve $W --scene wall --frames 30 --watchers 1 --listen 127.0.0.1:%u --stream-wait 60000 "
+           ">${T}_server.txt 2>${T}_server_err.txt & p1=$!; "
+           "$B watch $W 127.0.0.1:%u --scene tower --frames 100000 --stream-wait 60000 >${T}_out.txt "
+           "2>${T}_err.txt; "
+           "s=$?; wait $p1 || s=9; (exit $s)",
+           port, port);
   int status = run_script(script);
   const char* err = read_file("err");
   ENSURE_MSG(status == 1 && count_lines_of(err) == 1 && strstr(err, "the server's scene is not this one"),
