@@ -12,19 +12,7 @@
 
 #include "ensure.h"
 #include "runtime_caller.h"
-
-static bk_mesh_tree wall_tree(uint32_t pieces) {
-  bk_mesh mesh = {0};
-  bk_shape_build(BK_SHAPE_WALL, &mesh);
-  bk_fracture_def def = bk_default_fracture_def();
-  def.pattern = BK_PATTERN_VORONOI;
-  def.pieces = pieces;
-  bk_mesh_tree tree = {0};
-  bk_error err = {0};
-  ENSURE_MSG(bk_mesh_tree_build(&mesh, &def, &tree, &err), "%s", err.message);
-  bk_mesh_free(&mesh);
-  return tree;
-}
+#include "shape_tree.h"
 
 typedef struct side {
   bodies* bodies;
@@ -79,7 +67,8 @@ static size_t follow(side* leader, side* follower) {
 }
 
 static void test_follows_every_call(void) {
-  bk_mesh_tree tree = wall_tree(48);
+  bk_mesh_tree tree =
+      make_tree_pattern(BK_SHAPE_WALL, BK_PATTERN_VORONOI, 48, bk_default_fracture_def().seed);
   side leader = make_side(&tree, true), follower = make_side(&tree, false);
   ENSURE(bk_runtime_state_hash(leader.rt) == bk_runtime_state_hash(follower.rt));
   size_t bytes = 0;
@@ -139,7 +128,8 @@ static void refuse(side* s, const void* bytes, size_t size, const char* expected
 }
 
 static void test_refuses_bad_journals(void) {
-  bk_mesh_tree tree = wall_tree(24);
+  bk_mesh_tree tree =
+      make_tree_pattern(BK_SHAPE_WALL, BK_PATTERN_VORONOI, 24, bk_default_fracture_def().seed);
   side leader = make_side(&tree, true), follower = make_side(&tree, false);
   bk_runtime_damage_at(leader.rt, bk_v3(0.3, 1.1, 0.12), 3000.0);
   bk_runtime_split(leader.rt);

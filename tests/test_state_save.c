@@ -14,19 +14,7 @@
 
 #include "ensure.h"
 #include "runtime_caller.h"
-
-static bk_mesh_tree wall_tree(uint32_t pieces) {
-  bk_mesh mesh = {0};
-  bk_shape_build(BK_SHAPE_WALL, &mesh);
-  bk_fracture_def def = bk_default_fracture_def();
-  def.pattern = BK_PATTERN_VORONOI;
-  def.pieces = pieces;
-  bk_mesh_tree tree = {0};
-  bk_error err = {0};
-  ENSURE_MSG(bk_mesh_tree_build(&mesh, &def, &tree, &err), "%s", err.message);
-  bk_mesh_free(&mesh);
-  return tree;
-}
+#include "shape_tree.h"
 
 /// A runtime with two walls of `tree` (the second refines when `refine`).
 typedef struct world {
@@ -113,7 +101,8 @@ static void same_clusters(const bk_runtime* a, const bk_runtime* b) {
 // Save, load into a runtime built the same way, continue both alike: the
 // same hash after every step; the clusters the same bit for bit.
 static void test_round_trip_and_continuation(bool refine) {
-  bk_mesh_tree tree = wall_tree(24);
+  bk_mesh_tree tree =
+      make_tree_pattern(BK_SHAPE_WALL, BK_PATTERN_VORONOI, 24, bk_default_fracture_def().seed);
   world a = make(&tree, refine), b = make(&tree, refine);
   for (uint32_t k = 0; k < 4; ++k)
     step(&a, k);
@@ -196,7 +185,10 @@ static void expect_refused(bk_runtime* rt, const uint8_t* bytes, size_t size, co
 
 // Damaged states: each kind refused with its own line, nothing changed.
 static void test_refusals(void) {
-  bk_mesh_tree tree = wall_tree(24), other_tree = wall_tree(20);
+  bk_mesh_tree tree =
+                   make_tree_pattern(BK_SHAPE_WALL, BK_PATTERN_VORONOI, 24, bk_default_fracture_def().seed),
+               other_tree =
+                   make_tree_pattern(BK_SHAPE_WALL, BK_PATTERN_VORONOI, 20, bk_default_fracture_def().seed);
   world a = make(&tree, false), b = make(&tree, false), c = make(&other_tree, false);
   for (uint32_t k = 0; k < 4; ++k)
     step(&a, k);
@@ -280,7 +272,8 @@ static void fix_header(uint8_t* bytes, size_t size) {
 // in one line with the runtime unchanged, or loaded into a sound state that
 // saves and loads again with its hash.
 static void test_hostile(void) {
-  bk_mesh_tree tree = wall_tree(24);
+  bk_mesh_tree tree =
+      make_tree_pattern(BK_SHAPE_WALL, BK_PATTERN_VORONOI, 24, bk_default_fracture_def().seed);
   world a = make(&tree, false), b = make(&tree, false), c = make(&tree, false);
   for (uint32_t k = 0; k < 3; ++k)
     step(&a, k);

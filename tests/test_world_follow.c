@@ -11,20 +11,8 @@
 #include <string.h>
 
 #include "ensure.h"
+#include "shape_tree.h"
 #include <breakables/bullet.h>
-
-static bk_mesh_tree make_wall(uint32_t pieces) {
-  bk_mesh mesh = {0};
-  bk_shape_build(BK_SHAPE_WALL, &mesh);
-  bk_fracture_def desc = bk_default_fracture_def();
-  desc.pieces = pieces;
-  desc.seed = 3000;
-  bk_mesh_tree tree = {0};
-  bk_error err = {0};
-  ENSURE_MSG(bk_mesh_tree_build(&mesh, &desc, &tree, &err), "%s", err.message);
-  bk_mesh_free(&mesh);
-  return tree;
-}
 
 static bk_world* make_world(const bk_mesh_tree* tree) {
   bk_world_def def = bk_default_world_def();
@@ -64,7 +52,7 @@ static double largest_offset(const bk_world* leader, const bk_world* follower) {
 }
 
 static void test_follows_a_shot_wall(void) {
-  bk_mesh_tree tree = make_wall(64);
+  bk_mesh_tree tree = make_tree(BK_SHAPE_WALL, 64, 3000);
   bk_world* leader = make_world(&tree);
   bk_world* follower = make_world(&tree);
   ENSURE(bk_world_set_journal(leader, true) == BK_OK);

@@ -15,20 +15,8 @@
 #include "cli_util.h"
 #endif
 #include "ensure.h"
+#include "shape_tree.h"
 #include <breakables/bullet.h>
-
-static bk_mesh_tree make_wall(uint32_t pieces) {
-  bk_mesh mesh = {0};
-  bk_shape_build(BK_SHAPE_WALL, &mesh);
-  bk_fracture_def desc = bk_default_fracture_def();
-  desc.pieces = pieces;
-  desc.seed = 3000;
-  bk_mesh_tree tree = {0};
-  bk_error err = {0};
-  ENSURE_MSG(bk_mesh_tree_build(&mesh, &desc, &tree, &err), "%s", err.message);
-  bk_mesh_free(&mesh);
-  return tree;
-}
 
 static bk_world* make_world(const bk_mesh_tree* tree) {
   bk_world_def def = bk_default_world_def();
@@ -67,7 +55,7 @@ static uint8_t* save(const bk_world* world, size_t* size) {
 }
 
 static void test_world_round_trip(void) {
-  bk_mesh_tree tree = make_wall(48), other_tree = make_wall(40);
+  bk_mesh_tree tree = make_tree(BK_SHAPE_WALL, 48, 3000), other_tree = make_tree(BK_SHAPE_WALL, 40, 3000);
   bk_world* a = make_world(&tree);
   const double xs[3] = {-0.5, 0.4, 0.0}, ys[3] = {1.0, 1.4, 0.6};
   for (int shot = 0; shot < 3; ++shot) {

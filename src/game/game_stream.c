@@ -132,31 +132,29 @@ bool game_stream_ended(const game_stream* s) {
 
 // ---------------------------------------------------------------- server
 
-static void put_u32(uint8_t* p, uint32_t v) {
-  for (int i = 0; i < 4; ++i)
-    p[i] = (uint8_t)(v >> (8 * i));
-}
-
 static void drop_client(game_stream* s, uint32_t c) {
   stream_close(s->clients[c]);
   s->clients[c] = s->clients[--s->client_count];
 }
 
-// Sends to every watcher; one that has gone is dropped.
+// Sends to every watcher, packed (and compressed) once; one that has gone
+// is dropped.
 static void send_all(game_stream* s, uint8_t kind, const void* a, size_t na, const void* b, size_t nb) {
+  size_t size = 0;
+  uint8_t* frame = stream_pack(kind, a, na, b, nb, &size);
   for (uint32_t c = 0; c < s->client_count;) {
-    size_t sent = stream_send(s->clients[c], kind, a, na, b, nb);
-    if (sent) {
-      s->bytes_sent += sent;
+    if (stream_send_packed(s->clients[c], frame, size)) {
+      s->bytes_sent += size;
       c++;
       continue;
     }
     drop_client(s, c);
   }
+  bk_free(frame);
 }
 
 static void hello_frame(uint8_t out[20], const bk_world* world, uint64_t step) {
-  put_u32(out, STREAM_PROTOCOL);
+  stream_put_u32(out, STREAM_PROTOCOL);
   stream_put_u64(out + 4, step);
   stream_put_u64(out + 12, bk_runtime_state_hash(bk_world_runtime(world)));
 }
@@ -237,7 +235,7 @@ static void serve_step(game_stream* s, bk_world* world) {
     uint8_t* head = bk_alloc(20 + journal_size);
     stream_put_u64(head, s->step);
     stream_put_u64(head + 8, bk_runtime_state_hash(bk_world_runtime(world)));
-    put_u32(head + 16, (uint32_t)journal_size);
+    stream_put_u32(head + 16, (uint32_t)journal_size);
     if (journal_size) memcpy(head + 20, journal, journal_size);
     send_all(s, STREAM_STEP, head, 20 + journal_size, motion, motion_size);
     bk_free(head);

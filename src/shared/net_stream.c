@@ -35,7 +35,7 @@ static uint32_t get_u32(const uint8_t* p) {
   return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
 }
 
-static void put_u32(uint8_t* p, uint32_t v) {
+void stream_put_u32(uint8_t* p, uint32_t v) {
   for (int i = 0; i < 4; ++i)
     p[i] = (uint8_t)(v >> (8 * i));
 }
@@ -142,31 +142,47 @@ static bool send_all(int s, const void* data, size_t size) {
   return true;
 }
 
-size_t stream_send(int s, uint8_t kind, const void* a, size_t a_size, const void* b, size_t b_size) {
-  size_t size = a_size + b_size;
-  if (size > STREAM_FRAME_MAX) return 0;
-  uint8_t* payload = bk_alloc(size + 1);
-  if (a_size) memcpy(payload, a, a_size);
-  if (b_size) memcpy(payload + a_size, b, b_size);
-  uint8_t* packed = NULL;
-  size_t packed_size = 0;
-  if (kind == STREAM_STEP && size > 64) {
+uint8_t* stream_pack(uint8_t kind, const void* a, size_t a_size, const void* b, size_t b_size, size_t* size) {
+  *size = 0;
+  size_t plain = a_size + b_size;
+  if (plain > STREAM_FRAME_MAX) return NULL;
+  // The frame's header first, then the payload; a step's payload is
+  // replaced by its compression when that is smaller.
+  uint8_t* frame = bk_alloc(5 + plain);
+  if (a_size) memcpy(frame + 5, a, a_size);
+  if (b_size) memcpy(frame + 5 + a_size, b, b_size);
+  size_t body = plain;
+  if (kind == STREAM_STEP && plain > 64) {
     // Level 1: a step must not wait for its compression.
-    size_t bound = ZSTD_compressBound(size);
-    packed = bk_alloc(bound + 4);
-    put_u32(packed, (uint32_t)size);
-    size_t n = ZSTD_compress(packed + 4, bound, payload, size, 1);
-    if (!ZSTD_isError(n) && n + 4 < size) packed_size = n + 4;
+    size_t bound = ZSTD_compressBound(plain);
+    uint8_t* packed = bk_alloc(5 + 4 + bound);
+    stream_put_u32(packed + 5, (uint32_t)plain);
+    size_t n = ZSTD_compress(packed + 9, bound, frame + 5, plain, 1);
+    if (!ZSTD_isError(n) && n + 4 < plain) {
+      bk_free(frame);
+      frame = packed;
+      body = n + 4;
+      kind |= STREAM_COMPRESSED;
+    } else {
+      bk_free(packed);
+    }
   }
-  uint8_t header[5];
-  const uint8_t* body = packed_size ? packed : payload;
-  size_t body_size = packed_size ? packed_size : size;
-  put_u32(header, (uint32_t)body_size);
-  header[4] = (uint8_t)(packed_size ? kind | STREAM_COMPRESSED : kind);
-  bool ok = send_all(s, header, sizeof header) && send_all(s, body, body_size);
-  bk_free(packed);
-  bk_free(payload);
-  return ok ? sizeof header + body_size : 0;
+  stream_put_u32(frame, (uint32_t)body);
+  frame[4] = kind;
+  *size = 5 + body;
+  return frame;
+}
+
+bool stream_send_packed(int s, const uint8_t* frame, size_t size) {
+  return frame && send_all(s, frame, size);
+}
+
+size_t stream_send(int s, uint8_t kind, const void* a, size_t a_size, const void* b, size_t b_size) {
+  size_t size = 0;
+  uint8_t* frame = stream_pack(kind, a, a_size, b, b_size, &size);
+  bool ok = stream_send_packed(s, frame, size);
+  bk_free(frame);
+  return ok ? size : 0;
 }
 
 // Reads exactly size bytes, waiting up to timeout_ms for each part.

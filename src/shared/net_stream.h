@@ -63,6 +63,12 @@ void stream_close(int socket);
 /// frame is compressed when that pays. Returns the bytes sent (0: the peer
 /// is gone).
 size_t stream_send(int socket, uint8_t kind, const void* a, size_t a_size, const void* b, size_t b_size);
+/// One frame's bytes, header included (a step frame compressed when that
+/// pays), to send to every watcher as they are (bk_free them); NULL when
+/// the payload is too large.
+uint8_t* stream_pack(uint8_t kind, const void* a, size_t a_size, const void* b, size_t b_size, size_t* size);
+/// Sends packed bytes whole; false when the peer is gone.
+bool stream_send_packed(int socket, const uint8_t* frame, size_t size);
 /// Receives one frame, waiting up to timeout_ms for it to start; false with
 /// err set on a timeout, a closed connection or a malformed frame.
 bool stream_receive(int socket, int timeout_ms, stream_frame* out, bk_error* err);
@@ -73,3 +79,4 @@ bool stream_step_read(const stream_frame* frame, stream_step* out, bk_error* err
 uint64_t stream_u64(const uint8_t* p);
 /// Writes v little endian at p.
 void stream_put_u64(uint8_t* p, uint64_t v);
+void stream_put_u32(uint8_t* p, uint32_t v);

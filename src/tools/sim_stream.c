@@ -69,31 +69,29 @@ void sim_stream_help(FILE* out) {
 
 // ---------------------------------------------------------------- server
 
-static void put_u32(uint8_t* p, uint32_t v) {
-  for (int i = 0; i < 4; ++i)
-    p[i] = (uint8_t)(v >> (8 * i));
-}
-
-// Sends to every watcher; one that has gone is dropped.
+// Sends to every watcher, packed (and compressed) once; one that has gone
+// is dropped.
 static void send_all_watchers(sim_stream* s, uint8_t kind, const void* a, size_t na, const void* b,
                               size_t nb) {
+  size_t size = 0;
+  uint8_t* frame = stream_pack(kind, a, na, b, nb, &size);
   for (uint32_t c = 0; c < s->client_count;) {
-    size_t sent = stream_send(s->clients[c], kind, a, na, b, nb);
-    if (sent) {
-      s->bytes += sent;
+    if (stream_send_packed(s->clients[c], frame, size)) {
+      s->bytes += size;
       c++;
       continue;
     }
     stream_close(s->clients[c]);
     s->clients[c] = s->clients[--s->client_count];
   }
+  bk_free(frame);
 }
 
 // A new watcher: the step it joins at, the server's hash then and the
 // world's state.
 static void welcome(sim_stream* s, int client, const loaded_scene* scene, uint64_t step) {
   uint8_t hello[20];
-  put_u32(hello, STREAM_PROTOCOL);
+  stream_put_u32(hello, STREAM_PROTOCOL);
   stream_put_u64(hello + 4, step);
   stream_put_u64(hello + 12, bk_runtime_state_hash(bk_world_runtime(scene->world)));
   bool ok = stream_send(client, STREAM_HELLO, hello, sizeof hello, NULL, 0) > 0;
@@ -155,9 +153,8 @@ void sim_serve_step(sim_stream* s, loaded_scene* scene, uint64_t step, bool last
   uint8_t* head = bk_alloc(20 + journal_size);
   stream_put_u64(head, step);
   stream_put_u64(head + 8, bk_runtime_state_hash(bk_world_runtime(scene->world)));
-  put_u32(head + 16, (uint32_t)journal_size);
+  stream_put_u32(head + 16, (uint32_t)journal_size);
   if (journal_size) memcpy(head + 20, journal, journal_size);
-  uint64_t before = s->bytes;
   send_all_watchers(s, STREAM_STEP, head, 20 + journal_size, motion, motion_size);
   if (s->client_count) {
     // As one watcher sees it (each gets the same bytes).
@@ -165,7 +162,6 @@ void sim_serve_step(sim_stream* s, loaded_scene* scene, uint64_t step, bool last
     s->motion_bytes += motion_size;
     s->frames++;
   }
-  (void)before;
   bk_free(head);
   bk_free(motion);
   bk_world_clear_journal(scene->world);

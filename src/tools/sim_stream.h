@@ -25,7 +25,6 @@ typedef struct sim_stream {
   int clients[SIM_STREAM_WATCHERS_MAX];
   uint32_t client_count, joined_late;
   uint64_t bytes, journal_bytes, motion_bytes, snapshot_bytes, frames;
-  uint64_t first_step_bytes_at; ///< bytes when the first step frame went out
   double started_ms;
 } sim_stream;
 

@@ -111,20 +111,22 @@ static bool moved(const bk_world* w, const world_body* body) {
          1.0 - dot > MOTION_ROTATION_EPSILON * MOTION_ROTATION_EPSILON / 8.0 || !(dot == dot);
 }
 
-size_t bk_world_motion_size(const bk_world* w) {
-  if (!w) return 0;
+static uint32_t moved_count(const bk_world* w) {
   uint32_t count = 0;
   for (uint32_t i = 0; i < w->live_count; ++i)
     count += moved(w, &w->bodies[w->live[i]]);
-  return 5 + (size_t)count * MOTION_BODY_MAX_BYTES;
+  return count;
+}
+
+size_t bk_world_motion_size(const bk_world* w) {
+  return w ? 5 + (size_t)moved_count(w) * MOTION_BODY_MAX_BYTES : 0;
 }
 
 size_t bk_world_motion(bk_world* w, void* out, size_t capacity) {
-  if (!w || !out || capacity < bk_world_motion_size(w)) return 0;
+  if (!w || !out) return 0;
+  uint32_t count = moved_count(w);
+  if (capacity < 5 + (size_t)count * MOTION_BODY_MAX_BYTES) return 0;
   uint8_t* p = out;
-  uint32_t count = 0;
-  for (uint32_t i = 0; i < w->live_count; ++i)
-    count += moved(w, &w->bodies[w->live[i]]);
   size_t n = put_varint(p, count);
   for (uint32_t i = 0; i < w->live_count; ++i) {
     world_body* body = &w->bodies[w->live[i]];
