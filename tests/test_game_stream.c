@@ -155,7 +155,9 @@ static void test_watchers(void) {
   snprintf(a, sizeof a, "%s/game_stream_server.png", BK_TEST_TMP);
   snprintf(b, sizeof b, "%s/game_stream_window.png", BK_TEST_TMP);
   double difference = picture_difference(a, b, 390, 200, 930, 440);
-  ENSURE_MSG(difference < 4.0, "the window's wall differs from the server's by %.2f", difference);
+  // Dust differs between the two windows (each runs its own), so the bound
+  // is 6 of 255, where the unbroken wall is more than four times further.
+  ENSURE_MSG(difference < 6.0, "the window's wall differs from the server's by %.2f", difference);
   // ... where the wall before the shots differs: the region shows the hole.
   ENSURE(run_script("$B play --scene wall --frames 2 --hide-panel --hide-hud --screenshot ${T}_whole.png "
                     ">/dev/null 2>&1") == 0);

@@ -584,8 +584,10 @@ typedef struct bk_fracture_overlap {
 #define BK_FRACTURE_SPLIT_ATTEMPTS 16
 /// The fracture's generation: raised whenever the same source and def make
 /// a different tree (2: the planes and brick patterns draw a random stream
-/// per piece). A cache of built trees keys on it, so it rebuilds them.
-#define BK_FRACTURE_GENERATION 2
+/// per piece; 3: the library's own sin, cos, cbrt, pow, log2, atan2 and
+/// hypot and a stable sort, so a tree is the same bytes on every machine and
+/// in WebAssembly). A cache of built trees keys on it, so it rebuilds them.
+#define BK_FRACTURE_GENERATION 3
 /// How far the pieces of one cut may miss their whole's volume, relative to
 /// it (trees are at most a few dozen levels deep, so the leaves of a tree add
 /// up to the source within 1e-9).

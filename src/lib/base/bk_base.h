@@ -26,6 +26,26 @@ void* bk_try_calloc(size_t count, size_t size);
 /// bk_realloc that returns NULL on exhaustion, `memory` left as it was.
 void* bk_try_realloc(void* memory, size_t size);
 
+// ---------------------------------------------------------------- the same result on every machine
+
+/// Sorts like qsort, but stably (equal elements keep their order), so the
+/// order does not depend on the C library (sort.c).
+void bk_sort(void* base, size_t count, size_t size, int (*compare)(const void*, const void*));
+
+/// The libm functions the libraries use, made of IEEE basic operations only
+/// (+ - * / and sqrt, exactly rounded everywhere), so they give the same bits
+/// on every machine, C library and CPU (det_math.c): the C library's differ in
+/// the last bit between glibc, musl and glibc's own FMA variants, and trees
+/// built from them would differ. Within a few ulp of the C library's (test_det_math).
+double bk_sin(double x);
+double bk_cos(double x);
+double bk_atan2(double y, double x);
+double bk_cbrt(double x);
+double bk_log2(double x);
+double bk_exp2(double x);
+double bk_pow(double x, double y); ///< x > 0, or x = 0 with y > 0 (0); else NaN
+double bk_hypot(double x, double y);
+
 // ---------------------------------------------------------------- index map, hashing, heap
 
 /// Open-addressing map from 64-bit keys to 32-bit values, for index-based

@@ -31,5 +31,5 @@ bk_vec3 bk_rng_direction(bk_rng* rng) {
   double z = 2.0 * bk_rng_unit(rng) - 1.0;
   double phi = 2.0 * 3.14159265358979323846 * bk_rng_unit(rng);
   double r = sqrt(fmax(0.0, 1.0 - z * z));
-  return bk_v3(r * cos(phi), r * sin(phi), z);
+  return bk_v3(r * bk_cos(phi), r * bk_sin(phi), z);
 }

@@ -372,9 +372,9 @@ static void bond_cuts(const bk_mesh_tree* tree, const bk_cut_frame* frames, cons
     }
     // Sweep and prune along u: both sides sorted by min u; a group is tested
     // against the other side's groups still open at its start.
-    if (below_groups > 1) qsort(groups, below_groups, sizeof(leaf_group), compare_groups_by_min_x);
+    if (below_groups > 1) bk_sort(groups, below_groups, sizeof(leaf_group), compare_groups_by_min_x);
     if (group_count - below_groups > 1)
-      qsort(groups + below_groups, group_count - below_groups, sizeof(leaf_group), compare_groups_by_min_x);
+      bk_sort(groups + below_groups, group_count - below_groups, sizeof(leaf_group), compare_groups_by_min_x);
     uint32_t next[2] = {0, below_groups}, end_of[2] = {below_groups, group_count};
     uint32_t active_count[2] = {0, 0};
     while (next[0] < end_of[0] || next[1] < end_of[1]) {

@@ -102,7 +102,7 @@ static void split(hierarchy* h, uint32_t at, const leaf_info* leaves, const csr*
   if (by_cluster) {
     for (uint32_t i = 0; i < n; ++i)
       keys[i] = (sort_key){(double)leaves[own[i]].cluster, own[i]};
-    qsort(keys, n, sizeof(sort_key), compare_sort_keys);
+    bk_sort(keys, n, sizeof(sort_key), compare_sort_keys);
     clustered = keys[0].x != keys[n - 1].x;
   }
   if (clustered) {
@@ -122,7 +122,7 @@ static void split(hierarchy* h, uint32_t at, const leaf_info* leaves, const csr*
       bk_vec3 c = leaf_centroid(&leaves[own[i]]);
       keys[i] = (sort_key){axis == 0 ? c.x : (axis == 1 ? c.y : c.z), own[i]};
     }
-    qsort(keys, n, sizeof(sort_key), compare_sort_keys);
+    bk_sort(keys, n, sizeof(sort_key), compare_sort_keys);
     for (uint32_t i = 0; i < n; ++i) {
       own[i] = keys[i].leaf;
       part_of[i] = i < part_start[1] ? 0 : 1;

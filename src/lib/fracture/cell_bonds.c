@@ -86,7 +86,7 @@ static uint32_t* triangle_partners(const bk_mesh_tree* tree, uint32_t* first) {
         }
     }
   }
-  if (count) qsort(list, count, sizeof(face_triangle), compare_triangles);
+  if (count) bk_sort(list, count, sizeof(face_triangle), compare_triangles);
   for (uint32_t i = 0; i < count;) {
     uint32_t end = i + 1;
     while (end < count && list[end].tag == list[i].tag &&
@@ -148,7 +148,7 @@ void bk_cell_tree_compute_bonds(bk_mesh_tree* tree) {
   }
   bk_free(partners);
   bk_free(first);
-  if (count) qsort(parts, count, sizeof(face_part), compare_parts);
+  if (count) bk_sort(parts, count, sizeof(face_part), compare_parts);
   // Merge runs of one (tag, leaf, partner); the lower leaf's side of each
   // pair makes the bond.
   uint32_t merged = 0;
@@ -182,7 +182,7 @@ void bk_cell_tree_compute_bonds(bk_mesh_tree* tree) {
   }
   bk_free(parts);
   // One bond per leaf pair: several faces between two leaves add up.
-  if (bond_count) qsort(bonds, bond_count, sizeof(bk_bond), compare_bonds);
+  if (bond_count) bk_sort(bonds, bond_count, sizeof(bk_bond), compare_bonds);
   uint32_t unique = 0;
   for (uint32_t i = 0; i < bond_count; ++i) {
     if (unique && bonds[unique - 1].leaf_a == bonds[i].leaf_a &&

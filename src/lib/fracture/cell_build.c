@@ -43,7 +43,7 @@ static void tri_grid_build(tri_grid* g, const bk_mesh* m) {
   g->box = bk_mesh_bounds(m);
   bk_vec3 size = bk_v3_sub(g->box.max, g->box.min);
   double per =
-      cbrt(fmax(size.x * size.y * size.z, 1e-300) * 4.0 / (m->triangle_count ? m->triangle_count : 1));
+      bk_cbrt(fmax(size.x * size.y * size.z, 1e-300) * 4.0 / (m->triangle_count ? m->triangle_count : 1));
   g->n[0] = (int)fmin(fmax(ceil(size.x / per), 1), 256);
   g->n[1] = (int)fmin(fmax(ceil(size.y / per), 1), 256);
   g->n[2] = (int)fmin(fmax(ceil(size.z / per), 1), 256);
@@ -178,7 +178,7 @@ static void* cell_work(void* arg) {
     bk_cell_polytope_store(builder, &w->cx, &b->polytopes[c]);
     uint32_t count =
         tri_grid_query(w->tg, polytope_bounds(&w->cx, &b->polytopes[c]), stamp, c, &tris, &tri_capacity);
-    if (count) qsort(tris, count, sizeof(uint32_t), compare_u32);
+    if (count) bk_sort(tris, count, sizeof(uint32_t), compare_u32);
     bk_cell_clip_surface(&w->cx, c, &b->polytopes[c], tris, count, &b->surfaces[c]);
     // Only the calling thread reports, as bk_fracture_def.progress promises.
     if (w->index == 0 && w->d->progress && (++done & 31) == 0 &&
@@ -217,7 +217,7 @@ static bool run_cells(const bk_mesh* m, const bk_fracture_def* d, bk_cell_build*
                        .b = b,
                        .grid = grid,
                        .tg = &tg,
-                       .spacing = cbrt(size.x * size.y * size.z / b->cells),
+                       .spacing = bk_cbrt(size.x * size.y * size.z / b->cells),
                        .whole = bk_v3_length(size),
                        .index = t,
                        .owner = owner,
@@ -287,7 +287,7 @@ bool bk_cell_complex_run(const bk_mesh* m, const bk_fracture_def* d, bk_tree_fra
   if (attempt) {
     bk_aabb box = bk_mesh_bounds(m);
     bk_vec3 size = bk_v3_sub(box.max, box.min);
-    double step = 1e-5 * cbrt(fmax(size.x * size.y * size.z, 1e-300) / b->cells);
+    double step = 1e-5 * bk_cbrt(fmax(size.x * size.y * size.z, 1e-300) / b->cells);
     bk_rng rng = bk_rng_seed(d->seed, 0x6a697474u + attempt);
     for (uint32_t i = 0; i < b->cells; ++i)
       b->seeds[i] = bk_v3_add(b->seeds[i], bk_v3_scale(bk_rng_direction(&rng), step));

@@ -118,7 +118,7 @@ static bool classify(const bk_cell_complex* cx, const bk_cell_polytope* polys,
       }
       g->piercings[g->piercing_count++] = (piercing){edge_key3(key->s), surfaces[c].vertices[k]};
     }
-  if (g->piercing_count) qsort(g->piercings, g->piercing_count, sizeof(piercing), compare_piercings);
+  if (g->piercing_count) bk_sort(g->piercings, g->piercing_count, sizeof(piercing), compare_piercings);
   // The Voronoi graph's edges, once each.
   uint32_t pair_count = 0;
   for (uint32_t c = 0; c < cells; ++c)
@@ -415,7 +415,7 @@ static void collect_joined(const face_worker* workers, uint32_t threads, bk_cell
   for (uint32_t t = 0; t < threads; ++t)
     for (uint32_t i = 0; i < workers[t].out.joined_count; ++i)
       keys[n++] = (uint64_t)workers[t].out.joined[2 * i] << 32 | workers[t].out.joined[2 * i + 1];
-  qsort(keys, total, sizeof(uint64_t), compare_u64);
+  bk_sort(keys, total, sizeof(uint64_t), compare_u64);
   out->joined = bk_alloc(sizeof(uint32_t) * 2 * total);
   for (uint32_t i = 0; i < total; ++i) {
     out->joined[2 * i] = (uint32_t)(keys[i] >> 32);

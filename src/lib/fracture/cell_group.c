@@ -170,7 +170,7 @@ static void find_contacts(const bk_cell_complex* cx, const bk_cell_faces* faces,
     }
   bk_free(first_in_a);
   bk_free(first_in_b);
-  if (n) qsort(list, n, sizeof(contact), compare_contacts);
+  if (n) bk_sort(list, n, sizeof(contact), compare_contacts);
   uint32_t unique = 0;
   for (uint32_t i = 0; i < n; ++i) {
     if (unique && list[unique - 1].a == list[i].a && list[unique - 1].b == list[i].b)

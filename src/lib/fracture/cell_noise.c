@@ -119,9 +119,9 @@ void bk_cell_faces_add_noise(bk_cell_complex* cx, bk_cell_faces* faces, double a
           const uint32_t* v = faces->triangles + 3 * (face->first + t);
           longest = fmax(longest, bk_v3_length(bk_v3_sub(cx->points[v[k]], cx->points[v[(k + 1) % 3]])));
         }
-      int levels = (int)fmin(ceil(log2(fmax(longest * frequency * 2.0, 1.0))), BK_CELL_NOISE_MAX_LEVELS);
+      int levels = (int)fmin(ceil(bk_log2(fmax(longest * frequency * 2.0, 1.0))), BK_CELL_NOISE_MAX_LEVELS);
       levels = levels < 0 ? 0 : (levels > max_levels ? max_levels : levels);
-      total += face->count * pow(4.0, levels);
+      total += face->count * bk_pow(4.0, levels);
     }
     if (total <=
         fmax(BK_CELL_NOISE_BUDGET * faces->triangle_count, faces->triangle_count + BK_CELL_NOISE_EXTRA))
@@ -166,7 +166,7 @@ void bk_cell_faces_add_noise(bk_cell_complex* cx, bk_cell_faces* faces, double a
     bk_index_map_free(&uses);
     // Enough levels for about two vertices per noise wave, at most
     // BK_CELL_NOISE_MAX_LEVELS (each level makes up to four times the triangles).
-    int levels = (int)fmin(ceil(log2(fmax(longest * frequency * 2.0, 1.0))), BK_CELL_NOISE_MAX_LEVELS);
+    int levels = (int)fmin(ceil(bk_log2(fmax(longest * frequency * 2.0, 1.0))), BK_CELL_NOISE_MAX_LEVELS);
     levels = levels < 0 ? 0 : (levels > max_levels ? max_levels : levels);
     uint32_t first_point = cx->count;
     for (int l = 0; l < levels; ++l) {

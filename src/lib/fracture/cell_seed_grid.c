@@ -26,7 +26,7 @@ bk_seed_grid* bk_seed_grid_create(const bk_vec3* seeds, uint32_t count, bk_aabb 
   bk_vec3 size = bk_v3_sub(box.max, box.min);
   // About two seeds per bin.
   double volume = fmax(size.x * size.y * size.z, 1e-300);
-  g->cell = cbrt(volume * 2.0 / (count ? count : 1));
+  g->cell = bk_cbrt(volume * 2.0 / (count ? count : 1));
   g->n[0] = (int)fmin(fmax(ceil(size.x / g->cell), 1), 1024);
   g->n[1] = (int)fmin(fmax(ceil(size.y / g->cell), 1), 1024);
   g->n[2] = (int)fmin(fmax(ceil(size.z / g->cell), 1), 1024);
@@ -74,7 +74,7 @@ double bk_seed_grid_spacing(const bk_seed_grid* g, uint32_t cell) {
         count += g->start[b + 1] - g->start[b];
         bins++;
       }
-  return cbrt(bins * g->cell * g->cell * g->cell / (count ? count : 1));
+  return bk_cbrt(bins * g->cell * g->cell * g->cell / (count ? count : 1));
 }
 
 static inline bool near_less(const bk_near_entry* a, const bk_near_entry* b) {

@@ -96,7 +96,7 @@ static bk_vec3 candidate(bk_rng* rng, bk_aabb box, const draw_def* dd) {
     // Within min_radius nothing is drawn (returned as a point the caller
     // rejects): a crowd of seeds at the impact would make cells too small
     // to cut reliably.
-    double r = dd->reach * pow(bk_rng_unit(rng), 1.0 / dd->exponent);
+    double r = dd->reach * bk_pow(bk_rng_unit(rng), 1.0 / dd->exponent);
     bk_vec3 dir = bk_rng_direction(rng);
     if (r < dd->min_radius) return bk_v3(INFINITY, INFINITY, INFINITY);
     return bk_v3_add(dd->impact, bk_v3_scale(dir, r));
@@ -201,7 +201,7 @@ static bool user_seeds(const bk_mesh* m, const bk_fracture_def* d, bk_vec3 origi
   if (out->count == 0)
     return bk_error_set(err, "fracture: none of the %u seed points lies inside the source",
                         d->seed_point_count);
-  qsort(out->points, out->count, sizeof(bk_vec3), compare_points);
+  bk_sort(out->points, out->count, sizeof(bk_vec3), compare_points);
   uint32_t kept = 1;
   for (uint32_t i = 1; i < out->count; ++i)
     if (compare_points(&out->points[i], &out->points[kept - 1]) != 0) out->points[kept++] = out->points[i];
@@ -222,7 +222,7 @@ uint32_t bk_cell_seeds(const bk_mesh* m, const bk_fracture_def* d, bk_vec3 origi
   // No two generated seeds closer than this: a crowd of seeds (the impact's
   // neighbourhood, a chunk's border band, chance) makes pieces so small
   // that a physics engine cannot rest them (they jitter awake for ever).
-  double gap = BK_CELL_SEED_GAP * cbrt(fmax(bk_mesh_volume(m), 0.0) / d->pieces);
+  double gap = BK_CELL_SEED_GAP * bk_cbrt(fmax(bk_mesh_volume(m), 0.0) / d->pieces);
   if (!(gap > 1e-9 * largest)) gap = 0.0; // a sliver of a source: no gap to keep
   // The source is binned for the inside test once, for every batch of candidates.
   bk_inside_test* test = bk_inside_test_create(m);

@@ -58,7 +58,7 @@ bool bk_contact_outline_make(const bk_contact_side* side, bk_plane plane, double
   for (uint32_t i = 0; i < side->count; ++i)
     for (int k = 0; k < 3; ++k)
       edges[3 * i + (uint32_t)k] = (edge){t[i].p[k], t[i].p[(k + 1) % 3], false};
-  qsort(edges, count, sizeof(edge), compare_edges);
+  bk_sort(edges, count, sizeof(edge), compare_edges);
   // Boundary edges: no triangle has their reverse (the positions of one
   // mesh are shared, so equal points are equal bits).
   edge* boundary = bk_alloc(sizeof(edge) * count);
@@ -94,7 +94,7 @@ bool bk_contact_outline_make(const bk_contact_side* side, bk_plane plane, double
     const double* b = out->points[(i + 1) % out->count];
     const double* c = out->points[(i + 2) % out->count];
     double cross = (b[0] - a[0]) * (c[1] - b[1]) - (b[1] - a[1]) * (c[0] - b[0]);
-    double scale = hypot(b[0] - a[0], b[1] - a[1]) * hypot(c[0] - b[0], c[1] - b[1]);
+    double scale = bk_hypot(b[0] - a[0], b[1] - a[1]) * bk_hypot(c[0] - b[0], c[1] - b[1]);
     ok = cross >= -tolerance * scale;
   }
   bk_free(boundary);

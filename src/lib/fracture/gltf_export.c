@@ -326,6 +326,9 @@ static bool check_def(const bk_gltf_def* def, const char* path, bk_error* err) {
   if (!(isfinite(def->bond_strength) && def->bond_strength > 0))
     return bk_error_set(err, "%s: gltf def: bond_strength must be finite and > 0, got %g", path,
                         def->bond_strength);
+  if (def->meshopt_compression && bk_gltf_meshopt_bound(1, 4) == 0)
+    return bk_error_set(
+        err, "%s: gltf def: meshopt_compression needs meshoptimizer, which this build leaves out", path);
   return true;
 }
 

@@ -129,7 +129,8 @@ const char* bk_gltf_levels_name(bk_gltf_levels levels);
 
 // ---------------------------------------------------------------- compression (gltf_meshopt.c)
 
-/// Most bytes meshoptimizer's vertex codec writes for count vertices of `stride` bytes.
+/// Most bytes meshoptimizer's vertex codec writes for count vertices of `stride` bytes
+/// (0 in a build without meshoptimizer, BK_NO_MESHOPT: gltf_meshopt_none.c).
 size_t bk_gltf_meshopt_bound(size_t count, size_t stride);
 /// Encodes count vertices of `stride` bytes (a multiple of 4, at most 256)
 /// into out; returns the bytes written (0 when capacity is too small).

@@ -25,7 +25,7 @@ double bk_mesh_winding_number(const bk_mesh* m, const uint32_t* tri_component, u
     double la = bk_v3_length(a), lb = bk_v3_length(b), lc = bk_v3_length(c);
     double num = bk_v3_dot(a, bk_v3_cross(b, c));
     double den = la * lb * lc + bk_v3_dot(a, b) * lc + bk_v3_dot(b, c) * la + bk_v3_dot(c, a) * lb;
-    total += 2.0 * atan2(num, den);
+    total += 2.0 * bk_atan2(num, den);
   }
   return total / (4.0 * 3.14159265358979323846);
 }

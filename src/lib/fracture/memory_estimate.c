@@ -117,12 +117,12 @@ static uint64_t to_bytes(double bytes) {
 // pieces of volume / 2^k; a cap gets the grid nodes at least half a spacing
 // inside its border.
 static double planes_noise_point_levels(double volume, double n, double frequency) {
-  double levels = log2(n), sum = 0.0;
+  double levels = bk_log2(n), sum = 0.0;
   double most_across = sqrt(BK_CAP_NOISE_MAX_NODES);
   for (int k = 0; ldexp(1.0, k) < n; ++k) {
     double pieces = ldexp(1.0, k);
     double cuts = fmin(pieces, n - pieces);
-    double area = CAP_AREA_PER_VOLUME * pow(volume / pieces, 2.0 / 3.0);
+    double area = CAP_AREA_PER_VOLUME * bk_pow(volume / pieces, 2.0 / 3.0);
     double across = fmin(sqrt(area) * frequency / BK_CAP_NOISE_SPACING, most_across);
     double inside = fmax(across - 1.0, 0.0);
     sum += cuts * inside * inside * (levels - k);
@@ -139,11 +139,11 @@ static double planes_noise_bytes(double volume, double n, double frequency) {
 
 // Cut-face triangles of a cell pattern before noise: about 24 per cell, and
 // more where the faces meet a finely triangulated surface.
-static double cell_face_triangles(double t, double n) { return 24.0 * n + 4.5 * sqrt(t) * cbrt(n); }
+static double cell_face_triangles(double t, double n) { return 24.0 * n + 4.5 * sqrt(t) * bk_cbrt(n); }
 
 // The triangles noise adds to the cut faces of a cell pattern
 // (cell_noise.c): a face whose longest edge is e gets
-// ceil(log2(2 frequency e)) levels, at most BK_CELL_NOISE_MAX_LEVELS, within
+// ceil(bk_log2(2 frequency e)) levels, at most BK_CELL_NOISE_MAX_LEVELS, within
 // the budget.
 static double cell_noise_triangles(double t, double volume, double n, double frequency) {
   if (!(n > 1.0) || !(frequency > 0.0) || !(volume > 0.0)) return 0.0;
@@ -153,9 +153,9 @@ static double cell_noise_triangles(double t, double volume, double n, double fre
   // Triangles a face triangle becomes at each level: less than 4^levels,
   // since the border edges are never split (measured).
   static const double growth[BK_CELL_NOISE_MAX_LEVELS + 1] = {1.0, 2.5, 9.0, 35.0};
-  double faces = cell_face_triangles(t, n), cell = cbrt(volume / n), ratio = 0.0;
+  double faces = cell_face_triangles(t, n), cell = bk_cbrt(volume / n), ratio = 0.0;
   for (size_t i = 0; i < sizeof shares / sizeof *shares; ++i) {
-    double wanted = ceil(log2(fmax(2.0 * frequency * shares[i][0] * cell, 1.0)));
+    double wanted = ceil(bk_log2(fmax(2.0 * frequency * shares[i][0] * cell, 1.0)));
     int levels = (int)fmin(wanted, BK_CELL_NOISE_MAX_LEVELS);
     ratio += shares[i][1] * growth[levels];
   }
@@ -175,15 +175,15 @@ static double cell_noise_bytes_per_triangle(double levels) { return 300.0 + 120.
 
 uint64_t bk_mesh_tree_estimate_bytes(const bk_mesh* source, const bk_fracture_def* desc) {
   double t = source ? (double)source->triangle_count : 0.0, n = pieces_of(desc);
-  double levels = log2(n), frequency = noise_frequency_of(desc);
+  double levels = bk_log2(n), frequency = noise_frequency_of(desc);
   double volume = source && frequency > 0.0 ? bk_mesh_volume(source) : 0.0;
   double first_cut = n > 1.0 ? (cell_pattern(desc) ? 5.75e6 + 660.0 * t : 11.1e6 + 414.0 * t) : 0.0;
   double tree = 0.0;
   if (cell_pattern(desc))
-    tree = 11.75e6 + 235.0 * t + 4440.0 * n * levels + 24300.0 * sqrt(t) * cbrt(n) + 160.0 * t * levels +
+    tree = 11.75e6 + 235.0 * t + 4440.0 * n * levels + 24300.0 * sqrt(t) * bk_cbrt(n) + 160.0 * t * levels +
            cell_noise_bytes_per_triangle(levels) * cell_noise_triangles(t, volume, n, frequency);
   else
-    tree = 10.8e6 + 270.0 * t + 63.0 * t * levels + 5850.0 * n + 9100.0 * sqrt(t) * cbrt(n) +
+    tree = 10.8e6 + 270.0 * t + 63.0 * t * levels + 5850.0 * n + 9100.0 * sqrt(t) * bk_cbrt(n) +
            planes_noise_bytes(volume, n, frequency);
   // A map's cells are built all at once whatever the regions they make:
   // prisms through the whole source, each with its faces and the source's
@@ -210,14 +210,14 @@ uint64_t bk_mesh_tree_estimate_bytes(const bk_mesh* source, const bk_fracture_de
 // 36 noisy files). Saving holds the whole file in memory before writing it.
 uint64_t bk_mesh_tree_estimate_file_bytes(const bk_mesh* source, const bk_fracture_def* desc) {
   double t = source ? (double)source->triangle_count : 0.0, n = pieces_of(desc);
-  double levels = log2(n), frequency = noise_frequency_of(desc);
+  double levels = bk_log2(n), frequency = noise_frequency_of(desc);
   double volume = source && frequency > 0.0 ? bk_mesh_volume(source) : 0.0;
   double fit = 0.0;
   if (cell_pattern(desc))
-    fit = 3400.0 * n * levels + 11500.0 * sqrt(t) * cbrt(n) + 125.0 * t * levels +
+    fit = 3400.0 * n * levels + 11500.0 * sqrt(t) * bk_cbrt(n) + 125.0 * t * levels +
           0.85 * cell_noise_bytes_per_triangle(levels) * cell_noise_triangles(t, volume, n, frequency);
   else
-    fit = 40.0 * t + 48.0 * t * levels + 4300.0 * n + 9000.0 * sqrt(t) * cbrt(n) +
+    fit = 40.0 * t + 48.0 * t * levels + 4300.0 * n + 9000.0 * sqrt(t) * bk_cbrt(n) +
           0.67 * planes_noise_bytes(volume, n, frequency);
   return to_bytes(FILE_MARGIN * fit);
 }

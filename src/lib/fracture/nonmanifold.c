@@ -129,11 +129,11 @@ static void pair_fan(const bk_mesh* m, uint32_t* parent, const half_edge* edges,
     uint32_t slot = edges[i].slot, t = slot / 3, k = slot % 3;
     uint32_t from = bk_mesh_tri_position(m, t, k);
     bk_vec3 c = bk_v3_sub(m->positions[bk_mesh_tri_position(m, t, (k + 2) % 3)], a);
-    scratch[i] = (around){turn * atan2(bk_v3_dot(c, v), bk_v3_dot(c, u)), slot, from == lo};
+    scratch[i] = (around){turn * bk_atan2(bk_v3_dot(c, v), bk_v3_dot(c, u)), slot, from == lo};
     forward += from == lo;
   }
   if (2 * forward != count) return; // unbalanced: leave it unpaired (open or overused)
-  qsort(scratch, count, sizeof *scratch, compare_around);
+  bk_sort(scratch, count, sizeof *scratch, compare_around);
   order_coincident(scratch, count);
   for (uint32_t i = 0; i < count; ++i) {
     if (!scratch[i].forward) continue;
@@ -153,7 +153,7 @@ uint32_t bk_mesh_split_nonmanifold(bk_mesh* m) {
     for (uint32_t k = 0; k < 3; ++k)
       edges[3 * t + k] = (half_edge){
           bk_edge_key(bk_mesh_tri_position(m, t, k), bk_mesh_tri_position(m, t, (k + 1) % 3)), 3 * t + k};
-  qsort(edges, slots, sizeof *edges, compare_half_edges);
+  bk_sort(edges, slots, sizeof *edges, compare_half_edges);
   // Union-find over triangle corners (slots): one class per fan at a position.
   uint32_t* parent = bk_alloc(sizeof(uint32_t) * slots);
   for (uint32_t i = 0; i < slots; ++i)

@@ -75,7 +75,7 @@ uint32_t bk_mesh_remove_duplicate_triangles(bk_mesh* m) {
     canonical(m, t, rows + 4 * t);
     rows[4 * t + 3] = t;
   }
-  if (n) qsort(rows, n, 4 * sizeof(uint32_t), compare_triples);
+  if (n) bk_sort(rows, n, 4 * sizeof(uint32_t), compare_triples);
   uint8_t* keep = bk_alloc(n + 1u);
   memset(keep, 1, n + 1u);
   uint32_t removed = 0;

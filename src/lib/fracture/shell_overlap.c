@@ -224,7 +224,7 @@ static contact_kind sweep_pairs(const bk_mesh* const shell[2], const bk_aabb box
       bk_aabb tb = grown(triangle_box(shell[s], t), grow);
       if (boxes_overlap(tb, box[1 - s])) items[count++] = (sweep_item){tb, s, t};
     }
-  qsort(items, count, sizeof *items, compare_items);
+  bk_sort(items, count, sizeof *items, compare_items);
   contact_kind found = CONTACT_NONE;
   for (uint32_t i = 0; i < count && found != CONTACT_OVERLAP; ++i)
     for (uint32_t j = i + 1; j < count && items[j].box.min.x <= items[i].box.max.x; ++j) {
@@ -326,7 +326,7 @@ uint32_t bk_mesh_split_overlapping_shells(const bk_mesh* mesh, bk_mesh** parts,
   }
   // Shell pairs whose grown boxes meet, swept along x; the first pair (in
   // shell order) that overlaps or touches is the one named.
-  qsort(order, count, sizeof *order, compare_shells);
+  bk_sort(order, count, sizeof *order, compare_shells);
   for (uint32_t i = 0; i < count; ++i)
     for (uint32_t j = i + 1; j < count && order[j].min_x <= reach[order[i].shell].max.x; ++j) {
       uint32_t a = order[i].shell, b = order[j].shell;

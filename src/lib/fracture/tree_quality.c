@@ -66,8 +66,8 @@ bk_mesh_tree_quality bk_mesh_tree_measure_quality(const bk_mesh_tree* tree) {
     if (aspects[i] < BK_SLIVER_ASPECT) q.slivers++;
   }
   q.sliver_fraction = (double)q.slivers / count;
-  qsort(volumes, count, sizeof(double), compare_double);
-  qsort(aspects, count, sizeof(double), compare_double);
+  bk_sort(volumes, count, sizeof(double), compare_double);
+  bk_sort(aspects, count, sizeof(double), compare_double);
   q.volume_p5 = nearest_rank(volumes, count, 5);
   q.volume_p95 = nearest_rank(volumes, count, 95);
   q.volume_ratio_p95_p5 = q.volume_p5 > 0.0 ? q.volume_p95 / q.volume_p5 : INFINITY;

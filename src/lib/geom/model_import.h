@@ -79,6 +79,11 @@ bool bk_import_ply(const void* data, size_t size, const char* name, const bk_imp
 /// of extension `ext`) states: FBX's UnitScaleFactor (centimetres per
 /// unit); glTF is in metres and assimp applies Collada's <unit> itself.
 void bk_import_read_units(const struct aiScene* scene, const char* ext, bk_import_info* info);
+/// Reads a model file of format `ext` through assimp (locked, in the C
+/// locale), texture paths resolved beside it. A build without assimp
+/// (BK_NO_ASSIMP, the WebAssembly one) refuses both in one line.
+bool bk_import_assimp_file(const char* path, const char* ext, const bk_import_def* def, bk_mesh* out,
+                           bk_import_info* info, bk_error* err);
 /// Reads bytes of format `ext` through assimp (locked, in the C locale) into
 /// a finished mesh.
 bool bk_import_assimp_memory(const void* data, size_t size, const char* ext, const char* name,

@@ -139,8 +139,9 @@ static void build_torus(bk_mesh* m) {
     double phi = 2.0 * BK_PI * i / n;
     for (uint32_t j = 0; j < k; ++j) {
       double theta = 2.0 * BK_PI * j / k;
-      double rho = TORUS_MAJOR_RADIUS + TORUS_MINOR_RADIUS * cos(theta);
-      bk_mesh_add_position(m, bk_v3(rho * cos(phi), TORUS_MINOR_RADIUS * sin(theta), -rho * sin(phi)));
+      double rho = TORUS_MAJOR_RADIUS + TORUS_MINOR_RADIUS * bk_cos(theta);
+      bk_mesh_add_position(m,
+                           bk_v3(rho * bk_cos(phi), TORUS_MINOR_RADIUS * bk_sin(theta), -rho * bk_sin(phi)));
     }
   }
   // (n + 1) x (k + 1) corners: the last row and column repeat the first
@@ -149,7 +150,7 @@ static void build_torus(bk_mesh* m) {
     double phi = 2.0 * BK_PI * i / n;
     for (uint32_t j = 0; j <= k; ++j) {
       double theta = 2.0 * BK_PI * j / k;
-      bk_vec3 normal = bk_v3(cos(theta) * cos(phi), sin(theta), -cos(theta) * sin(phi));
+      bk_vec3 normal = bk_v3(bk_cos(theta) * bk_cos(phi), bk_sin(theta), -bk_cos(theta) * bk_sin(phi));
       uint32_t position = (i % n) * k + (j % k);
       add_corner(m, position, normal, TORUS_U_REPEATS * i / n, (double)j / k);
     }
@@ -180,7 +181,7 @@ enum { EGG_SEGMENTS = 20, EGG_RINGS = 19 };
 
 /// Point of the outer profile and its outward unit normal in the (r, y) plane.
 static void egg_profile(double t, double* r, double* y, double* nr, double* ny) {
-  double s = sin(t), c = cos(t);
+  double s = bk_sin(t), c = bk_cos(t);
   *r = EGG_A * s * (1.0 + EGG_K * c);
   *y = EGG_B * (1.0 - c);
   // Tangent (dr/dt, dy/dt) turned clockwise points away from the axis.
@@ -215,7 +216,7 @@ static void build_egg_surface(bk_mesh* m, bool inner) {
   for (uint32_t i = 1; i <= rings; ++i) {
     for (uint32_t j = 0; j < segs; ++j) {
       double phi = 2.0 * BK_PI * j / segs;
-      bk_mesh_add_position(m, bk_v3(ring_r[i] * cos(phi), ring_y[i], -ring_r[i] * sin(phi)));
+      bk_mesh_add_position(m, bk_v3(ring_r[i] * bk_cos(phi), ring_y[i], -ring_r[i] * bk_sin(phi)));
     }
   }
   const uint32_t top = bk_mesh_add_position(m, bk_v3(0.0, ring_y[rings + 1], 0.0));
@@ -228,7 +229,7 @@ static void build_egg_surface(bk_mesh* m, bool inner) {
     double v = (double)i / (rings + 1);
     for (uint32_t j = 0; j <= segs; ++j) {
       double phi = 2.0 * BK_PI * j / segs;
-      double c = cos(phi), s = sin(phi);
+      double c = bk_cos(phi), s = bk_sin(phi);
       bk_vec3 n = bk_v3(ring_normal[i].x * c, ring_normal[i].y, -ring_normal[i].x * s);
       // Running u backwards inside keeps the texture unmirrored once the winding flips.
       double u = EGG_U_REPEATS * (inner ? 1.0 - (double)j / segs : (double)j / segs);
@@ -302,17 +303,17 @@ static void build_pillar(bk_mesh* m) {
     double y = level ? PILLAR_HEIGHT : 0.0;
     for (uint32_t j = 0; j < sides; ++j) {
       double phi = start + 2.0 * BK_PI * j / sides;
-      bk_mesh_add_position(m, bk_v3(PILLAR_RADIUS * cos(phi), y, -PILLAR_RADIUS * sin(phi)));
+      bk_mesh_add_position(m, bk_v3(PILLAR_RADIUS * bk_cos(phi), y, -PILLAR_RADIUS * bk_sin(phi)));
     }
   }
   const uint32_t bottom_centre = bk_mesh_add_position(m, bk_v3(0.0, 0.0, 0.0));
   const uint32_t top_centre = bk_mesh_add_position(m, bk_v3(0.0, PILLAR_HEIGHT, 0.0));
 
-  const double edge = 2.0 * PILLAR_RADIUS * sin(BK_PI / sides);
+  const double edge = 2.0 * PILLAR_RADIUS * bk_sin(BK_PI / sides);
   for (uint32_t j = 0; j < sides; ++j) {
     uint32_t next = (j + 1) % sides;
     double mid = start + 2.0 * BK_PI * (j + 0.5) / sides;
-    bk_vec3 n = bk_v3(cos(mid), 0.0, -sin(mid));
+    bk_vec3 n = bk_v3(bk_cos(mid), 0.0, -bk_sin(mid));
     double u0 = edge * j, u1 = edge * (j + 1);
     uint32_t a = add_corner(m, j, n, u0, 0.0);
     uint32_t b = add_corner(m, next, n, u1, 0.0);

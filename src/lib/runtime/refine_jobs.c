@@ -39,12 +39,12 @@ static bool hit_refines(const bk_runtime* rt, const rt_breakable* b, uint32_t le
                         double impulse) {
   const bk_mesh_tree_node* n = bk_mesh_tree_leaf(b->tree, leaf);
   double volume = n->moments.v;
-  if (!(cbrt(volume / b->refine.pieces) >= b->refine.min_size)) return false;
+  if (!(bk_cbrt(volume / b->refine.pieces) >= b->refine.min_size)) return false;
   bk_vec3 lo = bk_v3_sub(n->bounds.min, local), hi = bk_v3_sub(local, n->bounds.max);
   bk_vec3 out = bk_v3_max(bk_v3(0, 0, 0), bk_v3_max(lo, hi));
   double s = fmax(bk_v3_length(out), rt->def.damage_min_distance);
   double damage = b->material.frailty * impulse / (s * s * s);
-  double cross_section = cbrt(volume) * cbrt(volume);
+  double cross_section = bk_cbrt(volume) * bk_cbrt(volume);
   return damage > b->material.refine_strength * cross_section;
 }
 

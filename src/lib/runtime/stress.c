@@ -204,7 +204,7 @@ static uint32_t gather_supports(bk_runtime* rt, const bk_stress_support* support
   for (uint32_t i = 0; i < count; ++i) // (slot, index of the point) first, to group them
     if (rt_find_cluster(rt, supports[i].cluster) && bk_v3_is_finite(supports[i].point))
       out[n++] = (held_leaf){supports[i].cluster.index, i};
-  if (n) qsort(out, n, sizeof *out, compare_held);
+  if (n) bk_sort(out, n, sizeof *out, compare_held);
   uint32_t held = 0;
   for (uint32_t first = 0, last = 0; first < n; first = last) {
     uint32_t slot = out[first].slot;
@@ -225,7 +225,7 @@ static uint32_t gather_supports(bk_runtime* rt, const bk_stress_support* support
       if (bk_v3_is_finite(point)) out[held++] = (held_leaf){slot, rt_stress_leaf_at(b, c, point)};
     }
   }
-  if (held) qsort(out, held, sizeof *out, compare_held);
+  if (held) bk_sort(out, held, sizeof *out, compare_held);
   uint32_t unique = 0;
   for (uint32_t i = 0; i < held; ++i)
     if (unique == 0 || compare_held(&out[unique - 1], &out[i]) != 0) out[unique++] = out[i];

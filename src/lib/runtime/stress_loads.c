@@ -53,7 +53,7 @@ uint32_t rt_stress_gather_loads(bk_runtime* rt, const bk_stress_load* loads, uin
     out[n++] = (rt_leaf_load){
         load->cluster.index, leaf, {force.x, force.y, force.z}, {torque.x, torque.y, torque.z}};
   }
-  if (n) qsort(out, n, sizeof *out, compare_loads);
+  if (n) bk_sort(out, n, sizeof *out, compare_loads);
   uint32_t unique = 0;
   for (uint32_t i = 0; i < n; ++i) {
     if (unique && out[unique - 1].slot == out[i].slot && out[unique - 1].leaf == out[i].leaf) {

@@ -183,7 +183,7 @@ static void level_assemble(rt_stress_level* l) {
     uint32_t lo = a < b ? a : b, hi = a < b ? b : a;
     keys[count++] = (uint64_t)lo << 32 | hi;
   }
-  qsort(keys, count, sizeof *keys, compare_u64);
+  bk_sort(keys, count, sizeof *keys, compare_u64);
   uint32_t pairs = 0;
   for (uint32_t k = 0; k < count; ++k)
     if (pairs == 0 || keys[pairs - 1] != keys[k]) keys[pairs++] = keys[k];
@@ -272,7 +272,7 @@ static bool coarsen(const rt_stress_level* fine, const double* fine_mass, const 
     else
       order[free_count++] = (keyed){key[i], i};
   }
-  qsort(order, free_count, sizeof *order, compare_keyed);
+  bk_sort(order, free_count, sizeof *order, compare_keyed);
   // The fixed nodes (if any) are coarse node 0; the groups follow in key order.
   uint32_t first_group = any_fixed ? 1u : 0u, coarse_nodes = first_group, id = 0;
   for (uint32_t j = 0; j < free_count; ++j) {
