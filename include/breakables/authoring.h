@@ -82,6 +82,10 @@ static inline uint32_t bk_mesh_tri_position(const bk_mesh* m, uint32_t t, uint32
 }
 /// Bounds of the positions; an empty mesh gives min > max.
 bk_aabb bk_mesh_bounds(const bk_mesh* mesh);
+/// Scales and moves the positions to a height of 1 (along y), standing on
+/// y = 0 and centred in x and z: how the command line, the game and the web
+/// page take the bundled bunny. A mesh of no height is left as it is.
+void bk_mesh_fit_unit_height(bk_mesh* mesh);
 /// Total surface area.
 double bk_mesh_area(const bk_mesh* mesh);
 /// Checks internal consistency: indices in range, finite positions and

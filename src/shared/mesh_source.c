@@ -7,16 +7,6 @@
 
 #include "app.h"
 
-static void normalize_to_unit_height(bk_mesh* m) {
-  bk_aabb box = bk_mesh_bounds(m);
-  double height = box.max.y - box.min.y;
-  if (!(height > 0.0)) return;
-  double s = 1.0 / height;
-  bk_vec3 centre = bk_v3(0.5 * (box.min.x + box.max.x), box.min.y, 0.5 * (box.min.z + box.max.z));
-  for (uint32_t i = 0; i < m->position_count; ++i)
-    m->positions[i] = bk_v3_scale(bk_v3_sub(m->positions[i], centre), s);
-}
-
 // Why `spec` is neither a shape nor a model file: a file that is there is
 // named for what it is, anything else is taken for a misspelt shape name.
 static bool unsupported(const char* spec, bk_error* err) {
@@ -111,7 +101,7 @@ bool app_load_model(const char* spec, const char* node, bk_mesh* out, bk_import_
   bk_import_info info = {0};
   if (!bk_model_import(path, &def, out, &info, err)) return false;
   if (bunny)
-    normalize_to_unit_height(out);
+    bk_mesh_fit_unit_height(out);
   else
     app_apply_model_units(path, out, &info);
   if (info.note[0]) app_warning("%s: %s", path, info.note); // the note may quote the file

@@ -38,18 +38,6 @@ static bool report_progress(void* user, uint32_t leaves, uint32_t target) {
   return true;
 }
 
-// The bundled bunny as `breakables fracture --mesh bunny` takes it: unit
-// height, standing on y = 0, centred in x and z.
-static void normalize_to_unit_height(bk_mesh* m) {
-  bk_aabb box = bk_mesh_bounds(m);
-  double height = box.max.y - box.min.y;
-  if (!(height > 0.0)) return;
-  double s = 1.0 / height;
-  bk_vec3 centre = bk_v3(0.5 * (box.min.x + box.max.x), box.min.y, 0.5 * (box.min.z + box.max.z));
-  for (uint32_t i = 0; i < m->position_count; ++i)
-    m->positions[i] = bk_v3_scale(bk_v3_sub(m->positions[i], centre), s);
-}
-
 static bool make_views(web_tree* t) {
   const bk_mesh_tree* tree = &t->tree;
   uint64_t corners = 0, triangles = 0, points = 0;
@@ -194,7 +182,7 @@ EMSCRIPTEN_KEEPALIVE web_tree* web_fracture_file(const uint8_t* data, size_t siz
     web_set_error(&err);
     return NULL;
   }
-  if (unit_height) normalize_to_unit_height(&source);
+  if (unit_height) bk_mesh_fit_unit_height(&source);
   if (!repair(&source, name)) return NULL;
   return build(&source, pieces, pattern, seed);
 }

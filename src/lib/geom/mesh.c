@@ -105,6 +105,16 @@ bk_aabb bk_mesh_bounds(const bk_mesh* m) {
   return box;
 }
 
+void bk_mesh_fit_unit_height(bk_mesh* m) {
+  bk_aabb box = bk_mesh_bounds(m);
+  double height = box.max.y - box.min.y;
+  if (!(height > 0.0)) return;
+  double s = 1.0 / height;
+  bk_vec3 centre = bk_v3(0.5 * (box.min.x + box.max.x), box.min.y, 0.5 * (box.min.z + box.max.z));
+  for (uint32_t i = 0; i < m->position_count; ++i)
+    m->positions[i] = bk_v3_scale(bk_v3_sub(m->positions[i], centre), s);
+}
+
 static bk_vec3 triangle_cross(const bk_mesh* m, uint32_t t) {
   bk_vec3 a = m->positions[bk_mesh_tri_position(m, t, 0)];
   bk_vec3 b = m->positions[bk_mesh_tri_position(m, t, 1)];
