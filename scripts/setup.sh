@@ -5,13 +5,22 @@
 #   scripts/setup.sh --game   only what building and running the game needs
 #                             (scripts/run.sh): no compilers for fuzzing, no
 #                             test models, no npm, so no network beyond apt
+#   scripts/setup.sh --web    only what the browser page needs (scripts/web.sh):
+#                             emscripten, chromium, node, the npm packages of
+#                             web/ and the GLU source of the WebAssembly build
 set -euo pipefail
 
 game_only=0
-if [[ "${1:-}" == "--game" ]]; then
+web_only=0
+if [[ $# -gt 1 ]]; then
+  echo "setup: one option at most (--game, --web or nothing)" >&2
+  exit 2
+elif [[ "${1:-}" == "--game" ]]; then
   game_only=1
+elif [[ "${1:-}" == "--web" ]]; then
+  web_only=1
 elif [[ $# -gt 0 ]]; then
-  echo "setup: unknown option '$1' (use --game or nothing)" >&2
+  echo "setup: unknown option '$1' (use --game, --web or nothing)" >&2
   exit 2
 fi
 
@@ -70,6 +79,16 @@ if ((game_only)); then
   PACKAGES=("${kept[@]}")
 fi
 
+# The browser page (scripts/web.sh): Debian's emscripten builds the libraries
+# to WebAssembly (with cmake and make, and Debian's header-only stb and
+# xxhash), node runs the page's tools, chromium runs the browser test
+# (tests/web), whose screenshots need a font. Kept out of the plain set-up:
+# emscripten and chromium are large, and the test suite does not need them.
+WEB_PACKAGES=(cmake make libstb-dev libxxhash-dev emscripten nodejs npm chromium fonts-dejavu-core)
+if ((web_only)); then
+  PACKAGES=("${WEB_PACKAGES[@]}")
+fi
+
 is_installed() {
   local pkg="$1" status
   status="$(dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null || true)"
@@ -90,6 +109,10 @@ is_installed() {
 # (git-ignored) when missing: the build and the tests never download.
 install_js_packages() {
   ((game_only)) && return 0 # the game needs none
+  if ((web_only)); then
+    install_web_packages
+    return 0
+  fi
   local js
   js="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)/tests/js"
   if [[ -d "$js/node_modules/gltf-validator" && -d "$js/node_modules/three" &&
@@ -98,6 +121,26 @@ install_js_packages() {
   fi
   echo "setup: installing the npm packages of tests/js (npm ci)"
   npm ci --prefix "$js" --no-audit --no-fund
+}
+
+# The npm packages of the page and its test (web: three, Rapier's
+# @dimforge/rapier3d-compat, puppeteer-core, pinned by web/package-lock.json)
+# into web/node_modules (git-ignored), again when the lock file is newer than
+# what npm installed; puppeteer-core downloads no browser (the test runs
+# Debian's chromium). Then the GLU source the WebAssembly build compiles
+# (scripts/web_glu.sh, into web/.deps; nothing when it is there).
+install_web_packages() {
+  local repo web
+  repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+  web="$repo/web"
+  if [[ ! -d "$web/node_modules/three" || ! -d "$web/node_modules/@dimforge/rapier3d-compat" ||
+    ! -d "$web/node_modules/puppeteer-core" || "$web/package-lock.json" -nt "$web/node_modules/.package-lock.json" ]]; then
+    echo "setup: installing the npm packages of web (npm ci)"
+    PUPPETEER_SKIP_DOWNLOAD=1 npm ci --prefix "$web" --no-audit --no-fund
+  fi
+  if [[ -f "$repo/scripts/web_glu.sh" ]]; then
+    bash "$repo/scripts/web_glu.sh"
+  fi
 }
 
 missing=()
