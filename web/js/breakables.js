@@ -199,6 +199,13 @@ export async function loadBreakables(options = {}) {
     return new Tree(ptr);
   }
 
+  /** The tree inside a .glb that tree.glb() (or `fracture --export-gltf`) wrote. */
+  function loadGlb(bytes) {
+    const ptr = withBytes(bytes, (p, n) => M._web_tree_load_glb(p, n));
+    if (!ptr) fail();
+    return new Tree(ptr);
+  }
+
   const keyOf = (i, g) => `${i}:${g}`;
   const parseKey = (key) => {
     const [i, g] = String(key).split(':').map(Number);
@@ -363,6 +370,7 @@ export async function loadBreakables(options = {}) {
     material: (name) => materials.find((m) => m.name === name) || null,
     fracture,
     loadTree,
+    loadGlb,
     createRuntime: (def) => new Runtime(def),
   };
 }

@@ -241,6 +241,15 @@ EMSCRIPTEN_KEEPALIVE web_tree* web_tree_load(const uint8_t* data, size_t size) {
   return finish(t, ok, &err);
 }
 
+/// The tree a .glb of bk_mesh_tree_save_gltf carries (a fractured export,
+/// read back bit-exactly); a glTF without one is refused in one line.
+EMSCRIPTEN_KEEPALIVE web_tree* web_tree_load_glb(const uint8_t* data, size_t size) {
+  bk_error err = {0};
+  web_tree* t = bk_calloc(1, sizeof *t);
+  bool ok = bk_mesh_tree_load_gltf_memory(data, size, "glb", &t->tree, &err);
+  return finish(t, ok, &err);
+}
+
 // ---------------------------------------------------------------- reading a tree
 
 EMSCRIPTEN_KEEPALIVE uint32_t web_tree_node_count(const web_tree* t) { return t->tree.node_count; }

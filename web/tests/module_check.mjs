@@ -68,6 +68,9 @@ const glb = bunny.glb();
 const view = new DataView(glb.buffer, glb.byteOffset, glb.byteLength);
 check(glb.length > 1000 && view.getUint32(0, true) === 0x46546c67 && view.getUint32(8, true) === glb.length,
   `glb: ${glb.length} bytes, magic ${view.getUint32(0, true).toString(16)}`);
+const fromGlb = bk.loadGlb(glb);
+check(fromGlb.hash === bunny.hash, `the tree read back from the .glb: ${fromGlb.hash}, not ${bunny.hash}`);
+fromGlb.free();
 const mesh = bunny.nodeMesh(bunny.leafNode(0));
 check(mesh.indices.length % 3 === 0 && mesh.positions.length === mesh.normals.length && mesh.indices.length > 0,
   'a leaf mesh has whole triangles and a normal per position');
@@ -89,6 +92,7 @@ refused(() => bk.fracture({ obj: new TextEncoder().encode('v 1 2\nf 1 2 3\n'), n
 refused(() => bk.fracture({ shape: 'teapot' }), /unknown shape 'teapot'/, 'an unknown shape');
 refused(() => bk.fracture({ shape: 'cube' }, { pattern: 'stars' }), /unknown pattern 'stars'/, 'an unknown pattern');
 refused(() => bk.loadTree(bytes.slice(0, 100)), /tree/, 'a cut .mtree');
+refused(() => bk.loadGlb(glb.slice(0, glb.length - 9)), /glb/, 'a cut .glb');
 refused(() => bk.fracture({ mesh: { positions: [0, 0, 0, 1, 0, 0, NaN, 1, 0, 0, 0, 1], indices: [0, 1, 2, 0, 2, 3,
   0, 3, 1, 1, 3, 2] }, name: 'nan' }), /nan: position 2 is not a finite number/, 'a NaN position');
 
