@@ -137,6 +137,19 @@ static web_tree* build(bk_mesh* source, int pieces, int pattern, double seed) {
     return NULL;
   }
   def.seed = (uint64_t)seed;
+  // The module's memory stops at 2 GiB (web/CMakeLists.txt), and running
+  // out ends it: a fracture that would need more is refused first, as the
+  // command line refuses one beyond the machine's memory. The trees, the
+  // views made of them and the page's own share leave it about 1.5 GiB.
+  uint64_t need = bk_mesh_tree_estimate_bytes(source, &def);
+  const uint64_t limit = (uint64_t)3 << 29;
+  if (need > limit) {
+    bk_mesh_free(source);
+    bk_error_set(&err, "fracture: %u pieces would need about %llu MiB, more than the page's %llu MiB",
+                 def.pieces, (unsigned long long)(need >> 20), (unsigned long long)(limit >> 20));
+    web_set_error(&err);
+    return NULL;
+  }
   def.progress = report_progress;
   web_tree* t = bk_calloc(1, sizeof *t);
   double start = now_ms();

@@ -90,6 +90,8 @@ function refused(fn, pattern, what) {
 refused(() => bk.fracture({ obj: new TextEncoder().encode('v 1 2\nf 1 2 3\n'), name: 'bad.obj' }), /bad\.obj/,
   'a broken OBJ');
 refused(() => bk.fracture({ shape: 'teapot' }), /unknown shape 'teapot'/, 'an unknown shape');
+refused(() => bk.fracture({ shape: 'cube' }, { pieces: 1000000 }), /1000000 pieces would need about \d+ MiB/,
+  'a fracture beyond the module\'s memory');
 refused(() => bk.fracture({ shape: 'cube' }, { pattern: 'stars' }), /unknown pattern 'stars'/, 'an unknown pattern');
 refused(() => bk.loadTree(bytes.slice(0, 100)), /tree/, 'a cut .mtree');
 refused(() => bk.loadGlb(glb.slice(0, glb.length - 9)), /glb/, 'a cut .glb');
