@@ -21,6 +21,7 @@
 #define XXH_INLINE_ALL
 #include <xxhash.h>
 
+#include "bk_bytes.h"
 #include "world_internal.h"
 
 #define WS_VERSION 1u
@@ -28,78 +29,33 @@
 #define WS_MARKER 0x01020304u
 static const uint8_t ws_magic[8] = {'B', 'K', 'W', 'O', 'R', 'L', 'D', '\0'};
 
-typedef struct ws_writer {
-  uint8_t* out;
-  size_t capacity, size;
-} ws_writer;
-
-static void put_bytes(ws_writer* w, const void* bytes, size_t n) {
-  if (w->size <= w->capacity && n <= w->capacity - w->size && n) memcpy(w->out + w->size, bytes, n);
-  w->size += n;
+static void put_transform(bk_byte_writer* w, bk_transform t) {
+  bk_put_vec3(w, t.position);
+  bk_put_f64(w, t.rotation.x);
+  bk_put_f64(w, t.rotation.y);
+  bk_put_f64(w, t.rotation.z);
+  bk_put_f64(w, t.rotation.w);
 }
 
-static void put_u32(ws_writer* w, uint32_t v) {
-  uint8_t b[4] = {(uint8_t)v, (uint8_t)(v >> 8), (uint8_t)(v >> 16), (uint8_t)(v >> 24)};
-  put_bytes(w, b, 4);
-}
-
-static void put_u64(ws_writer* w, uint64_t v) {
-  put_u32(w, (uint32_t)v);
-  put_u32(w, (uint32_t)(v >> 32));
-}
-
-static void put_f64(ws_writer* w, double d) {
-  uint64_t bits = 0;
-  memcpy(&bits, &d, sizeof bits);
-  put_u64(w, bits);
-}
-
-static void put_vec3(ws_writer* w, bk_vec3 v) {
-  put_f64(w, v.x);
-  put_f64(w, v.y);
-  put_f64(w, v.z);
-}
-
-static void put_transform(ws_writer* w, bk_transform t) {
-  put_vec3(w, t.position);
-  put_f64(w, t.rotation.x);
-  put_f64(w, t.rotation.y);
-  put_f64(w, t.rotation.z);
-  put_f64(w, t.rotation.w);
-}
-
-static void put_basis(ws_writer* w, const bk_physics* physics, bk_body_id body) {
+static void put_basis(bk_byte_writer* w, const bk_physics* physics, bk_body_id body) {
   double m[9] = {0};
   bk_physics_body_basis(physics, body, m);
   for (int k = 0; k < 9; ++k)
-    put_f64(w, m[k]);
+    bk_put_f64(w, m[k]);
 }
 
+// The state's reader, and whether a value read was out of its domain (a
+// double not finite, a rotation not one).
 typedef struct ws_reader {
-  const uint8_t* data;
-  size_t size, pos;
-  bool failed, bad; // read past the end; a double not finite
+  bk_byte_reader in;
+  bool bad;
 } ws_reader;
 
-static uint64_t get_le(ws_reader* r, int bytes) {
-  if (r->failed || (size_t)bytes > r->size - r->pos) {
-    r->failed = true;
-    return 0;
-  }
-  uint64_t v = 0;
-  for (int i = 0; i < bytes; ++i)
-    v |= (uint64_t)r->data[r->pos + (size_t)i] << (8 * i);
-  r->pos += (size_t)bytes;
-  return v;
-}
-
-static uint32_t get_u32(ws_reader* r) { return (uint32_t)get_le(r, 4); }
-static uint64_t get_u64(ws_reader* r) { return get_le(r, 8); }
+static uint32_t get_u32(ws_reader* r) { return bk_get_u32(&r->in); }
+static uint64_t get_u64(ws_reader* r) { return bk_get_u64(&r->in); }
 
 static double get_f64(ws_reader* r) {
-  uint64_t bits = get_u64(r);
-  double d = 0.0;
-  memcpy(&d, &bits, sizeof d);
+  double d = bk_get_f64(&r->in);
   if (!isfinite(d)) r->bad = true;
   return d;
 }
@@ -131,7 +87,7 @@ static void get_basis(ws_reader* r, double m[9]) {
   if (!(fabs(det - 1.0) < 1e-4) || !unit) r->bad = true;
 }
 
-static size_t left(const ws_reader* r) { return r->failed ? 0 : r->size - r->pos; }
+static size_t left(const ws_reader* r) { return bk_bytes_left(&r->in); }
 
 // A rotation as Bullet keeps one: a unit quaternion (a hostile one is not).
 static bool unit_rotation(bk_transform t) {
@@ -142,13 +98,13 @@ static bool unit_rotation(bk_transform t) {
 
 // ---------------------------------------------------------------- save
 
-static bool put_state(const bk_world* w, ws_writer* o, bk_error* err) {
+static bool put_state(const bk_world* w, bk_byte_writer* o, bk_error* err) {
   uint8_t header[WS_HEADER] = {0};
-  put_bytes(o, header, sizeof header);
+  bk_put_bytes(o, header, sizeof header);
   // The runtime's state straight into the buffer when it fits (its grown
   // trees are serialised once), else only measured.
   size_t size_at = o->size;
-  put_u64(o, 0); // its size, once known
+  bk_put_u64(o, 0); // its size, once known
   size_t room = o->out && o->size <= o->capacity ? o->capacity - o->size : 0;
   size_t runtime_size = room ? bk_runtime_save_state(w->runtime, o->out + o->size, room, NULL) : 0;
   if (!runtime_size) {
@@ -157,75 +113,75 @@ static bool put_state(const bk_world* w, ws_writer* o, bk_error* err) {
       return bk_runtime_save_state(w->runtime, o->out + o->size, room, err) == runtime_size && runtime_size;
   }
   if (size_at + 8 <= o->capacity) {
-    ws_writer at = {.out = o->out + size_at, .capacity = 8};
-    put_u64(&at, runtime_size);
+    bk_byte_writer at = {.out = o->out + size_at, .capacity = 8};
+    bk_put_u64(&at, runtime_size);
   }
   o->size += runtime_size;
-  put_u64(o, w->step_count);
-  put_u32(o, (w->hits_hold_splits ? 1u : 0u) | (w->hits_held_last ? 2u : 0u));
+  bk_put_u64(o, w->step_count);
+  bk_put_u32(o, (w->hits_hold_splits ? 1u : 0u) | (w->hits_held_last ? 2u : 0u));
   uint32_t bodies = 0;
   for (uint32_t i = 0; i < w->body_capacity; ++i)
     bodies += w->bodies[i].alive;
-  put_u32(o, bodies);
+  bk_put_u32(o, bodies);
   for (uint32_t i = 0; i < w->body_capacity; ++i) {
     const world_body* b = &w->bodies[i];
     if (!b->alive) continue;
-    put_u32(o, b->cluster.index);
-    put_u32(o, b->cluster.generation);
-    put_u32(o, (uint32_t)b->tier);
+    bk_put_u32(o, b->cluster.index);
+    bk_put_u32(o, b->cluster.generation);
+    bk_put_u32(o, (uint32_t)b->tier);
     put_transform(o, bk_physics_body_transform(w->physics, b->body));
     put_basis(o, w->physics, b->body);
-    put_vec3(o, bk_physics_body_linear_velocity(w->physics, b->body));
-    put_vec3(o, bk_physics_body_angular_velocity(w->physics, b->body));
+    bk_put_vec3(o, bk_physics_body_linear_velocity(w->physics, b->body));
+    bk_put_vec3(o, bk_physics_body_angular_velocity(w->physics, b->body));
     put_transform(o, b->previous);
-    put_u64(o, b->made);
-    put_u64(o, b->born);
-    put_u32(o, b->split_waiting);
-    put_u64(o, b->split_since);
-    put_u32(o, b->calm_steps);
-    put_u64(o, b->piled);
-    put_u64(o, b->shaken);
+    bk_put_u64(o, b->made);
+    bk_put_u64(o, b->born);
+    bk_put_u32(o, b->split_waiting);
+    bk_put_u64(o, b->split_since);
+    bk_put_u32(o, b->calm_steps);
+    bk_put_u64(o, b->piled);
+    bk_put_u64(o, b->shaken);
   }
-  put_u32(o, w->projectile_count);
+  bk_put_u32(o, w->projectile_count);
   for (uint32_t i = 0; i < w->projectile_count; ++i) {
     bk_body_id p = w->projectiles[i];
     put_transform(o, bk_physics_body_transform(w->physics, p));
     put_basis(o, w->physics, p);
-    put_vec3(o, bk_physics_body_linear_velocity(w->physics, p));
-    put_vec3(o, bk_physics_body_angular_velocity(w->physics, p));
-    put_f64(o, w->projectile_radius[i]);
-    put_f64(o, bk_physics_body_mass(w->physics, p));
-    put_u64(o, w->projectile_expires[i]);
+    bk_put_vec3(o, bk_physics_body_linear_velocity(w->physics, p));
+    bk_put_vec3(o, bk_physics_body_angular_velocity(w->physics, p));
+    bk_put_f64(o, w->projectile_radius[i]);
+    bk_put_f64(o, bk_physics_body_mass(w->physics, p));
+    bk_put_u64(o, w->projectile_expires[i]);
   }
-  put_u32(o, w->hit_count);
+  bk_put_u32(o, w->hit_count);
   for (uint32_t i = 0; i < w->hit_count; ++i) {
     const world_hit* h = &w->hits[i];
-    put_u32(o, h->cluster.index);
-    put_u32(o, h->cluster.generation);
-    put_vec3(o, h->point);
-    put_vec3(o, h->local);
-    put_f64(o, h->impulse);
-    put_f64(o, h->closing_speed);
-    put_u64(o, h->step);
+    bk_put_u32(o, h->cluster.index);
+    bk_put_u32(o, h->cluster.generation);
+    bk_put_vec3(o, h->point);
+    bk_put_vec3(o, h->local);
+    bk_put_f64(o, h->impulse);
+    bk_put_f64(o, h->closing_speed);
+    bk_put_u64(o, h->step);
   }
   if (o->size > o->capacity) return true;
-  ws_writer h = {.out = o->out, .capacity = WS_HEADER};
-  put_bytes(&h, ws_magic, sizeof ws_magic);
-  put_u32(&h, WS_VERSION);
-  put_u32(&h, WS_MARKER);
-  put_u64(&h, o->size - WS_HEADER);
-  put_u64(&h, XXH3_64bits(o->out + WS_HEADER, o->size - WS_HEADER));
+  bk_byte_writer h = {.out = o->out, .capacity = WS_HEADER};
+  bk_put_bytes(&h, ws_magic, sizeof ws_magic);
+  bk_put_u32(&h, WS_VERSION);
+  bk_put_u32(&h, WS_MARKER);
+  bk_put_u64(&h, o->size - WS_HEADER);
+  bk_put_u64(&h, XXH3_64bits(o->out + WS_HEADER, o->size - WS_HEADER));
   return true;
 }
 
 size_t bk_world_state_size(const bk_world* w) {
-  ws_writer o = {0};
+  bk_byte_writer o = {0};
   return put_state(w, &o, NULL) ? o.size : 0;
 }
 
 size_t bk_world_save_state(const bk_world* w, void* out, size_t capacity, bk_error* err) {
   if (!out && capacity) return bk_error_set(err, "world state: out is NULL"), 0;
-  ws_writer o = {.out = out, .capacity = out ? capacity : 0};
+  bk_byte_writer o = {.out = out, .capacity = out ? capacity : 0};
   if (!put_state(w, &o, err)) return 0;
   if (o.size > o.capacity)
     return bk_error_set(err, "world state: buffer of %zu bytes is too small, the state needs %zu", capacity,
@@ -269,7 +225,7 @@ static bool check_header(const uint8_t* data, size_t size, bk_error* err) {
                         WS_HEADER);
   if (memcmp(data, ws_magic, sizeof ws_magic) != 0)
     return bk_error_set(err, "world state: not a saved world state (bad magic)");
-  ws_reader r = {.data = data, .size = size, .pos = 8};
+  ws_reader r = {.in = {.data = data, .size = size, .pos = 8}};
   uint32_t version = get_u32(&r), marker = get_u32(&r);
   if (version != WS_VERSION && marker != 0x04030201u)
     return bk_error_set(err, "world state: version %" PRIu32 " is not supported (expected %u)", version,
@@ -291,15 +247,15 @@ static bool check_header(const uint8_t* data, size_t size, bk_error* err) {
 
 static bool parse(ws_reader* r, ws_state* s, bk_error* err) {
   uint64_t runtime_size = get_u64(r);
-  if (r->failed || runtime_size > left(r))
+  if (r->in.failed || runtime_size > left(r))
     return bk_error_set(err, "world state: corrupt: runtime state size");
-  s->runtime = r->data + r->pos;
+  s->runtime = r->in.data + r->in.pos;
   s->runtime_size = (size_t)runtime_size;
-  r->pos += (size_t)runtime_size;
+  r->in.pos += (size_t)runtime_size;
   s->step_count = get_u64(r);
   s->flags = get_u32(r);
   s->body_count = get_u32(r);
-  if (r->failed || s->flags > 3 || (uint64_t)s->body_count * 292u > left(r))
+  if (r->in.failed || s->flags > 3 || (uint64_t)s->body_count * 292u > left(r))
     return bk_error_set(err, "world state: corrupt: %" PRIu32 " bodies", s->body_count);
   s->bodies = bk_calloc(s->body_count + 1u, sizeof(ws_body));
   for (uint32_t i = 0; i < s->body_count; ++i) {
@@ -320,16 +276,17 @@ static bool parse(ws_reader* r, ws_state* s, bk_error* err) {
     b->piled = get_u64(r);
     b->shaken = get_u64(r);
     bool ascending = i == 0 || b->cluster.index > s->bodies[i - 1].cluster.index;
-    if (!r->failed && !r->bad && !(unit_rotation(b->transform) && unit_rotation(b->previous))) r->bad = true;
-    if (r->failed || r->bad || b->tier >= BK_TIER_RETIRED || b->split_waiting > 1 || !ascending)
+    if (!r->in.failed && !r->bad && !(unit_rotation(b->transform) && unit_rotation(b->previous)))
+      r->bad = true;
+    if (r->in.failed || r->bad || b->tier >= BK_TIER_RETIRED || b->split_waiting > 1 || !ascending)
       return bk_error_set(err, "world state: corrupt: body %" PRIu32 " (%s)", i,
-                          r->failed    ? "truncated"
+                          r->in.failed ? "truncated"
                           : r->bad     ? "a value not finite or not a unit rotation"
                           : !ascending ? "clusters not ascending"
                                        : "bad tier or flag");
   }
   s->projectile_count = get_u32(r);
-  if (r->failed || (uint64_t)s->projectile_count * 192u > left(r))
+  if (r->in.failed || (uint64_t)s->projectile_count * 192u > left(r))
     return bk_error_set(err, "world state: corrupt: %" PRIu32 " projectiles", s->projectile_count);
   s->projectiles = bk_calloc(s->projectile_count + 1u, sizeof(ws_projectile));
   for (uint32_t i = 0; i < s->projectile_count; ++i) {
@@ -341,11 +298,11 @@ static bool parse(ws_reader* r, ws_state* s, bk_error* err) {
     p->radius = get_f64(r);
     p->mass = get_f64(r);
     p->expires = get_u64(r);
-    if (r->failed || r->bad || !unit_rotation(p->transform) || !(p->radius > 0.0) || !(p->mass > 0.0))
+    if (r->in.failed || r->bad || !unit_rotation(p->transform) || !(p->radius > 0.0) || !(p->mass > 0.0))
       return bk_error_set(err, "world state: corrupt: projectile %" PRIu32, i);
   }
   s->hit_count = get_u32(r);
-  if (r->failed || (uint64_t)s->hit_count * 80u > left(r))
+  if (r->in.failed || (uint64_t)s->hit_count * 80u > left(r))
     return bk_error_set(err, "world state: corrupt: %" PRIu32 " hits", s->hit_count);
   s->hits = bk_calloc(s->hit_count + 1u, sizeof(world_hit));
   for (uint32_t i = 0; i < s->hit_count; ++i) {
@@ -357,10 +314,10 @@ static bool parse(ws_reader* r, ws_state* s, bk_error* err) {
     h->impulse = get_f64(r);
     h->closing_speed = get_f64(r);
     h->step = get_u64(r);
-    if (r->failed || r->bad) return bk_error_set(err, "world state: corrupt: hit %" PRIu32, i);
+    if (r->in.failed || r->bad) return bk_error_set(err, "world state: corrupt: hit %" PRIu32, i);
   }
-  if (r->pos != r->size)
-    return bk_error_set(err, "world state: corrupt: %zu bytes after the state", r->size - r->pos);
+  if (r->in.pos != r->in.size)
+    return bk_error_set(err, "world state: corrupt: %zu bytes after the state", r->in.size - r->in.pos);
   return true;
 }
 
@@ -463,7 +420,7 @@ static bool install(bk_world* w, ws_state* s, bk_error* err) {
 bool bk_world_load_state(bk_world* w, const void* data, size_t size, bk_error* err) {
   if (!w) return bk_error_set(err, "world state: world is NULL");
   if (!check_header(data, size, err)) return false;
-  ws_reader r = {.data = (const uint8_t*)data + WS_HEADER, .size = size - WS_HEADER};
+  ws_reader r = {.in = {.data = (const uint8_t*)data + WS_HEADER, .size = size - WS_HEADER}};
   ws_state s = {0};
   bool ok = parse(&r, &s, err);
   // The runtime as it is, should its loaded clusters not be the bodies' (a

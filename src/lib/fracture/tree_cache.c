@@ -29,6 +29,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "bk_bytes.h"
 #include "bk_fracture.h"
 
 static const uint8_t mtree_magic[8] = {'B', 'K', 'M', 'T', 'R', 'E', 'E', '\0'};
@@ -51,135 +52,85 @@ enum {
 
 // ---------------------------------------------------------------- writing
 
-typedef struct byte_writer {
-  uint8_t* data;
-  size_t size, capacity;
-} byte_writer;
-
-static uint8_t* writer_extend(byte_writer* w, size_t n) {
-  if (w->size + n > w->capacity) {
-    size_t capacity = w->capacity ? w->capacity : 4096;
-    while (capacity < w->size + n)
-      capacity *= 2;
-    w->data = bk_realloc(w->data, capacity);
-    w->capacity = capacity;
-  }
-  uint8_t* p = w->data + w->size;
-  w->size += n;
-  return p;
-}
-
-static void store_u32(uint8_t* p, uint32_t v) {
-  for (int i = 0; i < 4; ++i)
-    p[i] = (uint8_t)(v >> (8 * i));
-}
-
-static void store_u64(uint8_t* p, uint64_t v) {
-  for (int i = 0; i < 8; ++i)
-    p[i] = (uint8_t)(v >> (8 * i));
-}
-
-static void put_u8(byte_writer* w, uint8_t v) { *writer_extend(w, 1) = v; }
-static void put_u32(byte_writer* w, uint32_t v) { store_u32(writer_extend(w, 4), v); }
-static void put_u64(byte_writer* w, uint64_t v) { store_u64(writer_extend(w, 8), v); }
-
-static void put_f32(byte_writer* w, float v) {
-  uint32_t bits = 0;
-  memcpy(&bits, &v, sizeof bits);
-  put_u32(w, bits);
-}
-
-static void put_f64(byte_writer* w, double v) {
-  uint64_t bits = 0;
-  memcpy(&bits, &v, sizeof bits);
-  put_u64(w, bits);
-}
-
-static void put_vec3(byte_writer* w, bk_vec3 v) {
-  put_f64(w, v.x);
-  put_f64(w, v.y);
-  put_f64(w, v.z);
-}
-
-static void put_mesh(byte_writer* w, const bk_mesh* m) {
-  put_u32(w, m->position_count);
-  put_u32(w, m->corner_count);
-  put_u32(w, m->triangle_count);
+static void put_mesh(bk_byte_writer* w, const bk_mesh* m) {
+  bk_put_u32(w, m->position_count);
+  bk_put_u32(w, m->corner_count);
+  bk_put_u32(w, m->triangle_count);
   for (uint32_t i = 0; i < m->position_count; ++i)
-    put_vec3(w, m->positions[i]);
+    bk_put_vec3(w, m->positions[i]);
   for (uint32_t i = 0; i < m->corner_count; ++i) {
     const bk_corner* c = &m->corners[i];
-    put_u32(w, c->position);
+    bk_put_u32(w, c->position);
     for (int k = 0; k < 3; ++k)
-      put_f32(w, c->normal[k]);
+      bk_put_f32(w, c->normal[k]);
     for (int k = 0; k < 2; ++k)
-      put_f32(w, c->uv[k]);
+      bk_put_f32(w, c->uv[k]);
     for (int k = 0; k < 4; ++k)
-      put_f32(w, c->tangent[k]);
+      bk_put_f32(w, c->tangent[k]);
   }
   for (uint32_t i = 0; i < 3 * m->triangle_count; ++i)
-    put_u32(w, m->indices[i]);
+    bk_put_u32(w, m->indices[i]);
   for (uint32_t i = 0; i < m->triangle_count; ++i)
-    put_u8(w, m->materials[i]);
+    bk_put_u8(w, m->materials[i]);
   for (uint32_t i = 0; i < m->triangle_count; ++i)
-    put_u32(w, m->tags[i]);
+    bk_put_u32(w, m->tags[i]);
 }
 
-static void put_node(byte_writer* w, const bk_mesh_tree_node* n) {
-  put_vec3(w, n->bounds.min);
-  put_vec3(w, n->bounds.max);
+static void put_node(bk_byte_writer* w, const bk_mesh_tree_node* n) {
+  bk_put_vec3(w, n->bounds.min);
+  bk_put_vec3(w, n->bounds.max);
   const bk_moments* mo = &n->moments;
   const double moments[10] = {mo->v, mo->x, mo->y, mo->z, mo->xx, mo->yy, mo->zz, mo->xy, mo->yz, mo->zx};
   for (int k = 0; k < 10; ++k)
-    put_f64(w, moments[k]);
-  put_vec3(w, n->plane.normal);
-  put_f64(w, n->plane.offset);
-  put_u32(w, n->parent);
-  put_u32(w, n->first_child);
-  put_u32(w, n->child_count);
-  put_u32(w, n->leaf_begin);
-  put_u32(w, n->leaf_end);
-  put_u32(w, n->depth);
+    bk_put_f64(w, moments[k]);
+  bk_put_vec3(w, n->plane.normal);
+  bk_put_f64(w, n->plane.offset);
+  bk_put_u32(w, n->parent);
+  bk_put_u32(w, n->first_child);
+  bk_put_u32(w, n->child_count);
+  bk_put_u32(w, n->leaf_begin);
+  bk_put_u32(w, n->leaf_end);
+  bk_put_u32(w, n->depth);
   put_mesh(w, &n->mesh);
 }
 
-static void put_payload(byte_writer* w, const bk_mesh_tree* tree) {
-  put_u64(w, tree->source_hash);
-  put_u32(w, tree->desc.pieces);
-  put_u64(w, tree->desc.seed);
-  put_f64(w, tree->desc.texture_scale);
-  put_f64(w, tree->desc.jitter);
-  put_f64(w, tree->desc.aspect_bias);
+static void put_payload(bk_byte_writer* w, const bk_mesh_tree* tree) {
+  bk_put_u64(w, tree->source_hash);
+  bk_put_u32(w, tree->desc.pieces);
+  bk_put_u64(w, tree->desc.seed);
+  bk_put_f64(w, tree->desc.texture_scale);
+  bk_put_f64(w, tree->desc.jitter);
+  bk_put_f64(w, tree->desc.aspect_bias);
   const bk_fracture_def* d = &tree->desc;
-  put_u32(w, (uint32_t)d->pattern);
-  put_u32(w, d->seed_point_count);
-  put_u32(w, d->clusters);
-  put_f64(w, d->cluster_border);
-  put_vec3(w, d->impact);
-  put_f64(w, d->radial_falloff);
-  put_vec3(w, d->brick_size);
-  put_vec3(w, d->brick_origin);
-  put_f64(w, d->brick_offset);
-  put_u32(w, d->cutout_width);
-  put_u32(w, d->cutout_height);
-  put_u32(w, d->cutout_axis);
-  put_f64(w, d->noise_amplitude);
-  put_f64(w, d->noise_frequency);
-  put_u32(w, tree->max_depth);
-  put_u32(w, tree->node_count);
-  put_u32(w, tree->leaf_count);
-  put_u32(w, tree->bond_count);
+  bk_put_u32(w, (uint32_t)d->pattern);
+  bk_put_u32(w, d->seed_point_count);
+  bk_put_u32(w, d->clusters);
+  bk_put_f64(w, d->cluster_border);
+  bk_put_vec3(w, d->impact);
+  bk_put_f64(w, d->radial_falloff);
+  bk_put_vec3(w, d->brick_size);
+  bk_put_vec3(w, d->brick_origin);
+  bk_put_f64(w, d->brick_offset);
+  bk_put_u32(w, d->cutout_width);
+  bk_put_u32(w, d->cutout_height);
+  bk_put_u32(w, d->cutout_axis);
+  bk_put_f64(w, d->noise_amplitude);
+  bk_put_f64(w, d->noise_frequency);
+  bk_put_u32(w, tree->max_depth);
+  bk_put_u32(w, tree->node_count);
+  bk_put_u32(w, tree->leaf_count);
+  bk_put_u32(w, tree->bond_count);
   for (uint32_t i = 0; i < tree->node_count; ++i)
     put_node(w, &tree->nodes[i]);
   for (uint32_t i = 0; i < tree->leaf_count; ++i)
-    put_u32(w, tree->leaf_nodes[i]);
+    bk_put_u32(w, tree->leaf_nodes[i]);
   for (uint32_t i = 0; i < tree->bond_count; ++i) {
     const bk_bond* b = &tree->bonds[i];
-    put_u32(w, b->leaf_a);
-    put_u32(w, b->leaf_b);
-    put_f64(w, b->area);
-    put_vec3(w, b->centroid);
-    put_vec3(w, b->normal);
+    bk_put_u32(w, b->leaf_a);
+    bk_put_u32(w, b->leaf_b);
+    bk_put_f64(w, b->area);
+    bk_put_vec3(w, b->centroid);
+    bk_put_vec3(w, b->normal);
   }
 }
 
@@ -215,40 +166,26 @@ bool bk_mesh_tree_save_memory(const bk_mesh_tree* tree, const char* name, uint8_
   if (!bk_mesh_tree_validate(tree, &why))
     return bk_error_set(err, "%s: cannot save an invalid mesh tree: %s", path, why.message);
 
-  byte_writer w = {0};
-  writer_extend(&w, MTREE_HEADER_BYTES); // filled once the payload's size and checksum are known
+  bk_byte_writer w = {.grows = true};
+  bk_bytes_room(&w, MTREE_HEADER_BYTES); // filled once the payload's size and checksum are known
   put_payload(&w, tree);
   uint64_t payload_size = (uint64_t)(w.size - MTREE_HEADER_BYTES);
   if ((uint64_t)w.size > MTREE_MAX_FILE_BYTES) {
-    bk_free(w.data);
+    bk_free(w.out);
     return bk_error_set(err, "%s: mesh tree is too large to cache (%" PRIu64 " bytes, limit %" PRIu64 ")",
                         path, (uint64_t)w.size, MTREE_MAX_FILE_BYTES);
   }
-  memcpy(w.data, mtree_magic, sizeof mtree_magic);
-  store_u32(w.data + 8, BK_MTREE_VERSION);
-  store_u32(w.data + 12, MTREE_ENDIAN_MARKER);
-  store_u64(w.data + 16, payload_size);
-  store_u64(w.data + 24, bk_hash_bytes(BK_FNV_OFFSET, w.data + MTREE_HEADER_BYTES, (size_t)payload_size));
-  *data = w.data;
+  memcpy(w.out, mtree_magic, sizeof mtree_magic);
+  bk_store_u32(w.out + 8, BK_MTREE_VERSION);
+  bk_store_u32(w.out + 12, MTREE_ENDIAN_MARKER);
+  bk_store_u64(w.out + 16, payload_size);
+  bk_store_u64(w.out + 24, bk_hash_bytes(BK_FNV_OFFSET, w.out + MTREE_HEADER_BYTES, (size_t)payload_size));
+  *data = w.out;
   *size = w.size;
   return true;
 }
 
 // ---------------------------------------------------------------- load
-
-static uint32_t load_u32(const uint8_t* p) {
-  uint32_t v = 0;
-  for (int i = 0; i < 4; ++i)
-    v |= (uint32_t)p[i] << (8 * i);
-  return v;
-}
-
-static uint64_t load_u64(const uint8_t* p) {
-  uint64_t v = 0;
-  for (int i = 0; i < 8; ++i)
-    v |= (uint64_t)p[i] << (8 * i);
-  return v;
-}
 
 // Bounds-checked cursor over the payload. Reading past the end returns zeros
 // and sets `overrun`; callers check it after each record, and every count is
@@ -278,12 +215,12 @@ static uint8_t get_u8(byte_reader* r) {
 
 static uint32_t get_u32(byte_reader* r) {
   const uint8_t* p = take(r, 4);
-  return p ? load_u32(p) : 0;
+  return p ? bk_load_u32(p) : 0;
 }
 
 static uint64_t get_u64(byte_reader* r) {
   const uint8_t* p = take(r, 8);
-  return p ? load_u64(p) : 0;
+  return p ? bk_load_u64(p) : 0;
 }
 
 static float get_f32(byte_reader* r) {
@@ -460,7 +397,7 @@ static bool check_header(const uint8_t* data, size_t size, const char* path, bk_
   if (size < MTREE_HEADER_BYTES) return bk_error_set(err, "%s: truncated header (%zu bytes)", path, size);
   if (memcmp(data, mtree_magic, sizeof mtree_magic) != 0)
     return bk_error_set(err, "%s: not a mesh tree file (bad magic)", path);
-  uint32_t version = load_u32(data + 8), marker = load_u32(data + 12);
+  uint32_t version = bk_load_u32(data + 8), marker = bk_load_u32(data + 12);
   // A file from a big-endian writer would misread its version as well; name the real cause.
   bool swapped = marker == 0x04030201u;
   if (version != BK_MTREE_VERSION && !swapped)
@@ -470,14 +407,14 @@ static bool check_header(const uint8_t* data, size_t size, const char* path, bk_
     return bk_error_set(
         err, "%s: wrong byte order (marker 0x%08" PRIx32 ", expected 0x%08x): written by a %s", path, marker,
         (unsigned)MTREE_ENDIAN_MARKER, swapped ? "big-endian writer" : "different or damaged writer");
-  uint64_t declared = load_u64(data + 16), actual = (uint64_t)(size - MTREE_HEADER_BYTES);
+  uint64_t declared = bk_load_u64(data + 16), actual = (uint64_t)(size - MTREE_HEADER_BYTES);
   if (actual < declared)
     return bk_error_set(err, "%s: truncated: payload is %" PRIu64 " bytes, header says %" PRIu64, path,
                         actual, declared);
   if (actual > declared)
     return bk_error_set(err, "%s: corrupt: payload is %" PRIu64 " bytes, header says %" PRIu64, path, actual,
                         declared);
-  if (bk_hash_bytes(BK_FNV_OFFSET, data + MTREE_HEADER_BYTES, (size_t)actual) != load_u64(data + 24))
+  if (bk_hash_bytes(BK_FNV_OFFSET, data + MTREE_HEADER_BYTES, (size_t)actual) != bk_load_u64(data + 24))
     return bk_error_set(err, "%s: checksum mismatch (file is corrupt)", path);
   return true;
 }

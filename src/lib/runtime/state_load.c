@@ -90,8 +90,8 @@ static bool check_header(const uint8_t* data, size_t size, bk_error* err) {
                         RT_STATE_HEADER_BYTES);
   if (memcmp(data, rt_state_magic, sizeof rt_state_magic) != 0)
     return bk_error_set(err, "state: not a saved destruction state (bad magic)");
-  rt_reader r = {.data = data, .size = size, .pos = 8};
-  uint32_t version = rt_get_u32(&r), marker = rt_get_u32(&r);
+  bk_byte_reader r = {.data = data, .size = size, .pos = 8};
+  uint32_t version = bk_get_u32(&r), marker = bk_get_u32(&r);
   bool swapped = marker == 0x04030201u;
   if (version != RT_STATE_VERSION && !swapped)
     return bk_error_set(err, "state: version %" PRIu32 " is not supported (expected %u)", version,
@@ -99,7 +99,7 @@ static bool check_header(const uint8_t* data, size_t size, bk_error* err) {
   if (marker != RT_STATE_ENDIAN_MARKER)
     return bk_error_set(err, "state: wrong byte order (marker 0x%08" PRIx32 ", expected 0x%08x)", marker,
                         RT_STATE_ENDIAN_MARKER);
-  uint64_t declared = rt_get_u64(&r), checksum = rt_get_u64(&r);
+  uint64_t declared = bk_get_u64(&r), checksum = bk_get_u64(&r);
   uint64_t actual = (uint64_t)(size - RT_STATE_HEADER_BYTES);
   if (actual < declared)
     return bk_error_set(err, "state: truncated: payload is %" PRIu64 " bytes, header says %" PRIu64, actual,
@@ -112,34 +112,34 @@ static bool check_header(const uint8_t* data, size_t size, bk_error* err) {
   return true;
 }
 
-static bool corrupt_end(const rt_reader* r, const char* what, uint32_t index, bk_error* err) {
+static bool corrupt_end(const bk_byte_reader* r, const char* what, uint32_t index, bk_error* err) {
   return bk_error_set(err, "state: corrupt: ends inside %s %" PRIu32 " (at byte %zu of %zu)", what, index,
                       r->pos, r->size);
 }
 
-static bool get_material(rt_reader* r, ld_breakable* b, uint32_t index, bk_error* err) {
-  uint32_t length = rt_get_u32(r);
+static bool get_material(bk_byte_reader* r, ld_breakable* b, uint32_t index, bk_error* err) {
+  uint32_t length = bk_get_u32(r);
   if (length > BK_MATERIAL_NAME_MAX)
     return bk_error_set(
         err, "state: corrupt: breakable %" PRIu32 "'s material name is %" PRIu32 " bytes (at most %d)", index,
         length, BK_MATERIAL_NAME_MAX);
-  rt_get_bytes(r, b->name, length);
+  bk_get_bytes(r, b->name, length);
   b->name[length] = '\0';
   if (strlen(b->name) != length)
     return bk_error_set(err, "state: corrupt: breakable %" PRIu32 "'s material name holds a NUL", index);
   bk_material* m = &b->material;
   m->name = b->name;
-  m->density = rt_get_double(r);
-  m->frailty = rt_get_double(r);
-  m->bond_strength = rt_get_double(r);
-  uint32_t accumulate = rt_get_u32(r);
+  m->density = bk_get_f64(r);
+  m->frailty = bk_get_f64(r);
+  m->bond_strength = bk_get_f64(r);
+  uint32_t accumulate = bk_get_u32(r);
   m->accumulate = accumulate != 0;
-  m->friction = rt_get_double(r);
-  m->restitution = rt_get_double(r);
-  m->compression_limit = rt_get_double(r);
-  m->tension_limit = rt_get_double(r);
-  m->shear_limit = rt_get_double(r);
-  m->refine_strength = rt_get_double(r);
+  m->friction = bk_get_f64(r);
+  m->restitution = bk_get_f64(r);
+  m->compression_limit = bk_get_f64(r);
+  m->tension_limit = bk_get_f64(r);
+  m->shear_limit = bk_get_f64(r);
+  m->refine_strength = bk_get_f64(r);
   if (r->failed) return corrupt_end(r, "the material of breakable", index, err);
   bk_error why = {{0}};
   if (accumulate > 1 || !bk_material_validate(m, &why))
@@ -149,9 +149,10 @@ static bool get_material(rt_reader* r, ld_breakable* b, uint32_t index, bk_error
 }
 
 // A breakable's slot: the same as the runtime's, for the same tree.
-static bool get_breakable(const bk_runtime* rt, rt_reader* r, ld_breakable* b, uint32_t i, bk_error* err) {
-  b->alive = rt_get_u32(r) != 0;
-  b->generation = rt_get_u32(r);
+static bool get_breakable(const bk_runtime* rt, bk_byte_reader* r, ld_breakable* b, uint32_t i,
+                          bk_error* err) {
+  b->alive = bk_get_u32(r) != 0;
+  b->generation = bk_get_u32(r);
   if (r->failed) return corrupt_end(r, "breakable", i, err);
   const rt_breakable* here = &rt->breakables[i];
   if (b->alive != here->alive)
@@ -162,8 +163,8 @@ static bool get_breakable(const bk_runtime* rt, rt_reader* r, ld_breakable* b, u
     return bk_error_set(
         err, "state: breakable %" PRIu32 " is generation %" PRIu32 " here, %" PRIu32 " in the state", i,
         here->generation, b->generation);
-  uint64_t source_hash = rt_get_u64(r);
-  uint32_t nodes = rt_get_u32(r), leaves = rt_get_u32(r), bonds = rt_get_u32(r);
+  uint64_t source_hash = bk_get_u64(r);
+  uint32_t nodes = bk_get_u32(r), leaves = bk_get_u32(r), bonds = bk_get_u32(r);
   if (r->failed) return corrupt_end(r, "breakable", i, err);
   const bk_mesh_tree* t = here->source;
   if (source_hash != t->source_hash || nodes != t->node_count || leaves != t->leaf_count ||
@@ -175,8 +176,9 @@ static bool get_breakable(const bk_runtime* rt, rt_reader* r, ld_breakable* b, u
                         i, t->source_hash, t->node_count, t->leaf_count, t->bond_count, source_hash, nodes,
                         leaves, bonds);
   if (!get_material(r, b, i, err)) return false;
-  uint64_t grown_size = rt_get_u64(r);
-  if (r->failed || grown_size > rt_left(r)) return corrupt_end(r, "the refined tree of breakable", i, err);
+  uint64_t grown_size = bk_get_u64(r);
+  if (r->failed || grown_size > bk_bytes_left(r))
+    return corrupt_end(r, "the refined tree of breakable", i, err);
   b->tree = t;
   if (grown_size) {
     char name[64] = {0};
@@ -190,13 +192,13 @@ static bool get_breakable(const bk_runtime* rt, rt_reader* r, ld_breakable* b, u
     b->tree = g;
   }
   const bk_mesh_tree* tree = b->tree;
-  if ((uint64_t)tree->bond_count * 9u + tree->leaf_count > rt_left(r))
+  if ((uint64_t)tree->bond_count * 9u + tree->leaf_count > bk_bytes_left(r))
     return corrupt_end(r, "the bonds of breakable", i, err);
   b->broken = bk_alloc(tree->bond_count + 1u);
   b->hp = bk_alloc(sizeof(double) * (tree->bond_count + 1u));
   for (uint32_t j = 0; j < tree->bond_count; ++j) {
-    rt_get_bytes(r, &b->broken[j], 1);
-    b->hp[j] = rt_get_double(r);
+    bk_get_bytes(r, &b->broken[j], 1);
+    b->hp[j] = bk_get_f64(r);
     double initial = b->material.bond_strength * tree->bonds[j].area;
     if (b->broken[j] > 1 || !(b->hp[j] >= 0.0 && b->hp[j] <= initial))
       return bk_error_set(err, "state: corrupt: breakable %" PRIu32 " bond %" PRIu32 ": %s", i, j,
@@ -205,7 +207,7 @@ static bool get_breakable(const bk_runtime* rt, rt_reader* r, ld_breakable* b, u
   b->flags = bk_alloc(tree->leaf_count + 1u);
   b->owner = bk_alloc(sizeof(uint32_t) * (tree->leaf_count + 1u));
   for (uint32_t l = 0; l < tree->leaf_count; ++l) {
-    rt_get_bytes(r, &b->flags[l], 1);
+    bk_get_bytes(r, &b->flags[l], 1);
     if (b->flags[l] > 3)
       return bk_error_set(err, "state: corrupt: breakable %" PRIu32 " leaf %" PRIu32 ": flags %u", i, l,
                           b->flags[l]);
@@ -215,14 +217,14 @@ static bool get_breakable(const bk_runtime* rt, rt_reader* r, ld_breakable* b, u
   return true;
 }
 
-static bool get_cluster(rt_reader* r, ld_state* s, uint32_t slot, bk_error* err) {
+static bool get_cluster(bk_byte_reader* r, ld_state* s, uint32_t slot, bk_error* err) {
   ld_cluster* c = &s->clusters[slot];
-  c->alive = rt_get_u32(r) != 0;
-  c->generation = rt_get_u32(r);
+  c->alive = bk_get_u32(r) != 0;
+  c->generation = bk_get_u32(r);
   if (!c->alive) return r->failed ? corrupt_end(r, "cluster", slot, err) : true;
-  c->breakable = rt_get_u32(r);
-  c->flags = rt_get_u32(r);
-  c->leaf_count = rt_get_u32(r);
+  c->breakable = bk_get_u32(r);
+  c->flags = bk_get_u32(r);
+  c->leaf_count = bk_get_u32(r);
   if (r->failed) return corrupt_end(r, "cluster", slot, err);
   if (c->generation == 0 || c->flags > 3 || c->breakable >= s->breakable_count ||
       !s->breakables[c->breakable].alive)
@@ -231,12 +233,13 @@ static bool get_cluster(rt_reader* r, ld_state* s, uint32_t slot, bk_error* err)
                         : c->flags > 3     ? "unknown flags"
                                            : "its breakable is not in the state");
   ld_breakable* b = &s->breakables[c->breakable];
-  if (c->leaf_count == 0 || c->leaf_count > b->tree->leaf_count || (uint64_t)c->leaf_count * 4u > rt_left(r))
+  if (c->leaf_count == 0 || c->leaf_count > b->tree->leaf_count ||
+      (uint64_t)c->leaf_count * 4u > bk_bytes_left(r))
     return bk_error_set(err, "state: corrupt: cluster %" PRIu32 " has %" PRIu32 " leaves", slot,
                         c->leaf_count);
   c->leaves = bk_alloc(sizeof(uint32_t) * c->leaf_count);
   for (uint32_t k = 0; k < c->leaf_count; ++k) {
-    uint32_t leaf = c->leaves[k] = rt_get_u32(r);
+    uint32_t leaf = c->leaves[k] = bk_get_u32(r);
     if (leaf >= b->tree->leaf_count || (k && leaf <= c->leaves[k - 1]) || b->owner[leaf] != UINT32_MAX)
       return bk_error_set(err, "state: corrupt: cluster %" PRIu32 " leaf %" PRIu32 ": %s", slot, leaf,
                           leaf >= b->tree->leaf_count     ? "out of range"
@@ -248,16 +251,17 @@ static bool get_cluster(rt_reader* r, ld_state* s, uint32_t slot, bk_error* err)
 }
 
 // A u32 list (free slots, split queue): each entry a cluster slot.
-static uint32_t* get_slots(rt_reader* r, uint32_t slots, uint32_t* count, const char* what, bk_error* err) {
-  *count = rt_get_u32(r);
-  if (r->failed || (uint64_t)*count * 4u > rt_left(r)) {
+static uint32_t* get_slots(bk_byte_reader* r, uint32_t slots, uint32_t* count, const char* what,
+                           bk_error* err) {
+  *count = bk_get_u32(r);
+  if (r->failed || (uint64_t)*count * 4u > bk_bytes_left(r)) {
     bk_error_set(err, "state: corrupt: %s of %" PRIu32 " entries", what, *count);
     *count = 0;
     return NULL;
   }
   uint32_t* list = bk_alloc(sizeof(uint32_t) * (*count + 1u));
   for (uint32_t k = 0; k < *count; ++k)
-    if ((list[k] = rt_get_u32(r)) >= slots) {
+    if ((list[k] = bk_get_u32(r)) >= slots) {
       bk_error_set(err, "state: corrupt: %s entry %" PRIu32 " is slot %" PRIu32 " of %" PRIu32, what, k,
                    list[k], slots);
       bk_free(list);
@@ -269,16 +273,16 @@ static uint32_t* get_slots(rt_reader* r, uint32_t slots, uint32_t* count, const 
 
 static bool finite_aabb(bk_aabb a) { return bk_v3_is_finite(a.min) && bk_v3_is_finite(a.max); }
 
-static bool get_job(rt_reader* r, ld_state* s, uint32_t k, bk_error* err) {
+static bool get_job(bk_byte_reader* r, ld_state* s, uint32_t k, bk_error* err) {
   ld_job* job = &s->jobs[k];
-  job->breakable = rt_get_u32(r);
-  job->node = rt_get_u32(r);
-  job->due_call = rt_get_u32(r);
+  job->breakable = bk_get_u32(r);
+  job->node = bk_get_u32(r);
+  job->due_call = bk_get_u32(r);
   double v[6] = {0};
   for (int a = 0; a < 6; ++a)
-    v[a] = rt_get_double(r);
+    v[a] = bk_get_f64(r);
   job->bounds = (bk_aabb){bk_v3(v[0], v[1], v[2]), bk_v3(v[3], v[4], v[5])};
-  job->neighbour_count = rt_get_u32(r);
+  job->neighbour_count = bk_get_u32(r);
   if (r->failed) return corrupt_end(r, "refinement", k, err);
   ld_breakable* b = job->breakable < s->breakable_count ? &s->breakables[job->breakable] : NULL;
   if (!b || !b->alive || job->node >= b->tree->node_count || b->tree->nodes[job->node].child_count != 0 ||
@@ -292,29 +296,29 @@ static bool get_job(rt_reader* r, ld_state* s, uint32_t k, bk_error* err) {
     return bk_error_set(err, "state: corrupt: refinement %" PRIu32 ": leaf %" PRIu32 " is not marked", k,
                         leaf);
   b->flags[leaf] |= 4; // taken: a second job of the leaf is refused
-  if ((uint64_t)job->neighbour_count * 12u > rt_left(r)) return corrupt_end(r, "refinement", k, err);
+  if ((uint64_t)job->neighbour_count * 12u > bk_bytes_left(r)) return corrupt_end(r, "refinement", k, err);
   job->neighbour_nodes = bk_alloc(sizeof(uint32_t) * (job->neighbour_count + 1u));
   job->neighbour_areas = bk_alloc(sizeof(double) * (job->neighbour_count + 1u));
   for (uint32_t n = 0; n < job->neighbour_count; ++n) {
-    job->neighbour_nodes[n] = rt_get_u32(r);
-    job->neighbour_areas[n] = rt_get_double(r);
+    job->neighbour_nodes[n] = bk_get_u32(r);
+    job->neighbour_areas[n] = bk_get_f64(r);
     if (job->neighbour_nodes[n] >= b->tree->node_count || !(job->neighbour_areas[n] > 0.0) ||
         !isfinite(job->neighbour_areas[n]))
       return bk_error_set(err, "state: corrupt: refinement %" PRIu32 " neighbour %" PRIu32, k, n);
   }
-  job->hit_count = rt_get_u32(r);
-  if (r->failed || job->hit_count == 0 || (uint64_t)job->hit_count * 48u > rt_left(r))
+  job->hit_count = bk_get_u32(r);
+  if (r->failed || job->hit_count == 0 || (uint64_t)job->hit_count * 48u > bk_bytes_left(r))
     return bk_error_set(err, "state: corrupt: refinement %" PRIu32 " has %" PRIu32 " hits", k,
                         job->hit_count);
   job->hits = bk_alloc(sizeof(rt_refine_hit) * job->hit_count);
   for (uint32_t h = 0; h < job->hit_count; ++h) {
     rt_refine_hit* hit = &job->hits[h];
-    hit->sequence = rt_get_u64(r);
-    hit->local.x = rt_get_double(r);
-    hit->local.y = rt_get_double(r);
-    hit->local.z = rt_get_double(r);
-    hit->impulse = rt_get_double(r);
-    hit->frailty = rt_get_double(r);
+    hit->sequence = bk_get_u64(r);
+    hit->local.x = bk_get_f64(r);
+    hit->local.y = bk_get_f64(r);
+    hit->local.z = bk_get_f64(r);
+    hit->impulse = bk_get_f64(r);
+    hit->frailty = bk_get_f64(r);
     if ((h && hit->sequence <= job->hits[h - 1].sequence) || !bk_v3_is_finite(hit->local) ||
         !(hit->impulse >= 0.0 && isfinite(hit->impulse)) || !(hit->frailty >= 0.0 && isfinite(hit->frailty)))
       return bk_error_set(err, "state: corrupt: refinement %" PRIu32 " hit %" PRIu32, k, h);
@@ -323,8 +327,8 @@ static bool get_job(rt_reader* r, ld_state* s, uint32_t k, bk_error* err) {
 }
 
 // The whole payload into s, checked.
-static bool parse(const bk_runtime* rt, rt_reader* r, ld_state* s, bk_error* err) {
-  uint32_t count = rt_get_u32(r);
+static bool parse(const bk_runtime* rt, bk_byte_reader* r, ld_state* s, bk_error* err) {
+  uint32_t count = bk_get_u32(r);
   if (r->failed) return corrupt_end(r, "the breakables", 0, err);
   if (count != rt->breakable_count)
     return bk_error_set(err, "state: the runtime has %" PRIu32 " breakable slots, the state %" PRIu32,
@@ -333,8 +337,8 @@ static bool parse(const bk_runtime* rt, rt_reader* r, ld_state* s, bk_error* err
   s->breakable_count = count;
   for (uint32_t i = 0; i < count; ++i)
     if (!get_breakable(rt, r, &s->breakables[i], i, err)) return false;
-  count = rt_get_u32(r);
-  if (r->failed || (uint64_t)count * 8u > rt_left(r))
+  count = bk_get_u32(r);
+  if (r->failed || (uint64_t)count * 8u > bk_bytes_left(r))
     return bk_error_set(err, "state: corrupt: %" PRIu32 " cluster slots", count);
   s->clusters = bk_calloc(count + 1u, sizeof(ld_cluster));
   s->cluster_count = count;
@@ -356,8 +360,8 @@ static bool parse(const bk_runtime* rt, rt_reader* r, ld_state* s, bk_error* err
     c->flags = 8;
   }
   if (!(s->queue = get_slots(r, count, &s->queue_count, "split queue", err))) return false;
-  s->job_count = rt_get_u32(r);
-  if (r->failed || (uint64_t)s->job_count * 68u > rt_left(r))
+  s->job_count = bk_get_u32(r);
+  if (r->failed || (uint64_t)s->job_count * 68u > bk_bytes_left(r))
     return bk_error_set(err, "state: corrupt: %" PRIu32 " refinements", s->job_count);
   s->jobs = bk_calloc(s->job_count + 1u, sizeof(ld_job));
   for (uint32_t k = 0; k < s->job_count; ++k)
@@ -372,8 +376,8 @@ static bool parse(const bk_runtime* rt, rt_reader* r, ld_state* s, bk_error* err
                             i, l);
   }
   for (int k = 0; k < LD_COUNTERS; ++k)
-    s->counters[k] = rt_get_u32(r);
-  s->hit_sequence = rt_get_u64(r);
+    s->counters[k] = bk_get_u32(r);
+  s->hit_sequence = bk_get_u64(r);
   if (r->failed) return corrupt_end(r, "the statistics", 0, err);
   if (r->pos != r->size)
     return bk_error_set(err, "state: corrupt: %zu bytes after the state", r->size - r->pos);
@@ -498,7 +502,8 @@ static void install(bk_runtime* rt, ld_state* s) {
 bool bk_runtime_load_state(bk_runtime* rt, const void* data, size_t size, bk_error* err) {
   if (!rt) return bk_error_set(err, "state: runtime is NULL");
   if (!check_header(data, size, err)) return false;
-  rt_reader r = {.data = (const uint8_t*)data + RT_STATE_HEADER_BYTES, .size = size - RT_STATE_HEADER_BYTES};
+  bk_byte_reader r = {.data = (const uint8_t*)data + RT_STATE_HEADER_BYTES,
+                      .size = size - RT_STATE_HEADER_BYTES};
   ld_state s = {0};
   bool ok = parse(rt, &r, &s, err);
   if (ok) install(rt, &s);
