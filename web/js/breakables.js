@@ -155,19 +155,22 @@ export async function loadBreakables(options = {}) {
     const impact = options.impact || null;
     if (impact && !(impact.length === 3 && impact.every(Number.isFinite)))
       throw new Error(`fracture: impact must be three finite numbers, got ${impact}`);
-    M._web_fracture_options(bias, impact ? 1 : 0, impact ? impact[0] : 0, impact ? impact[1] : 0, impact ? impact[2] : 0);
+    // The def's fields as web_tree.c's build() reads them.
+    const args = [pieces, pattern, seed, bias, impact ? 1 : 0, ...(impact || [0, 0, 0])];
+    const argsP = M._web_alloc(args.length * 8);
+    f64().set(args, argsP >> 3);
     try {
       let ptr = 0;
       if (source.shape !== undefined) {
         const name = cString(String(source.shape));
-        ptr = M._web_fracture_shape(name, pieces, pattern, seed);
+        ptr = M._web_fracture_shape(name, argsP);
         M._web_free(name);
       } else if (source.obj || source.ply) {
         const bytes = source.obj || source.ply;
         const format = cString(source.obj ? 'obj' : 'ply');
         const name = cString(source.name || (source.obj ? 'model.obj' : 'model.ply'));
         ptr = withBytes(bytes, (p, n) =>
-          M._web_fracture_file(p, n, format, name, source.bunny ? 1 : 0, pieces, pattern, seed));
+          M._web_fracture_file(p, n, format, name, source.bunny ? 1 : 0, argsP));
         M._web_free(format);
         M._web_free(name);
       } else if (source.mesh) {
@@ -179,7 +182,7 @@ export async function loadBreakables(options = {}) {
         M.HEAPF32.set(pos, pp >> 2);
         M.HEAPU32.set(idx, ip >> 2);
         const name = cString(source.name || 'mesh');
-        ptr = M._web_fracture_triangles(pp, pos.length / 3, ip, idx.length / 3, name, pieces, pattern, seed);
+        ptr = M._web_fracture_triangles(pp, pos.length / 3, ip, idx.length / 3, name, argsP);
         M._web_free(pp);
         M._web_free(ip);
         M._web_free(name);
@@ -189,6 +192,7 @@ export async function loadBreakables(options = {}) {
       if (!ptr) fail();
       return new Tree(ptr);
     } finally {
+      M._web_free(argsP);
       M.onProgress = null;
     }
   }

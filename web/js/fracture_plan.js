@@ -20,8 +20,8 @@ function impactOf(bk, source, { eye, target, position }) {
   const toTree = (v) => [v[0] - position[0], v[1] - position[1], v[2] - position[2]];
   const from = toTree(eye), aim = toTree(target);
   // The tree's root is the source mesh as the fracture sees it (an OBJ
-  // bunny already scaled): a two-piece fracture is the cheapest way to it.
-  const probe = bk.fracture(source, { pieces: 2, pattern: 'planes' });
+  // bunny already scaled): a one-piece fracture makes it and cuts nothing.
+  const probe = bk.fracture(source, { pieces: 1, pattern: 'planes' });
   try {
     const root = probe.nodeMesh(0);
     const direction = [aim[0] - from[0], aim[1] - from[1], aim[2] - from[2]];

@@ -103,27 +103,26 @@ static web_tree* finish(web_tree* t, bool ok, bk_error* err) {
   return t;
 }
 
-// The fracture def's fields beyond pieces, pattern and seed that the next
-// fracture call takes (web_fracture_options); then back to the defaults.
-static bk_fracture_def next_def;
-static bool next_def_set;
+// The fracture def's fields the page sets, as 8 doubles (web/js/breakables.js
+// fills them): pieces (0: the default), pattern (< 0: the default), seed,
+// aspect_bias (NaN: the default), whether an impact point follows, its x y z.
+enum { ARG_PIECES, ARG_PATTERN, ARG_SEED, ARG_ASPECT_BIAS, ARG_HAS_IMPACT, ARG_IMPACT };
 
-/// Sets aspect_bias (NaN: the default) and, when has_impact, the radial
-/// pattern's impact point (source coordinates) for the next fracture call only.
-EMSCRIPTEN_KEEPALIVE void web_fracture_options(double aspect_bias, int has_impact, double ix, double iy,
-                                               double iz) {
-  next_def = bk_default_fracture_def();
-  if (!isnan(aspect_bias)) next_def.aspect_bias = aspect_bias;
-  if (has_impact) next_def.impact = bk_v3(ix, iy, iz);
-  next_def_set = true;
-}
-
-// Builds the tree of `source` (taken: freed here). pattern < 0 and pieces 0
-// keep the library's defaults; the seed always applies.
-static web_tree* build(bk_mesh* source, int pieces, int pattern, double seed) {
+// Builds the tree of `source` (taken: freed here) with the def of `args`.
+static web_tree* build(bk_mesh* source, const double* args) {
   bk_error err = {0};
-  bk_fracture_def def = next_def_set ? next_def : bk_default_fracture_def();
-  next_def_set = false;
+  bk_fracture_def def = bk_default_fracture_def();
+  if (!(args[ARG_PIECES] >= 0 && args[ARG_PIECES] <= (double)(1u << 30)) ||
+      !(args[ARG_PATTERN] >= -1 && args[ARG_PATTERN] <= BK_PATTERN_COUNT)) { // checked before the casts
+    bk_mesh_free(source);
+    web_set_error_text("fracture: pieces or pattern out of range");
+    return NULL;
+  }
+  int pieces = (int)args[ARG_PIECES], pattern = (int)args[ARG_PATTERN];
+  double seed = args[ARG_SEED];
+  if (!isnan(args[ARG_ASPECT_BIAS])) def.aspect_bias = args[ARG_ASPECT_BIAS];
+  if (args[ARG_HAS_IMPACT] != 0.0)
+    def.impact = bk_v3(args[ARG_IMPACT], args[ARG_IMPACT + 1], args[ARG_IMPACT + 2]);
   if (pieces > 0) def.pieces = (uint32_t)pieces;
   if (pattern >= BK_PATTERN_COUNT) {
     bk_mesh_free(source);
@@ -170,7 +169,7 @@ static bool repair(bk_mesh* m, const char* name) {
   return false;
 }
 
-EMSCRIPTEN_KEEPALIVE web_tree* web_fracture_shape(const char* name, int pieces, int pattern, double seed) {
+EMSCRIPTEN_KEEPALIVE web_tree* web_fracture_shape(const char* name, const double* args) {
   bk_shape shape = BK_SHAPE_CUBE;
   if (!bk_shape_from_name(name, &shape)) {
     bk_error err = {0};
@@ -180,14 +179,13 @@ EMSCRIPTEN_KEEPALIVE web_tree* web_fracture_shape(const char* name, int pieces, 
   }
   bk_mesh source = {0};
   bk_shape_build(shape, &source);
-  return build(&source, pieces, pattern, seed);
+  return build(&source, args);
 }
 
 /// A model file's bytes (.obj or .ply by `format`); unit_height scales it
 /// as the command line scales its bundled bunny.
 EMSCRIPTEN_KEEPALIVE web_tree* web_fracture_file(const uint8_t* data, size_t size, const char* format,
-                                                 const char* name, int unit_height, int pieces, int pattern,
-                                                 double seed) {
+                                                 const char* name, int unit_height, const double* args) {
   bk_mesh source = {0};
   bk_error err = {0};
   bk_import_def def = bk_default_import_def();
@@ -197,15 +195,14 @@ EMSCRIPTEN_KEEPALIVE web_tree* web_fracture_file(const uint8_t* data, size_t siz
   }
   if (unit_height) bk_mesh_fit_unit_height(&source);
   if (!repair(&source, name)) return NULL;
-  return build(&source, pieces, pattern, seed);
+  return build(&source, args);
 }
 
 /// Triangles JavaScript read from a model (three.js's GLTFLoader): xyz per
 /// position, three position indices per triangle.
 EMSCRIPTEN_KEEPALIVE web_tree* web_fracture_triangles(const float* positions, uint32_t position_count,
                                                       const uint32_t* indices, uint32_t triangle_count,
-                                                      const char* name, int pieces, int pattern,
-                                                      double seed) {
+                                                      const char* name, const double* args) {
   bk_error err = {0};
   if (position_count < 4 || triangle_count < 4 || position_count > (1u << 24) ||
       triangle_count > (1u << 24)) {
@@ -244,7 +241,7 @@ EMSCRIPTEN_KEEPALIVE web_tree* web_fracture_triangles(const float* positions, ui
     bk_mesh_add_triangle(&m, v[0], v[1], v[2], bk_material_id(0, false), 0);
   }
   if (!repair(&m, name)) return NULL;
-  return build(&m, pieces, pattern, seed);
+  return build(&m, args);
 }
 
 EMSCRIPTEN_KEEPALIVE web_tree* web_tree_load(const uint8_t* data, size_t size) {
